@@ -1,0 +1,1 @@
+"""dynamics: particle and mass-spring simulator, rigid bodies, Pinocchio humanoid."""

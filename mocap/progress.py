@@ -1,0 +1,29 @@
+"""Progress bars for long work (tqdm), quiet when output is not a terminal."""
+from __future__ import annotations
+
+import sys
+from typing import Iterable, Iterator, TypeVar
+
+from tqdm.auto import tqdm
+
+T = TypeVar("T")
+
+
+def progress(items: Iterable[T], description: str, total: int | None = None,
+             enabled: bool | None = None) -> Iterator[T]:
+    """Iterate over ``items`` with a progress bar on stderr.
+
+    Parameters
+    ----------
+    items : iterable
+    description : str
+        Shown before the bar (``"reading trials"``).
+    total : int, optional
+        Number of items when ``items`` has no ``len``.
+    enabled : bool, optional
+        Force the bar on or off; by default it shows only when stderr is a terminal.
+    """
+    if enabled is None:
+        enabled = sys.stderr.isatty()
+    return iter(tqdm(items, desc=description, total=total, disable=not enabled,
+                     file=sys.stderr, leave=False, dynamic_ncols=True))

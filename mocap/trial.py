@@ -1,0 +1,94 @@
+"""The :class:`Trial` container: marker trajectories of one capture."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass
+class Trial:
+    """Marker trajectories of one capture.
+
+    Attributes
+    ----------
+    labels : list of str
+        Marker labels, in file order.
+    points : ndarray, shape (frames, markers, 3), float
+        Marker positions in metres; NaN where a marker is missing.
+    rate : float
+        Sampling rate of ``points`` in Hz.
+    units : str
+        Length unit as stored in the source file (``"mm"``, ``"cm"``, ``"m"`` or
+        ``""`` when the file does not say); ``points`` are always metres.
+    path : str or None
+        File the trial was read from.
+    format : str or None
+        ``"c3d"``, ``"csv"``, ``"trc"`` …
+    analogs : ndarray, shape (analog_frames, channels), optional
+        Analog channels (force plates, EMG) in file units.
+    analog_labels : list of str
+    analog_rate : float or None
+        Hz.
+    metadata : dict
+        Anything else worth keeping (manufacturer, first frame, reader used).
+    """
+
+    labels: list[str]
+    points: np.ndarray
+    rate: float
+    units: str = "m"
+    path: str | None = None
+    format: str | None = None
+    analogs: np.ndarray | None = None
+    analog_labels: list[str] = field(default_factory=list)
+    analog_rate: float | None = None
+    metadata: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        self.labels = [str(label) for label in self.labels]
+        self.points = np.asarray(self.points, dtype=float)
+        if self.points.ndim != 3 or self.points.shape[2] != 3:
+            raise ValueError(f"points must be (frames, markers, 3), got {self.points.shape}")
+        if self.points.shape[1] != len(self.labels):
+            raise ValueError(
+                f"{len(self.labels)} labels for {self.points.shape[1]} markers in points")
+        self.rate = float(self.rate)
+
+    @property
+    def frames(self) -> int:
+        """Number of frames."""
+        return int(self.points.shape[0])
+
+    @property
+    def duration(self) -> float:
+        """Seconds from the first to the last frame."""
+        return (self.frames - 1) / self.rate if self.frames > 1 and self.rate > 0 else 0.0
+
+    @property
+    def times(self) -> np.ndarray:
+        """Time of each frame in seconds from the first frame, shape (frames,)."""
+        return np.arange(self.frames) / self.rate
+
+    def index(self, label: str) -> int:
+        """Column of marker ``label`` in ``points`` (KeyError if absent)."""
+        try:
+            return self.labels.index(label)
+        except ValueError:
+            raise KeyError(label) from None
+
+    def marker(self, label: str) -> np.ndarray:
+        """Trajectory of one marker, shape (frames, 3), metres."""
+        return self.points[:, self.index(label), :]
+
+    def missing_fraction(self) -> dict[str, float]:
+        """Fraction of frames in which each marker is missing (label → 0..1)."""
+        if self.frames == 0:
+            return {label: 0.0 for label in self.labels}
+        missing = np.isnan(self.points).any(axis=2).mean(axis=0)
+        return {label: float(f) for label, f in zip(self.labels, missing)}
+
+    def with_points(self, points: np.ndarray) -> "Trial":
+        """A copy of this trial with other marker positions (same labels and rate)."""
+        return Trial(self.labels, points, self.rate, self.units, self.path, self.format,
+                     self.analogs, self.analog_labels, self.analog_rate, dict(self.metadata))

@@ -1,0 +1,1 @@
+"""synthesis: people × actions × joint-angle tensors, the N-mode SVD, motion signatures."""
