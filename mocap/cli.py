@@ -14,6 +14,7 @@ from mocap.errors import MocapError
 
 #: Modules that add sub-commands, in the order they appear in ``mocap --help``.
 COMMAND_MODULES = [
+    "mocap.io_commands",
     "mocap.commands",
     "synthesis.commands",
     "dynamics.simulate_commands",
