@@ -1,0 +1,284 @@
+"""The N-mode SVD (higher-order SVD) of a data tensor, computed the cheap way.
+
+For a tensor ``D`` of shape ``(I_1, …, I_N)`` the N-mode SVD (De Lathauwer, De Moor and
+Vandewalle 2000; Vasilescu 2002) is
+
+    D = Z ×_1 U_1 ×_2 U_2 … ×_N U_N,
+
+where ``U_n`` holds the left singular vectors of the mode-n unfolding ``D_(n)`` and the core
+is ``Z = D ×_1 U_1ᵀ … ×_N U_Nᵀ``. Truncating ``U_n`` to its leading ``r_n`` columns gives the
+truncated HOSVD. With full rank in every mode but one (people and actions full, joint-angle
+features truncated) the truncated HOSVD is already the least-squares optimum, so no HOOI
+sweeps are needed (see ``shared/reference/nmode-svd-notes.md`` §1.1).
+
+Each ``U_n`` comes from the eigen-decomposition of the *smaller* Gram matrix of the
+unfolding: ``D_(n) D_(n)ᵀ`` when the mode is short, or ``D_(n)ᵀ D_(n) = V Σ² Vᵀ`` followed by
+``U_n = D_(n) V Σ⁻¹`` when the mode is long. Only the leading eigenpairs are computed when the
+rank is given as a count. Squaring the matrix squares its condition number, so singular
+values below ~1e-8·σ_max lose relative accuracy; such directions are dropped as numerically
+zero (:data:`RELATIVE_TOLERANCE`).
+
+Unfoldings, foldings and mode products use tensorly's vocabulary (``tl.unfold``,
+``tl.fold``, ``tenalg.multi_mode_dot``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence, Union
+
+import numpy as np
+import scipy.linalg
+import tensorly as tl
+from tensorly.tenalg import multi_mode_dot
+
+tl.set_backend("numpy")
+
+#: Singular values below this fraction of the largest are treated as zero (numerical rank).
+RELATIVE_TOLERANCE = 1e-7
+
+#: A mode's rank: ``None`` keeps the numerical rank, an ``int`` keeps that many components,
+#: a ``float`` in (0, 1] keeps the fewest components whose squared singular values reach that
+#: fraction of the mode's energy (``‖D‖²``).
+Rank = Union[int, float, None]
+
+
+@dataclass
+class NModeSVD:
+    """Result of :func:`nmode_svd`.
+
+    Attributes
+    ----------
+    core : ndarray, shape (r_1, …, r_N)
+        The core tensor ``Z``.
+    factors : list of ndarray, factor n of shape (I_n, r_n)
+        Orthonormal mode matrices ``U_n`` (columns ordered by decreasing singular value).
+    singular_values : list of ndarray, entry n of shape (r_n,)
+        Mode-n singular values kept (``‖Z_{i_n = k}‖`` for the untruncated core).
+    energy : list of float
+        Fraction of ``‖D‖²`` kept by each mode's truncation.
+    """
+
+    core: np.ndarray
+    factors: list[np.ndarray]
+    singular_values: list[np.ndarray]
+    energy: list[float]
+
+    @property
+    def ranks(self) -> tuple[int, ...]:
+        """Rank kept in each mode."""
+        return tuple(int(factor.shape[1]) for factor in self.factors)
+
+    def reconstruct(self) -> np.ndarray:
+        """The approximation ``Z ×_1 U_1 … ×_N U_N``, same shape as the decomposed tensor."""
+        return reconstruct(self.core, self.factors)
+
+
+def _rank_from_eigenvalues(eigenvalues: np.ndarray, total_energy: float, rank: Rank,
+                           mode: int) -> int:
+    """Number of components to keep, from descending Gram eigenvalues (= σ²)."""
+    largest = float(eigenvalues[0]) if eigenvalues.size else 0.0
+    numerical = int(np.count_nonzero(eigenvalues > (RELATIVE_TOLERANCE ** 2) * largest)) \
+        if largest > 0 else 0
+    if rank is None:
+        return max(numerical, 1)
+    if isinstance(rank, (bool, np.bool_)):
+        raise ValueError(f"rank of mode {mode} must be an int, a float in (0, 1] or None")
+    if isinstance(rank, (int, np.integer)):
+        if rank < 1:
+            raise ValueError(f"rank of mode {mode} must be at least 1, got {rank}")
+        return int(min(rank, eigenvalues.size))
+    fraction = float(rank)
+    if not 0.0 < fraction <= 1.0:
+        raise ValueError(f"energy fraction of mode {mode} must be in (0, 1], got {rank}")
+    if total_energy <= 0:
+        return 1
+    kept = np.cumsum(eigenvalues) / total_energy
+    count = int(np.searchsorted(kept, fraction - 1e-12) + 1)
+    return int(min(max(count, 1), max(numerical, 1)))
+
+
+def gram_svd(matrix: np.ndarray, rank: Rank = None, mode: int = 0
+             ) -> tuple[np.ndarray, np.ndarray, float]:
+    """Leading left singular vectors of a matrix from the eigen-decomposition of its smaller Gram.
+
+    Parameters
+    ----------
+    matrix : ndarray, shape (m, n)
+        For the N-mode SVD, a mode-n unfolding ``D_(n)``.
+    rank : int, float or None
+        Components to keep: a count, a kept-energy fraction in (0, 1], or ``None`` for the
+        numerical rank (singular values above ``RELATIVE_TOLERANCE · σ_max``).
+    mode : int
+        Only used in error messages.
+
+    Returns
+    -------
+    U : ndarray, shape (m, r)
+        Orthonormal left singular vectors, by decreasing singular value, with the sign chosen
+        so that the largest-magnitude entry of each column is positive (deterministic).
+    singular_values : ndarray, shape (r,)
+    energy : float
+        Fraction of ``‖matrix‖²`` kept.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> U, s, kept = gram_svd(np.diag([3.0, 2.0, 1.0]), rank=2)
+    >>> np.round(s, 6).tolist(), round(kept, 4)
+    ([3.0, 2.0], 0.9286)
+    """
+    rows, columns = matrix.shape
+    tall_side_small = rows <= columns
+    gram = matrix @ matrix.T if tall_side_small else matrix.T @ matrix
+    size = gram.shape[0]
+    total_energy = float(np.trace(gram))
+    if isinstance(rank, (int, np.integer)) and not isinstance(rank, (bool, np.bool_)) \
+            and 0 < rank < size:
+        # Only the leading eigenpairs: LAPACK's subset driver is much cheaper than a full eigh.
+        values, vectors = scipy.linalg.eigh(gram, subset_by_index=[size - int(rank), size - 1],
+                                            check_finite=False)
+        values, vectors = values[::-1], vectors[:, ::-1]
+        all_values = values
+    else:
+        all_values = scipy.linalg.eigvalsh(gram, check_finite=False)[::-1]
+        values, vectors = None, None
+    all_values = np.clip(all_values, 0.0, None)
+    keep = _rank_from_eigenvalues(all_values, total_energy, rank, mode)
+    if vectors is None or vectors.shape[1] < keep:
+        values, vectors = scipy.linalg.eigh(gram, subset_by_index=[size - keep, size - 1],
+                                            check_finite=False)
+        values, vectors = values[::-1], vectors[:, ::-1]
+    values = np.clip(values[:keep], 0.0, None)
+    vectors = vectors[:, :keep]
+    # Directions below the numerical rank are noise from the squared condition number.
+    largest = values[0] if values.size else 0.0
+    valid = values > (RELATIVE_TOLERANCE ** 2) * largest if largest > 0 else np.zeros(keep, bool)
+    if not valid.all():
+        values, vectors = values[valid], vectors[:, valid]
+    singular_values = np.sqrt(values)
+    if tall_side_small:
+        left = vectors
+    else:
+        left = (matrix @ vectors) / singular_values
+        # Re-orthonormalise: U = D V Σ⁻¹ is orthonormal only up to rounding of the Gram.
+        left, triangle = np.linalg.qr(left)
+        left *= np.sign(np.diag(triangle))
+    if left.shape[1] == 0:
+        left = np.zeros((rows, 1))
+        left[0, 0] = 1.0
+        singular_values = np.zeros(1)
+    # Deterministic signs: largest-magnitude entry of each column positive.
+    pivots = np.argmax(np.abs(left), axis=0)
+    signs = np.sign(left[pivots, np.arange(left.shape[1])])
+    signs[signs == 0] = 1.0
+    left = left * signs
+    kept_energy = float(np.sum(singular_values ** 2) / total_energy) if total_energy > 0 else 1.0
+    return left, singular_values, kept_energy
+
+
+def mode_factor(tensor: np.ndarray, mode: int, rank: Rank = None
+                ) -> tuple[np.ndarray, np.ndarray, float]:
+    """Mode matrix ``U_n`` of the N-mode SVD: leading left singular vectors of ``D_(n)``.
+
+    Parameters
+    ----------
+    tensor : ndarray, shape (I_1, …, I_N)
+    mode : int
+    rank : int, float or None
+        See :func:`gram_svd`.
+
+    Returns
+    -------
+    U_n : ndarray, shape (I_mode, r)
+    singular_values : ndarray, shape (r,)
+    energy : float
+    """
+    return gram_svd(tl.unfold(tensor, mode), rank, mode)
+
+
+def nmode_svd(tensor: np.ndarray, ranks: Sequence[Rank] | Rank = None) -> NModeSVD:
+    """N-mode SVD (truncated HOSVD) ``D = Z ×_1 U_1 … ×_N U_N``.
+
+    Parameters
+    ----------
+    tensor : ndarray, shape (I_1, …, I_N), float
+        Data tensor without missing values.
+    ranks : sequence of (int, float or None), or one of those for every mode
+        Per mode: a count of components, a kept-energy fraction in (0, 1], or ``None`` for the
+        numerical rank.
+
+    Returns
+    -------
+    NModeSVD
+        Core, orthonormal factors, kept singular values and kept energy per mode.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rng = np.random.default_rng(0)
+    >>> D = rng.normal(size=(4, 3, 50))
+    >>> result = nmode_svd(D)
+    >>> result.ranks
+    (4, 3, 12)
+    >>> bool(np.allclose(result.reconstruct(), D))
+    True
+    """
+    tensor = np.asarray(tensor, dtype=float)
+    if not np.all(np.isfinite(tensor)):
+        raise ValueError("the N-mode SVD needs a tensor without NaN or infinite values")
+    if ranks is None or not isinstance(ranks, (list, tuple)):
+        ranks = [ranks] * tensor.ndim
+    if len(ranks) != tensor.ndim:
+        raise ValueError(f"{len(ranks)} ranks for a tensor of {tensor.ndim} modes")
+    factors, singular_values, energy = [], [], []
+    for mode, rank in enumerate(ranks):
+        factor, sigma, kept = mode_factor(tensor, mode, rank)
+        factors.append(factor)
+        singular_values.append(sigma)
+        energy.append(kept)
+    core = project(tensor, factors)
+    return NModeSVD(core, factors, singular_values, energy)
+
+
+def _shrinking_order(shape: Sequence[int], factors: Sequence[np.ndarray]) -> list[int]:
+    """Modes ordered so the product that shrinks the tensor most comes first."""
+    return sorted(range(len(factors)), key=lambda m: factors[m].shape[1] / shape[m])
+
+
+def project(tensor: np.ndarray, factors: Sequence[np.ndarray]) -> np.ndarray:
+    """Core ``Z = D ×_1 U_1ᵀ … ×_N U_Nᵀ``.
+
+    Parameters
+    ----------
+    tensor : ndarray, shape (I_1, …, I_N)
+    factors : list of ndarray, factor n of shape (I_n, r_n)
+
+    Returns
+    -------
+    ndarray, shape (r_1, …, r_N)
+    """
+    order = _shrinking_order(tensor.shape, factors)
+    return multi_mode_dot(tensor, [factors[m] for m in order], modes=order, transpose=True)
+
+
+def reconstruct(core: np.ndarray, factors: Sequence[np.ndarray]) -> np.ndarray:
+    """``Z ×_1 U_1 … ×_N U_N``: the tensor a core and its mode matrices describe.
+
+    Parameters
+    ----------
+    core : ndarray, shape (r_1, …, r_N)
+    factors : list of ndarray, factor n of shape (I_n, r_n)
+
+    Returns
+    -------
+    ndarray, shape (I_1, …, I_N)
+    """
+    # Expand the cheapest modes first (smallest growth ratio).
+    order = sorted(range(len(factors)), key=lambda m: factors[m].shape[0] / factors[m].shape[1])
+    return multi_mode_dot(core, [factors[m] for m in order], modes=order)
+
+
+def relative_error(tensor: np.ndarray, approximation: np.ndarray) -> float:
+    """``‖D − D̂‖ / ‖D‖`` (Frobenius)."""
+    norm = float(np.linalg.norm(tensor))
+    return float(np.linalg.norm(tensor - approximation)) / norm if norm > 0 else 0.0

@@ -1,0 +1,668 @@
+"""Corpus → tensor: read trials, time-normalise cycles, stack people × actions × features.
+
+A *corpus* is a set of trials, each labelled with a person and an action: a folder of files
+named ``<person>_<action>[_<anything>].<c3d|csv|trc|bvh>`` (sub-folders such as ``truth/`` are
+ignored) or a manifest CSV with columns ``path,person,action``. Each trial becomes joint angles
+(``mocap.angles.joint_angles`` with a marker set, or read directly from an angle CSV), then one
+gait cycle of ``samples`` frames per angle:
+
+* **Unwrapping.** Every angle is unwrapped (no ±180° jumps) before interpolation, over the
+  samples where it is defined (NaN where markers were missing); gaps are bridged by linear
+  interpolation of the unwrapped angle.
+* **One cycle per trial** (default): the whole trial is the cycle; it is resampled linearly to
+  ``samples`` instants spanning its first to its last frame, and the cycle's duration is the
+  trial's duration (last time − first time).
+* **Cycle detection** (``cycles=True``): the cycles are cut at the maxima of one reference
+  angle, by default the angle that moves most over the corpus (usually hip or knee flexion; its
+  maximum falls near the same gait event in every trial, so phase 0 agrees across trials and
+  actions). The period is first estimated from the highest autocorrelation peak of the
+  reference after its first zero crossing; maxima are then found with ``scipy.signal.find_peaks``
+  at least 0.7 periods apart and with a prominence of a quarter of the signal's range, and
+  refined to sub-frame time by a parabola through the three samples around each maximum.
+  Consecutive maxima 0.6–1.5 periods apart bound one cycle; every cycle is resampled to
+  ``samples`` instants and the cycles are averaged (durations too).
+* **Several trials of one (person, action) cell** are averaged the same way.
+* **Branch.** Each angle curve is shifted by a whole number of turns so that its mean lies in
+  (−180°, 180°], so cycles and trials unwrapped from different starting branches agree.
+
+The result, :class:`MotionCorpus`, holds ``angles`` (people, actions, samples, columns) in
+degrees and ``durations`` (people, actions) in seconds, NaN where a cell is missing.
+"""
+from __future__ import annotations
+
+import csv
+import re
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Callable, Iterable, Sequence
+
+import numpy as np
+from scipy.signal import find_peaks
+
+from mocap.errors import MocapError
+
+#: File suffixes a corpus folder may hold (BVH only when ``mocap.io.bvh`` exists).
+TRIAL_SUFFIXES = (".c3d", ".csv", ".trc", ".bvh")
+#: Default number of samples per normalised cycle.
+DEFAULT_SAMPLES = 100
+
+_ANGLE_COLUMN = re.compile(r"^(?P<segment>.+)\.(?P<axis>[XYZxyz])(?P<repeat>2?)$")
+
+
+# --------------------------------------------------------------------------- corpus listing
+
+@dataclass(frozen=True)
+class CorpusEntry:
+    """One trial of a corpus: where it is and whose (person, action) it is."""
+
+    path: Path
+    person: str
+    action: str
+
+
+def parse_trial_name(path: str | Path) -> tuple[str, str]:
+    """``(person, action)`` from a file named ``<person>_<action>[_<anything>].<suffix>``.
+
+    Raises
+    ------
+    MocapError
+        When the name has no ``_`` separating a person from an action.
+
+    Examples
+    --------
+    >>> parse_trial_name("data/ana_walk_02.c3d")
+    ('ana', 'walk')
+    """
+    parts = Path(path).stem.split("_")
+    if len(parts) < 2 or not parts[0] or not parts[1]:
+        raise MocapError("trial name must be <person>_<action>[_anything].<suffix> "
+                         "(or use --manifest FILE.csv with columns path,person,action)", path)
+    return parts[0], parts[1]
+
+
+def list_corpus_folder(folder: str | Path) -> list[CorpusEntry]:
+    """Trials directly inside ``folder`` (sub-folders ignored), sorted by name.
+
+    Parameters
+    ----------
+    folder : path
+        Holds ``<person>_<action>[_anything].<c3d|csv|trc|bvh>`` files.
+
+    Returns
+    -------
+    list of CorpusEntry
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise MocapError("corpus must be a folder of trials (or give --manifest FILE.csv)", folder)
+    files = sorted(p for p in folder.iterdir()
+                   if p.is_file() and p.suffix.lower() in TRIAL_SUFFIXES
+                   and not p.name.startswith("."))
+    if not files:
+        raise MocapError(f"no trials ({', '.join(TRIAL_SUFFIXES)}) in this folder", folder)
+    entries = []
+    for path in files:
+        person, action = parse_trial_name(path)
+        entries.append(CorpusEntry(path, person, action))
+    return entries
+
+
+def read_manifest(manifest: str | Path) -> list[CorpusEntry]:
+    """Trials listed in a manifest CSV with columns ``path,person,action``.
+
+    Relative paths are taken relative to the manifest's folder.
+    """
+    manifest = Path(manifest)
+    try:
+        with open(manifest, newline="", encoding="utf-8") as handle:
+            rows = list(csv.DictReader(handle))
+    except (OSError, UnicodeDecodeError, csv.Error) as error:
+        raise MocapError(f"cannot read manifest: {error}", manifest) from None
+    if not rows or not {"path", "person", "action"} <= set(rows[0].keys()):
+        raise MocapError("manifest needs a header with columns path,person,action and one row "
+                         "per trial", manifest)
+    entries = []
+    for number, row in enumerate(rows, start=2):
+        path, person, action = (str(row.get(k) or "").strip() for k in ("path", "person", "action"))
+        if not (path and person and action):
+            raise MocapError(f"line {number}: path, person and action must all be given",
+                             manifest)
+        resolved = Path(path) if Path(path).is_absolute() else manifest.parent / path
+        entries.append(CorpusEntry(resolved, person, action))
+    return entries
+
+
+# --------------------------------------------------------------------------- reading angles
+
+def angle_columns(segments: Sequence[str], sequence: str) -> list[str]:
+    """Column names ``<segment>.<axis>`` of DESIGN 3.2 (a repeated axis letter gets a ``2``).
+
+    Examples
+    --------
+    >>> angle_columns(["pelvis"], "ZYZ")
+    ['pelvis.Z', 'pelvis.Y', 'pelvis.Z2']
+    """
+    letters = []
+    for i, letter in enumerate(sequence):
+        letters.append(letter + ("2" if letter in sequence[:i] else ""))
+    return [f"{segment}.{letter}" for segment in segments for letter in letters]
+
+
+def is_angle_csv(path: str | Path) -> bool:
+    """True when ``path`` is a joint-angle CSV (DESIGN 3.2): ``time`` then ``<segment>.<axis>``
+    columns in whole triples whose axis letters form the same rotation sequence."""
+    path = Path(path)
+    if path.suffix.lower() != ".csv":
+        return False
+    try:
+        with open(path, newline="", encoding="utf-8") as handle:
+            header = next(csv.reader(handle), [])
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return False
+    header = [name.strip() for name in header]
+    if len(header) < 4 or header[0].lower() != "time" or (len(header) - 1) % 3:
+        return False
+    matches = [_ANGLE_COLUMN.match(name) for name in header[1:]]
+    if not all(matches):
+        return False
+    triples = [matches[i:i + 3] for i in range(0, len(matches), 3)]
+    first = "".join(m.group("axis") for m in triples[0])
+    for triple in triples:
+        if len({m.group("segment") for m in triple}) != 1:
+            return False
+        if "".join(m.group("axis") for m in triple) != first:
+            return False
+    return True
+
+
+def _bvh_reader_available() -> bool:
+    try:
+        import mocap.io.bvh  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY"):
+    """Joint angles of one trial file.
+
+    Parameters
+    ----------
+    path : path
+        A marker trial (``.c3d``, ``.csv``, ``.trc``), a joint-angle CSV (DESIGN 3.2) or a BVH
+        file (when the BVH reader exists).
+    markerset : MarkerSet, str or None
+        Marker set (object, preset name or TOML path) for marker trials; not needed for angle
+        CSVs.
+    sequence : str
+        Euler sequence (scipy convention) for marker trials.
+
+    Returns
+    -------
+    mocap.angles.JointAngles
+        ``values`` (frames, segments, 3) degrees, ``times`` (frames,) seconds.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise MocapError("trial file not found", path)
+    if is_angle_csv(path):
+        from mocap.angles import read_angles_csv
+        return read_angles_csv(path)
+    if path.suffix.lower() == ".bvh":
+        if not _bvh_reader_available():
+            raise MocapError("BVH trials need mocap.io.bvh (the BVH reader), which this "
+                             "installation does not have", path)
+        return _bvh_angles(path, sequence)
+    if markerset is None:
+        raise MocapError("marker trials need --markerset to turn markers into joint angles",
+                         path)
+    from mocap.angles import joint_angles
+    from mocap.io import read
+    if isinstance(markerset, (str, Path)):
+        from mocap.markerset import load_markerset
+        markerset = load_markerset(markerset)
+    return joint_angles(read(path), markerset, sequence)
+
+
+def _bvh_angles(path: Path, sequence: str):
+    """Joint angles of a BVH file through ``mocap.skeleton.Motion``."""
+    from scipy.spatial.transform import Rotation
+
+    from mocap.angles import JointAngles
+    from mocap.io import bvh
+
+    motion = bvh.read_bvh(path) if hasattr(bvh, "read_bvh") else bvh.read(path)
+    rotations = np.asarray(motion.rotations, dtype=float)      # (frames, joints, 3, 3)
+    frames, joints = rotations.shape[:2]
+    euler = Rotation.from_matrix(rotations.reshape(-1, 3, 3)).as_euler(sequence, degrees=True)
+    skeleton = motion.skeleton
+    names = list(getattr(skeleton, "names", None) or getattr(skeleton, "segments"))
+    parents = list(getattr(skeleton, "parents"))
+    times = np.arange(frames) / float(motion.rate)
+    return JointAngles(times=times, values=euler.reshape(frames, joints, 3), segments=names,
+                       sequence=sequence, parents=parents)
+
+
+# --------------------------------------------------------------------------- time normalisation
+
+def unwrap_degrees(values: np.ndarray) -> np.ndarray:
+    """Unwrap angles (remove ±360° jumps) along axis 0, ignoring NaN samples.
+
+    Parameters
+    ----------
+    values : ndarray, shape (frames, columns), degrees
+        NaN where undefined.
+
+    Returns
+    -------
+    ndarray, same shape; NaN stays NaN.
+    """
+    values = np.array(values, dtype=float)
+    valid = ~np.isnan(values)
+    if valid.all():
+        return np.unwrap(values, period=360.0, axis=0)
+    for column in range(values.shape[1]):       # loop over angle columns, not frames
+        rows = valid[:, column]
+        values[rows, column] = np.unwrap(values[rows, column], period=360.0)
+    return values
+
+
+def fill_gaps(times: np.ndarray, values: np.ndarray, source: str | Path | None = None
+              ) -> np.ndarray:
+    """Bridge NaN samples of each column by linear interpolation in time (constant at the ends).
+
+    Raises
+    ------
+    MocapError
+        When a column has fewer than two defined samples.
+    """
+    values = np.array(values, dtype=float)
+    missing = np.isnan(values)
+    if not missing.any():
+        return values
+    for column in np.flatnonzero(missing.any(axis=0)):   # loop over incomplete columns only
+        rows = ~missing[:, column]
+        if rows.sum() < 2:
+            raise MocapError(f"angle column {column} has fewer than two defined samples "
+                             "(its markers are missing); fill the gaps or drop the trial", source)
+        values[~rows, column] = np.interp(times[~rows], times[rows], values[rows, column])
+    return values
+
+
+def resample(times: np.ndarray, values: np.ndarray, start: float, end: float,
+             samples: int) -> np.ndarray:
+    """Linear interpolation of every column at ``samples`` instants from ``start`` to ``end``.
+
+    Parameters
+    ----------
+    times : ndarray, shape (frames,), seconds, increasing
+    values : ndarray, shape (frames, columns), without NaN
+    start, end : float
+        Seconds; both instants are included.
+    samples : int
+
+    Returns
+    -------
+    ndarray, shape (samples, columns)
+    """
+    instants = np.linspace(start, end, samples)
+    # Vectorised over columns: locate each instant once, then blend its two neighbours.
+    right = np.clip(np.searchsorted(times, instants, side="right"), 1, len(times) - 1)
+    left = right - 1
+    span = times[right] - times[left]
+    weight = np.clip((instants - times[left]) / np.where(span > 0, span, 1.0), 0.0, 1.0)
+    return values[left] * (1.0 - weight)[:, None] + values[right] * weight[:, None]
+
+
+def centre_branch(curves: np.ndarray) -> np.ndarray:
+    """Shift every angle curve by whole turns so its mean lies in (−180°, 180°].
+
+    Parameters
+    ----------
+    curves : ndarray, shape (..., samples, columns), degrees
+    """
+    means = np.nanmean(curves, axis=-2, keepdims=True)
+    return curves - 360.0 * np.ceil((means - 180.0) / 360.0)
+
+
+def estimate_period(times: np.ndarray, signal: np.ndarray) -> float | None:
+    """Period of a roughly periodic signal from its autocorrelation, seconds.
+
+    The highest autocorrelation peak after the first zero crossing (lags up to half the
+    record). Returns ``None`` when the signal shows no repetition.
+    """
+    x = signal - signal.mean()
+    n = x.size
+    if n < 8 or not np.any(x):
+        return None
+    spectrum = np.fft.rfft(x, 2 * n)
+    correlation = np.fft.irfft(spectrum * np.conj(spectrum))[:n]
+    correlation /= correlation[0]
+    below = np.flatnonzero(correlation < 0)
+    if below.size == 0:
+        return None
+    first = int(below[0])
+    window = correlation[first:n // 2 + 1]
+    if window.size < 3:
+        return None
+    peaks, _ = find_peaks(window)
+    if peaks.size == 0:
+        return None
+    lag = first + int(peaks[np.argmax(window[peaks])])
+    if correlation[lag] < 0.2:
+        return None
+    return lag * float(np.median(np.diff(times)))
+
+
+def detect_cycles(times: np.ndarray, signal: np.ndarray) -> np.ndarray:
+    """Cycle boundaries: times of the successive maxima of a periodic reference angle.
+
+    Parameters
+    ----------
+    times : ndarray, shape (frames,), seconds
+    signal : ndarray, shape (frames,), degrees, without NaN
+
+    Returns
+    -------
+    ndarray, shape (cycles, 2)
+        ``[start, end]`` seconds of each complete cycle (end of one = start of the next when
+        they follow each other).
+    """
+    period = estimate_period(times, signal)
+    if period is None:
+        return np.empty((0, 2))
+    step = float(np.median(np.diff(times)))
+    spread = float(np.ptp(signal))
+    peaks, _ = find_peaks(signal, distance=max(int(0.7 * period / step), 1),
+                          prominence=0.25 * spread)
+    if peaks.size < 2:
+        return np.empty((0, 2))
+    # Sub-frame refinement: vertex of the parabola through the three samples at each maximum.
+    inner = peaks[(peaks > 0) & (peaks < signal.size - 1)]
+    event = times[peaks].astype(float)
+    below, at, above = signal[inner - 1], signal[inner], signal[inner + 1]
+    curvature = below - 2 * at + above
+    offset = np.where(curvature < 0, 0.5 * (below - above) / np.where(curvature < 0, curvature, -1),
+                      0.0)
+    event[np.isin(peaks, inner)] = times[inner] + np.clip(offset, -0.5, 0.5) * step
+    spans = np.diff(event)
+    keep = (spans >= 0.6 * period) & (spans <= 1.5 * period)
+    return np.column_stack([event[:-1][keep], event[1:][keep]])
+
+
+def normalise_cycles(times: np.ndarray, values: np.ndarray, samples: int = DEFAULT_SAMPLES,
+                     cycles: bool = False, reference: int | None = None,
+                     source: str | Path | None = None) -> tuple[np.ndarray, float, int]:
+    """Time-normalise a trial to one cycle of ``samples`` frames.
+
+    Parameters
+    ----------
+    times : ndarray, shape (frames,), seconds
+    values : ndarray, shape (frames, columns), degrees; NaN where undefined
+    samples : int
+        Frames of the normalised cycle (at least 2).
+    cycles : bool
+        Detect cycles on ``values[:, reference]`` and average them; otherwise the whole trial
+        is one cycle.
+    reference : int, optional
+        Column of the reference angle for cycle detection (default: the column with the
+        largest standard deviation).
+    source : path, optional
+        For error messages.
+
+    Returns
+    -------
+    curve : ndarray, shape (samples, columns), degrees
+    duration : float
+        Mean cycle duration, seconds.
+    count : int
+        Cycles averaged.
+    """
+    times = np.asarray(times, dtype=float)
+    if times.size < 2:
+        raise MocapError("a trial needs at least two frames to be time-normalised", source)
+    if samples < 2:
+        raise MocapError(f"samples per cycle must be at least 2, got {samples}", source)
+    if np.any(np.diff(times) <= 0):
+        raise MocapError("trial times must increase", source)
+    values = fill_gaps(times, unwrap_degrees(values), source)
+    if not cycles:
+        curve = resample(times, values, times[0], times[-1], samples)
+        return centre_branch(curve), float(times[-1] - times[0]), 1
+    if reference is None:
+        reference = int(np.argmax(values.std(axis=0)))
+    bounds = detect_cycles(times, values[:, reference])
+    if bounds.shape[0] == 0:
+        raise MocapError("no complete cycle found (cycle detection needs at least two "
+                         "repetitions of the movement); record more cycles or do not ask for "
+                         "cycle detection", source)
+    curves = np.stack([resample(times, values, start, end, samples) for start, end in bounds])
+    curves = centre_branch(curves)          # per cycle, so cycles on other branches agree
+    return curves.mean(axis=0), float(np.mean(bounds[:, 1] - bounds[:, 0])), int(len(bounds))
+
+
+# --------------------------------------------------------------------------- the corpus
+
+@dataclass
+class MotionCorpus:
+    """People × actions joint-angle cycles, time-normalised; NaN where a cell is missing.
+
+    Attributes
+    ----------
+    people, actions : list of str
+        Sorted names (tensor order).
+    segments : list of str
+        Segments in marker-set order.
+    parents : list of int
+        Parent index of each segment (−1 for the root).
+    sequence : str
+        Euler sequence of the angles (scipy convention).
+    columns : list of str
+        Angle column names ``<segment>.<axis>`` (DESIGN 3.2), ``len = 3 · segments``.
+    angles : ndarray, shape (people, actions, samples, columns), degrees
+    durations : ndarray, shape (people, actions), seconds
+    cycle_counts : ndarray, shape (people, actions), int
+        Cycles averaged into each cell (0 = missing).
+    markerset : str or None
+        Marker set name or path the angles came from.
+    cycles : bool
+        Whether cycles were detected (else one cycle per trial).
+    cycle_column : str or None
+        Reference angle of cycle detection.
+    sources : dict of (person, action) to list of str
+        Files of each cell.
+    """
+
+    people: list[str]
+    actions: list[str]
+    segments: list[str]
+    parents: list[int]
+    sequence: str
+    columns: list[str]
+    angles: np.ndarray
+    durations: np.ndarray
+    cycle_counts: np.ndarray
+    markerset: str | None = None
+    cycles: bool = False
+    cycle_column: str | None = None
+    sources: dict = field(default_factory=dict)
+
+    @property
+    def samples(self) -> int:
+        """Frames per normalised cycle."""
+        return int(self.angles.shape[2])
+
+    @property
+    def observed(self) -> np.ndarray:
+        """(people, actions) bool: True where the cell was captured."""
+        return np.isfinite(self.durations)
+
+    def missing_cells(self) -> list[tuple[str, str]]:
+        """(person, action) pairs nobody captured."""
+        return [(self.people[p], self.actions[a]) for p, a in np.argwhere(~self.observed)]
+
+    def without_cell(self, person: str, action: str) -> "MotionCorpus":
+        """A copy with one cell removed (for leave-one-out)."""
+        p, a = self.people.index(person), self.actions.index(action)
+        angles, durations = self.angles.copy(), self.durations.copy()
+        counts = self.cycle_counts.copy()
+        angles[p, a], durations[p, a], counts[p, a] = np.nan, np.nan, 0
+        sources = {key: value for key, value in self.sources.items() if key != (person, action)}
+        return replace(self, angles=angles, durations=durations, cycle_counts=counts,
+                       sources=sources)
+
+    def subset(self, people: Sequence[str] | None = None, actions: Sequence[str] | None = None
+               ) -> "MotionCorpus":
+        """A copy restricted to some people and/or actions (in the given order)."""
+        people = list(self.people if people is None else people)
+        actions = list(self.actions if actions is None else actions)
+        unknown = [n for n in people if n not in self.people] + \
+                  [n for n in actions if n not in self.actions]
+        if unknown:
+            raise MocapError(f"not in the corpus: {', '.join(unknown)}")
+        pi = [self.people.index(n) for n in people]
+        ai = [self.actions.index(n) for n in actions]
+        sources = {key: value for key, value in self.sources.items()
+                   if key[0] in people and key[1] in actions}
+        return replace(self, people=people, actions=actions,
+                       angles=self.angles[np.ix_(pi, ai)], durations=self.durations[np.ix_(pi, ai)],
+                       cycle_counts=self.cycle_counts[np.ix_(pi, ai)], sources=sources)
+
+
+def check_corpus_size(people: Sequence[str], actions: Sequence[str],
+                      source: str | Path | None = None) -> None:
+    """MocapError unless there are at least two people and two actions."""
+    if len(people) < 2 or len(actions) < 2:
+        def named(names: Sequence[str], singular: str, plural: str) -> str:
+            listed = f" ({', '.join(names)})" if names else ""
+            return f"{len(names)} {singular if len(names) == 1 else plural}{listed}"
+        raise MocapError("need at least 2 people and 2 actions to separate people from actions, "
+                         f"found {named(people, 'person', 'people')} and "
+                         f"{named(actions, 'action', 'actions')}", source)
+
+
+def stack_corpus(cells: dict[tuple[str, str], list[tuple[np.ndarray, float, int]]],
+                 segments: Sequence[str], parents: Sequence[int], sequence: str,
+                 **metadata) -> MotionCorpus:
+    """Build a :class:`MotionCorpus` from normalised cycles grouped by (person, action).
+
+    Parameters
+    ----------
+    cells : dict
+        ``(person, action) → [(curve (samples, columns) degrees, duration s, cycles), …]``;
+        several entries of one cell are averaged (weighted by their cycle counts).
+    segments, parents, sequence
+        Skeleton description shared by every curve.
+    **metadata
+        ``markerset``, ``cycles``, ``cycle_column``, ``sources`` for the corpus.
+    """
+    people = sorted({person for person, _ in cells})
+    actions = sorted({action for _, action in cells})
+    check_corpus_size(people, actions)
+    first = next(iter(cells.values()))[0][0]
+    samples, columns = first.shape
+    angles = np.full((len(people), len(actions), samples, columns), np.nan)
+    durations = np.full((len(people), len(actions)), np.nan)
+    counts = np.zeros((len(people), len(actions)), dtype=int)
+    for (person, action), parts in cells.items():
+        p, a = people.index(person), actions.index(action)
+        weights = np.array([count for _, _, count in parts], dtype=float)
+        curves = centre_branch(np.stack([curve for curve, _, _ in parts]))
+        angles[p, a] = np.tensordot(weights / weights.sum(), curves, axes=1)
+        durations[p, a] = float(np.dot(weights, [d for _, d, _ in parts]) / weights.sum())
+        counts[p, a] = int(weights.sum())
+    return MotionCorpus(people=people, actions=actions, segments=list(segments),
+                        parents=[int(i) for i in parents], sequence=sequence,
+                        columns=angle_columns(segments, sequence), angles=angles,
+                        durations=durations, cycle_counts=counts, **metadata)
+
+
+def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = "ZXY",
+                samples: int = DEFAULT_SAMPLES, cycles: bool = False,
+                cycle_column: str | None = None,
+                progress: Callable[[Iterable, str], Iterable] | None = None) -> MotionCorpus:
+    """Read, time-normalise and stack the trials of a corpus.
+
+    Parameters
+    ----------
+    entries : iterable of CorpusEntry
+        From :func:`list_corpus_folder` or :func:`read_manifest`.
+    markerset : str, path, MarkerSet or None
+        Marker set for marker trials (angle CSVs need none).
+    sequence : str
+        Euler sequence for marker trials.
+    samples : int
+        Frames per normalised cycle.
+    cycles : bool
+        Detect and average cycles (see module notes); otherwise one cycle per trial.
+    cycle_column : str, optional
+        Reference angle column for cycle detection (``"r_thigh.Y"``); default: the column
+        with the largest mean standard deviation over the corpus.
+    progress : callable, optional
+        ``progress(iterable, description)`` wrapper (e.g. :func:`mocap.progress.progress`).
+
+    Returns
+    -------
+    MotionCorpus
+    """
+    entries = list(entries)
+    if not entries:
+        raise MocapError("the corpus has no trials")
+    check_corpus_size(sorted({e.person for e in entries}), sorted({e.action for e in entries}))
+    markerset_name = None if markerset is None else str(getattr(markerset, "name", markerset))
+    if isinstance(markerset, (str, Path)) and any(not is_angle_csv(e.path) for e in entries):
+        from mocap.markerset import load_markerset
+        markerset = load_markerset(markerset)
+    wrap = progress or (lambda items, description: items)
+    read = []
+    for entry in wrap(entries, "reading trials"):
+        angles = read_trial_angles(entry.path, markerset, sequence)
+        read.append((entry, angles))
+    reference_segments, reference_sequence = read[0][1].segments, read[0][1].sequence
+    for entry, angles in read:
+        if list(angles.segments) != list(reference_segments):
+            raise MocapError(f"segments {', '.join(angles.segments)} differ from those of "
+                             f"{read[0][0].path.name} ({', '.join(reference_segments)})", entry.path)
+        if angles.sequence != reference_sequence:
+            raise MocapError(f"Euler sequence {angles.sequence} differs from {reference_sequence} "
+                             f"of {read[0][0].path.name}", entry.path)
+    columns = angle_columns(reference_segments, reference_sequence)
+    reference = None
+    if cycles:
+        if cycle_column is not None:
+            if cycle_column not in columns:
+                raise MocapError(f"cycle reference angle {cycle_column!r} is not a column; "
+                                 f"columns are {', '.join(columns)}")
+            reference = columns.index(cycle_column)
+        else:
+            spreads = [np.nanstd(unwrap_degrees(_flat(a)), axis=0) for _, a in read]
+            reference = int(np.argmax(np.nanmean(np.stack(spreads), axis=0)))
+    cells: dict[tuple[str, str], list] = {}
+    sources: dict[tuple[str, str], list[str]] = {}
+    for entry, angles in read:
+        curve, duration, count = normalise_cycles(np.asarray(angles.times), _flat(angles),
+                                                  samples, cycles, reference, entry.path)
+        cells.setdefault((entry.person, entry.action), []).append((curve, duration, count))
+        sources.setdefault((entry.person, entry.action), []).append(str(entry.path))
+    return stack_corpus(cells, reference_segments, read[0][1].parents, reference_sequence,
+                        markerset=markerset_name, cycles=cycles,
+                        cycle_column=None if reference is None else columns[reference],
+                        sources=sources)
+
+
+def _flat(angles) -> np.ndarray:
+    """(frames, segments, 3) angle values → (frames, columns)."""
+    values = np.asarray(angles.values, dtype=float)
+    return values.reshape(values.shape[0], -1)
+
+
+def load_corpus(corpus: str | Path | None = None, manifest: str | Path | None = None,
+                **options) -> MotionCorpus:
+    """A corpus folder or manifest → :class:`MotionCorpus` (``options`` as :func:`read_corpus`)."""
+    if manifest is not None:
+        entries = read_manifest(manifest)
+    elif corpus is not None:
+        entries = list_corpus_folder(corpus)
+    else:
+        raise MocapError("give a corpus folder or --manifest FILE.csv")
+    return read_corpus(entries, **options)
