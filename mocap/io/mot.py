@@ -1,0 +1,88 @@
+"""OpenSim ``.mot`` writer (storage file of joint coordinates over time).
+
+The header OpenSim reads::
+
+    <name>
+    version=1
+    nRows=<frames>
+    nColumns=<columns including time>
+    inDegrees=yes
+    endheader
+    time<TAB>col1<TAB>col2 …
+
+followed by tab-separated rows. Angles are written in degrees (``inDegrees=yes``),
+translations in metres.
+"""
+from __future__ import annotations
+
+import io
+import os
+
+import numpy as np
+
+from mocap.atomic import atomic_path
+from mocap.errors import MocapError
+
+
+def write_mot(path: str | os.PathLike, times: np.ndarray, labels: list[str],
+              values: np.ndarray, name: str = "mocap", in_degrees: bool = True,
+              precision: int = 8) -> None:
+    """Write a table of coordinates as an OpenSim ``.mot`` file (all-or-nothing).
+
+    Parameters
+    ----------
+    path : str or PathLike
+    times : ndarray, shape (frames,), seconds
+    labels : list of str
+        Column names (without ``time``); OpenSim matches them to model coordinates.
+    values : ndarray, shape (frames, len(labels))
+        Degrees for angles when ``in_degrees``; metres for translations.
+    name : str
+        First header line (the storage's name).
+    """
+    times = np.asarray(times, float).reshape(-1)
+    values = np.asarray(values, float).reshape(times.size, -1)
+    if values.shape[1] != len(labels):
+        raise MocapError(f"{len(labels)} labels for {values.shape[1]} columns")
+    bad = [label for label in labels if not label or any(c.isspace() for c in label)]
+    if bad:
+        raise MocapError(f".mot column labels may not be empty or hold spaces: {bad}")
+    table = np.column_stack([times, values])
+    buffer = io.StringIO()
+    buffer.write(f"{name}\nversion=1\nnRows={table.shape[0]}\nnColumns={table.shape[1]}\n"
+                 f"inDegrees={'yes' if in_degrees else 'no'}\nendheader\n")
+    buffer.write("\t".join(["time"] + list(labels)) + "\n")
+    np.savetxt(buffer, table, fmt=f"%.{precision}f", delimiter="\t")
+    with atomic_path(path) as tmp:
+        tmp.write_text(buffer.getvalue(), encoding="utf-8")
+
+
+def write_motion_mot(motion, path: str | os.PathLike, sequence: str = "ZXY") -> None:
+    """Write a :class:`~mocap.skeleton.Motion` as joint coordinates in a ``.mot`` file.
+
+    Columns: ``<root>_tx``, ``_ty``, ``_tz`` (root origin, metres, Y up) then
+    ``<joint>_<axis>`` for every joint, Euler angles in ``sequence`` (scipy convention)
+    of its rotation relative to its parent, in degrees, unwrapped over time.
+    """
+    sk = motion.skeleton
+    root = sk.offsets[0] + motion.root_translation
+    angles = motion.joint_angles(sequence)
+    letters = _axis_labels(sequence)
+    labels = [f"{sk.names[0]}_t{a}" for a in "xyz"]
+    labels += [f"{_safe(n)}_{letter}" for n in sk.names for letter in letters]
+    values = np.column_stack([root, angles.reshape(motion.frames, -1)])
+    write_mot(path, motion.times, labels, values,
+              name=os.path.splitext(os.path.basename(os.fspath(path)))[0])
+
+
+def _axis_labels(sequence: str) -> list[str]:
+    seen: dict[str, int] = {}
+    result = []
+    for letter in sequence:
+        seen[letter.upper()] = seen.get(letter.upper(), 0) + 1
+        result.append(letter.upper() + ("2" if seen[letter.upper()] > 1 else ""))
+    return result
+
+
+def _safe(name: str) -> str:
+    return "".join(c if c.isalnum() or c in "_-." else "_" for c in name)
