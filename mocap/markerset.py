@@ -274,6 +274,35 @@ class MarkerSet:
                 need(name)
         return sorted(missing)
 
+    def used_labels(self, labels: list[str]) -> list[str]:
+        """The labels (of ``labels``, in their order) the set reads.
+
+        Recorded markers the segments use directly or through virtual markers;
+        handy to clean only what the analysis needs.
+        """
+        index = _LabelIndex(labels)
+        virtual = {v.name: v for v in self.virtual}
+        used: set[int] = set()
+        seen: set[str] = set()
+
+        def need(name: str) -> None:
+            if name in seen:
+                return
+            seen.add(name)
+            column = index.find(name)
+            v = virtual.get(name)
+            if v is None or (v.fallback and column is not None):
+                if column is not None:
+                    used.add(column)
+                return
+            for item in v.inputs:
+                need(item)
+
+        for segment in self.segments:
+            for name in segment.required:
+                need(name)
+        return [labels[i] for i in sorted(used)]
+
     def check_trial(self, trial: Trial) -> None:
         """Raise MocapError listing every marker the trial lacks."""
         missing = self.missing_markers(trial.labels)
@@ -405,6 +434,7 @@ def frame_from_markers(p1: np.ndarray, p2: np.ndarray, p3: np.ndarray
         scale = np.linalg.norm(p3 - p1, axis=-1, keepdims=True)
         n_norm = np.where(n_norm > 1e-9 * np.maximum(scale, 1e-300), n_norm, np.nan)
         e3 = n / n_norm
+        e1 = e1 + 0.0 * e3[..., :1]          # NaN for the whole frame, not half of it
         e2 = np.cross(e3, e1)
     return np.stack([e1, e2, e3], axis=-1)
 
