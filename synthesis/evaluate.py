@@ -166,7 +166,7 @@ def leave_one_out(corpus: MotionCorpus, progress: Callable[[Iterable, str], Iter
         curve, duration = model.synthesize(person, action)
         captured = corpus.angles[p, a]
         baseline = corpus.angles[others, a].mean(axis=0)
-        recognition = model.recognize(captured, float(corpus.durations[p, a]), action)
+        recognition = model.recognize(captured, action)
         cells.append(CellResult(
             person=person, action=action,
             synthesis_rms=float(np.sqrt(np.mean((curve - captured) ** 2))),

@@ -1,25 +1,15 @@
-"""``MotionModel``: the N-mode SVD motion model fitted from a corpus, saved as ``.npz``.
+"""``MotionModel``: the motion-signature model fitted from a corpus, saved as ``.npz``.
 
-Fitting (:meth:`MotionModel.fit`):
+Two :class:`synthesis.regression.SignatureModel` share the corpus' people and actions:
 
-1. Each captured (person, action) cell becomes one feature vector: the time-normalised cycle
-   (samples × angle columns, frame-major, degrees) followed by the cycle duration times
-   ``timing_weight`` (degrees per second), so timing is modelled like the angles and
-   synthesised motions get a predicted duration.
-2. The bases come from the **complete** people (those who performed every action). The model
-   decomposes their deviations from each action's mean motion, ``D − M = Z ×_1 P ×_2 A ×_3 J``
-   (:func:`synthesis.nmode.nmode_svd`, ranks per mode by count, kept energy or numerical
-   rank). Centring is a deliberate departure from the raw-data N-mode SVD: the ridge below
-   then shrinks an uncertain signature towards the action's mean motion (the natural baseline)
-   instead of towards a motionless zero pose.
-3. The signature of a complete person is their row of ``P``; an incomplete person's comes from
-   the actions they have (:func:`synthesis.signature.fit_signature`), which fills their
-   missing cells. A held-out or missing cell is therefore always *predicted* from other cells,
-   never echoed: it takes no part in the bases.
-4. With full people and action ranks, synthesis equals example-weight transfer (the notes,
-   §1.3d) and can over-fit; the ridge ``λ = α · mean(σ_P²) / actions`` is chosen by
-   leave-one-out over the complete people (each in turn removed from the bases and predicted,
-   action by action, from their other actions) and over the incomplete people's cells.
+* the **angle model**: each captured (person, action) cell is the time-normalised cycle
+  flattened frame-major (samples × angle columns, degrees);
+* the **timing model**: each cell is the logarithm of the cycle duration (so a person's
+  cadence, a factor on every action's duration, becomes additive), with its own signature,
+  ranks and ridge, so synthesised motions get their own predicted duration.
+
+See :mod:`synthesis.regression` for the method (bases from the complete people, centred N-mode
+SVD, signatures by ridge least squares, rank and ridge chosen by leave-one-out).
 """
 from __future__ import annotations
 
@@ -32,36 +22,13 @@ from typing import Sequence
 import numpy as np
 
 from mocap.errors import MocapError
-from synthesis.nmode import NModeSVD, Rank, nmode_svd
-from synthesis.signature import (action_bases, fit_signature, interpolate_signatures,
-                                 posterior_scores, signature_system, solve_signature,
-                                 synthesize_features)
+from synthesis.nmode import Rank
+from synthesis.regression import SignatureModel
+from synthesis.signature import interpolate_signatures, posterior_scores
 from synthesis.tensor import MotionCorpus, check_corpus_size, normalise_cycles, read_trial_angles
 
-#: Relative ridge strengths α tried by leave-one-out (λ = α · mean σ_P² / actions).
-RIDGE_GRID = (0.0, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0, 3.0, 10.0)
-#: α used when there are too few people for leave-one-out.
-DEFAULT_RIDGE = 1e-2
-#: Default weight of the cycle duration among the features, degrees per second and per
-#: √sample: 0.1 s of timing error counts like 1° of error over one whole angle curve.
-TIMING_DEGREES_PER_SECOND = 10.0
 #: File format version written into saved models.
 FORMAT_VERSION = 1
-
-
-@dataclass
-class _Bases:
-    """Action means and the N-mode SVD of the complete people's deviations."""
-
-    people: np.ndarray            # (K,) indices of the complete people used
-    mean: np.ndarray              # (actions, features)
-    decomposition: NModeSVD
-    bases: np.ndarray             # (actions, r_P, r_J)
-    ridge_unit: float             # λ per unit α
-
-    @property
-    def feature_factor(self) -> np.ndarray:
-        return self.decomposition.factors[2]
 
 
 @dataclass
@@ -101,13 +68,10 @@ class MotionModel:
     Parameters
     ----------
     people_rank, action_rank, feature_rank : int, float or None
-        Rank kept in each mode of the N-mode SVD: a count, a kept-energy fraction in (0, 1],
-        or ``None`` for the numerical rank.
+        Ranks of the angle model's modes: a count, a kept-energy fraction in (0, 1], or
+        ``None`` (people: chosen by leave-one-out; actions, features: numerical rank).
     ridge : float or "auto"
-        Relative ridge α of signature fits, or ``"auto"`` to choose it by leave-one-out.
-    timing_weight : float, optional
-        Weight of the cycle duration among the features, degrees per second (default
-        ``10 · √samples``).
+        Relative ridge α of the angle signature fits, or ``"auto"`` (leave-one-out).
 
     Examples
     --------
@@ -120,7 +84,6 @@ class MotionModel:
     action_rank: Rank = None
     feature_rank: Rank = None
     ridge: float | str = "auto"
-    timing_weight: float | None = None
 
     # Fitted state (set by fit or load).
     people: list = field(default_factory=list, init=False)
@@ -134,63 +97,14 @@ class MotionModel:
     cycles: bool = field(default=False, init=False)
     cycle_column: str | None = field(default=None, init=False)
     sources: dict = field(default_factory=dict, init=False)
-    data_: np.ndarray | None = field(default=None, init=False, repr=False)
-    timing_weight_: float = field(default=0.0, init=False)
-    basis_people_: np.ndarray | None = field(default=None, init=False, repr=False)
-    action_mean_: np.ndarray | None = field(default=None, init=False, repr=False)
-    core_: np.ndarray | None = field(default=None, init=False, repr=False)
-    factors_: list | None = field(default=None, init=False, repr=False)
-    singular_values_: list | None = field(default=None, init=False, repr=False)
-    energy_: list | None = field(default=None, init=False, repr=False)
-    bases_: np.ndarray | None = field(default=None, init=False, repr=False)
-    signatures_: np.ndarray | None = field(default=None, init=False, repr=False)
-    ridge_alpha_: float = field(default=DEFAULT_RIDGE, init=False)
-    ridge_: float = field(default=0.0, init=False)
-    loo_rms_: float = field(default=float("nan"), init=False)
-    loo_table_: dict = field(default_factory=dict, init=False, repr=False)
+    angle_model_: SignatureModel | None = field(default=None, init=False, repr=False)
+    timing_model_: SignatureModel | None = field(default=None, init=False, repr=False)
     spread_rms_: float = field(default=float("nan"), init=False)
-
-    # ------------------------------------------------------------------ features
-
-    @property
-    def angle_size(self) -> int:
-        """Number of angle features (samples × columns)."""
-        return self.samples * len(self.columns)
-
-    def features(self, curve: np.ndarray, duration: float | np.ndarray) -> np.ndarray:
-        """Feature vector(s) of cycle(s).
-
-        Parameters
-        ----------
-        curve : ndarray, shape (..., samples, columns), degrees
-        duration : float or ndarray, shape (...), seconds
-
-        Returns
-        -------
-        ndarray, shape (..., samples · columns + 1)
-        """
-        curve = np.asarray(curve, dtype=float)
-        flat = curve.reshape(curve.shape[:-2] + (-1,))
-        timing = np.asarray(duration, dtype=float)[..., None] * self.timing_weight_
-        return np.concatenate([flat, timing], axis=-1)
-
-    def split(self, features: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Inverse of :meth:`features`: ``(curve (..., samples, columns), duration (...))``."""
-        features = np.asarray(features)
-        curve = features[..., :self.angle_size].reshape(
-            features.shape[:-1] + (self.samples, len(self.columns)))
-        return curve, features[..., self.angle_size] / self.timing_weight_
-
-    def angle_rms(self, first: np.ndarray, second: np.ndarray) -> np.ndarray:
-        """RMS difference over the angle features, degrees (duration excluded)."""
-        difference = np.asarray(first)[..., :self.angle_size] - \
-            np.asarray(second)[..., :self.angle_size]
-        return np.sqrt(np.mean(difference ** 2, axis=-1))
 
     # ------------------------------------------------------------------ fitting
 
     def fit(self, corpus: MotionCorpus) -> "MotionModel":
-        """Fit the model to a corpus (see the module notes for the method).
+        """Fit the model to a corpus.
 
         Parameters
         ----------
@@ -208,133 +122,32 @@ class MotionModel:
         self.samples, self.markerset = corpus.samples, corpus.markerset
         self.cycles, self.cycle_column = corpus.cycles, corpus.cycle_column
         self.sources = {f"{p}_{a}": list(v) for (p, a), v in corpus.sources.items()}
-        self.timing_weight_ = float(self.timing_weight if self.timing_weight is not None
-                                    else TIMING_DEGREES_PER_SECOND * np.sqrt(self.samples))
         observed = corpus.observed
-        data = self.features(np.where(observed[..., None, None], corpus.angles, 0.0),
-                             np.where(observed, corpus.durations, 0.0))
-        data[~observed] = np.nan
-        self.data_ = data
         complete = np.flatnonzero(observed.all(axis=1))
         if complete.size < 2:
             raise MocapError(
                 "need at least 2 people who performed every action "
                 f"({', '.join(self.actions)}) to build the action bases; "
                 + (f"only {self.people[complete[0]]} did" if complete.size else "nobody did")
-                + f"; missing cells: {_cells_text(corpus.missing_cells())}")
-        bases = self._fit_bases(complete)
-        self._store_bases(bases)
-        if self.ridge == "auto":
-            self.ridge_alpha_, self.loo_rms_, self.loo_table_ = self._choose_ridge(bases)
-        else:
-            alpha = float(self.ridge)
-            if not np.isfinite(alpha) or alpha < 0:
-                raise MocapError(f"ridge must be 'auto' or a number ≥ 0, got {self.ridge}")
-            self.ridge_alpha_ = alpha
-            errors = self._leave_one_out_errors(bases, (alpha,))
-            self.loo_rms_ = float(np.sqrt(errors[0][0] / errors[1])) if errors[1] else float("nan")
-            self.loo_table_ = {}
-        self.ridge_ = self.ridge_alpha_ * bases.ridge_unit
-        self.signatures_ = self._signatures(bases, self.ridge_)
-        deviations = data[complete] - bases.mean
-        self.spread_rms_ = float(np.sqrt(np.mean(deviations[..., :self.angle_size] ** 2)))
+                + f"; missing cells: {_cells_text(corpus.missing_cells())} "
+                "(choose people or actions with --people/--actions)")
+        angles = corpus.angles.reshape(corpus.angles.shape[:2] + (-1,)).copy()
+        angles[~observed] = np.nan
+        with np.errstate(invalid="ignore", divide="ignore"):
+            timing = np.log(np.where(corpus.durations > 0, corpus.durations, np.nan))[..., None]
+        if np.any(observed & ~np.isfinite(timing[..., 0])):
+            raise MocapError("every captured cycle needs a positive duration")
+        self.angle_model_ = SignatureModel(self.people_rank, self.action_rank,
+                                           self.feature_rank, self.ridge).fit(angles)
+        self.timing_model_ = SignatureModel().fit(timing)
+        deviations = angles[complete] - self.angle_model_.mean_
+        self.spread_rms_ = float(np.sqrt(np.mean(deviations ** 2)))
         return self
-
-    def _fit_bases(self, people: np.ndarray) -> _Bases:
-        """Action means and N-mode SVD of the deviations of ``people`` (all complete)."""
-        block = self.data_[people]                                    # (K, A, F)
-        mean = block.mean(axis=0)
-        deviations = block - mean
-        ranks = [self.people_rank, self.action_rank, self.feature_rank]
-        decomposition = nmode_svd(deviations, ranks)
-        bases = action_bases(decomposition.core, decomposition.factors[1])
-        sigma = decomposition.singular_values[0]
-        ridge_unit = float(np.mean(sigma ** 2) / len(self.actions)) if sigma.size else 1.0
-        return _Bases(np.asarray(people), mean, decomposition, bases, max(ridge_unit, 1e-300))
-
-    def _store_bases(self, bases: _Bases) -> None:
-        self.basis_people_ = bases.people
-        self.action_mean_ = bases.mean
-        self.core_ = bases.decomposition.core
-        self.factors_ = list(bases.decomposition.factors)
-        self.singular_values_ = list(bases.decomposition.singular_values)
-        self.energy_ = list(bases.decomposition.energy)
-        self.bases_ = bases.bases
-
-    def _signatures(self, bases: _Bases, ridge: float) -> np.ndarray:
-        """Signature of every person: row of P for the complete, a fit for the others."""
-        observed = np.isfinite(self.data_[..., 0])
-        rank = bases.bases.shape[1]
-        signatures = np.full((len(self.people), rank), np.nan)
-        signatures[bases.people] = bases.decomposition.factors[0]
-        for person in range(len(self.people)):
-            if person in bases.people:
-                continue
-            actions = np.flatnonzero(observed[person])
-            if actions.size:
-                residuals = self.data_[person, actions] - bases.mean[actions]
-                signatures[person] = fit_signature(bases.bases, bases.feature_factor, residuals,
-                                                   actions, ridge)
-        return signatures
-
-    def _predict_cells(self, bases: _Bases, person: int, alphas: Sequence[float]
-                       ) -> list[tuple[int, np.ndarray]]:
-        """Each observed cell of ``person`` predicted from their other cells, per α.
-
-        Returns ``[(action, predictions (len(alphas), features)), …]``.
-        """
-        observed = np.flatnonzero(np.isfinite(self.data_[person, :, 0]))
-        results = []
-        if observed.size < 2:
-            return results
-        residuals = self.data_[person, observed] - bases.mean[observed]
-        coordinates = residuals @ bases.feature_factor                     # (k, r_J)
-        chosen = bases.bases[observed]                                     # (k, r_P, r_J)
-        grams = np.einsum("kij,klj->kil", chosen, chosen)
-        sides = np.einsum("kij,kj->ki", chosen, coordinates)
-        for position, action in enumerate(observed):
-            others = np.arange(observed.size) != position
-            gram, side = grams[others].sum(axis=0), sides[others].sum(axis=0)
-            signatures = np.stack([solve_signature(gram, side, alpha * bases.ridge_unit)
-                                   for alpha in alphas])
-            predictions = synthesize_features(bases.bases, bases.feature_factor, bases.mean,
-                                              signatures, action)
-            results.append((int(action), predictions))
-        return results
-
-    def _leave_one_out_errors(self, bases: _Bases, alphas: Sequence[float]
-                              ) -> tuple[np.ndarray, int]:
-        """Summed squared angle errors per α over leave-one-out cells, and the value count."""
-        totals = np.zeros(len(alphas))
-        count = 0
-        complete = list(bases.people)
-        for person in range(len(self.people)):
-            if person in complete:
-                if len(complete) < 3:
-                    continue
-                fold = self._fit_bases(np.array([q for q in complete if q != person]))
-            else:
-                fold = bases
-            for action, predictions in self._predict_cells(fold, person, alphas):
-                truth = self.data_[person, action, :self.angle_size]
-                totals += np.sum((predictions[:, :self.angle_size] - truth) ** 2, axis=1)
-                count += self.angle_size
-        return totals, count
-
-    def _choose_ridge(self, bases: _Bases) -> tuple[float, float, dict]:
-        """α with the lowest leave-one-out angle error, that error (RMS degrees), the table."""
-        totals, count = self._leave_one_out_errors(bases, RIDGE_GRID)
-        if count == 0:
-            return DEFAULT_RIDGE, float("nan"), {}
-        rms = np.sqrt(totals / count)
-        best = int(np.argmin(rms))
-        return float(RIDGE_GRID[best]), float(rms[best]), \
-            {float(a): float(r) for a, r in zip(RIDGE_GRID, rms)}
 
     # ------------------------------------------------------------------ using the model
 
     def _check_fitted(self) -> None:
-        if self.signatures_ is None:
+        if self.angle_model_ is None:
             raise MocapError("the motion model is not fitted")
 
     def person_index(self, person: str) -> int:
@@ -352,15 +165,18 @@ class MotionModel:
         return self.actions.index(action)
 
     @property
-    def feature_factor(self) -> np.ndarray:
-        """Orthonormal feature basis ``J``, shape (features, r_J)."""
-        return self.factors_[2]
+    def loo_rms(self) -> float:
+        """Leave-one-out RMS synthesis error of the angle model, degrees (NaN if unknown)."""
+        return self.angle_model_.loo_rms_
 
-    def signature(self, person: str) -> np.ndarray:
-        """Signature of a known person, shape (r_P,)."""
-        return self.signatures_[self.person_index(person)]
+    def signature(self, person: str) -> "Signature":
+        """Signature of a known person (angles and timing)."""
+        index = self.person_index(person)
+        return Signature(self.angle_model_.signatures_[index],
+                         self.timing_model_.signatures_[index])
 
-    def signature_from(self, observations: Sequence[tuple[str, np.ndarray, float]]) -> np.ndarray:
+    def signature_from(self, observations: Sequence[tuple[str, np.ndarray, float]]
+                       ) -> "Signature":
         """Signature of a (new) person from captured cycles.
 
         Parameters
@@ -369,24 +185,27 @@ class MotionModel:
 
         Returns
         -------
-        ndarray, shape (r_P,)
+        Signature
         """
         self._check_fitted()
         actions = [self.action_index(action) for action, _, _ in observations]
-        features = np.stack([self.features(curve, duration) for _, curve, duration in observations])
-        residuals = features - self.action_mean_[actions]
-        return fit_signature(self.bases_, self.feature_factor, residuals, actions, self.ridge_)
+        curves = np.stack([np.asarray(curve, float).ravel() for _, curve, _ in observations])
+        durations = np.array([float(duration) for _, _, duration in observations])
+        if curves.shape[1] != self.samples * len(self.columns):
+            raise MocapError(f"cycles must have {self.samples} samples of {len(self.columns)} "
+                             "angles")
+        if np.any(~(durations > 0)):
+            raise MocapError("cycle durations must be positive")
+        return Signature(self.angle_model_.signature_from(actions, curves),
+                         self.timing_model_.signature_from(actions, np.log(durations)[:, None]))
 
-    def interpolate(self, first: str, second: str, weight: float) -> np.ndarray:
-        """Signature ``(1 − w) s_first + w s_second``."""
-        return interpolate_signatures(self.signature(first), self.signature(second), weight)
+    def interpolate(self, first: str, second: str, weight: float) -> "Signature":
+        """Signature ``(1 − w) s_first + w s_second`` (angles and timing)."""
+        a, b = self.signature(first), self.signature(second)
+        return Signature(interpolate_signatures(a.angles, b.angles, weight),
+                         interpolate_signatures(a.timing, b.timing, weight))
 
-    def synthesize_features(self, signature: np.ndarray, action: str) -> np.ndarray:
-        """Feature vector of a signature doing an action, shape (features,)."""
-        return synthesize_features(self.bases_, self.feature_factor, self.action_mean_,
-                                   signature, self.action_index(action))
-
-    def synthesize(self, person: str | None, action: str, signature: np.ndarray | None = None,
+    def synthesize(self, person: str | None, action: str, signature: "Signature | None" = None,
                    samples: int | None = None) -> tuple[np.ndarray, float]:
         """One cycle of a person (or a signature) doing an action.
 
@@ -395,7 +214,7 @@ class MotionModel:
         person : str or None
             Known person (ignored when ``signature`` is given).
         action : str
-        signature : ndarray, shape (r_P,), optional
+        signature : Signature, optional
         samples : int, optional
             Frames of the returned cycle (default: the model's sample count).
 
@@ -403,28 +222,28 @@ class MotionModel:
         -------
         curve : ndarray, shape (samples, columns), degrees
         duration : float
-            Predicted cycle duration, seconds (the action's mean duration if the prediction is
-            not positive).
+            Predicted cycle duration, seconds.
         """
         if signature is None:
             if person is None:
                 raise MocapError("give a person or a signature to synthesise")
             signature = self.signature(person)
-        features = self.synthesize_features(signature, action)
-        curve, duration = self.split(features)
-        duration = float(duration)
-        if not duration > 0:
-            duration = float(self.split(self.action_mean_[self.action_index(action)])[1])
+        index = self.action_index(action)
+        curve = self.angle_model_.predict(signature.angles, index).reshape(
+            self.samples, len(self.columns))
+        duration = float(np.exp(self.timing_model_.predict(signature.timing, index)[0]))
         if samples is not None and samples != self.samples:
             if samples < 2:
                 raise MocapError(f"samples must be at least 2, got {samples}")
             phase = np.linspace(0.0, 1.0, self.samples)
-            curve = np.stack([np.interp(np.linspace(0.0, 1.0, samples), phase, column)
-                              for column in curve.T], axis=1)
+            target = np.linspace(0.0, 1.0, samples)
+            right = np.clip(np.searchsorted(phase, target, side="right"), 1, self.samples - 1)
+            weight = ((target - phase[right - 1]) / (phase[right] - phase[right - 1]))[:, None]
+            curve = curve[right - 1] * (1 - weight) + curve[right] * weight
         return curve, duration
 
     def synthesize_angles(self, person: str | None, action: str,
-                          signature: np.ndarray | None = None, samples: int | None = None):
+                          signature: "Signature | None" = None, samples: int | None = None):
         """:meth:`synthesize` as :class:`mocap.angles.JointAngles` whose times span the duration."""
         from mocap.angles import JointAngles
 
@@ -449,7 +268,7 @@ class MotionModel:
         self._check_fitted()
         if list(angles.segments) != list(self.segments):
             raise MocapError(f"trial segments ({', '.join(angles.segments)}) differ from the "
-                             f"model's ({', '.join(self.segments)})", getattr(angles, "path", None))
+                             f"model's ({', '.join(self.segments)})")
         if angles.sequence != self.sequence:
             raise MocapError(f"trial angles use the Euler sequence {angles.sequence}, the model "
                              f"{self.sequence}")
@@ -462,34 +281,32 @@ class MotionModel:
 
     def read_trial(self, path: str | os.PathLike) -> tuple[np.ndarray, float]:
         """A trial file (marker trial with the model's marker set, angle CSV or BVH) →
-        normalised ``(curve, duration)``."""
+        normalised ``(curve (samples, columns) degrees, duration s)``."""
         angles = read_trial_angles(path, self.markerset, self.sequence)
         try:
             return self.normalise(angles)
         except MocapError as error:
             raise MocapError(error.problem, error.path or path) from None
 
-    def distances(self, curve: np.ndarray, duration: float) -> np.ndarray:
+    def distances(self, curve: np.ndarray) -> np.ndarray:
         """RMS angle distance (degrees) between a cycle and every person's motion of every
         action, shape (people, actions); NaN for people without a signature."""
         self._check_fitted()
-        features = self.features(curve, duration)
+        flat = np.asarray(curve, dtype=float).ravel()
+        signatures = self.angle_model_.signatures_
         table = np.full((len(self.people), len(self.actions)), np.nan)
-        valid = np.isfinite(self.signatures_).all(axis=1)
+        valid = np.isfinite(signatures).all(axis=1)
         for action in range(len(self.actions)):
-            predictions = synthesize_features(self.bases_, self.feature_factor, self.action_mean_,
-                                              self.signatures_[valid], action)
-            table[valid, action] = self.angle_rms(predictions, features)
+            predictions = self.angle_model_.predict(signatures[valid], action)
+            table[valid, action] = np.sqrt(np.mean((predictions - flat) ** 2, axis=1))
         return table
 
-    def recognize(self, curve: np.ndarray, duration: float, action: str | None = None
-                  ) -> Recognition:
+    def recognize(self, curve: np.ndarray, action: str | None = None) -> Recognition:
         """Most likely person (and action) of a captured cycle.
 
         Parameters
         ----------
         curve : ndarray, shape (samples, columns), degrees
-        duration : float, seconds
         action : str, optional
             The trial's action when known; otherwise it is recognised too.
 
@@ -497,8 +314,8 @@ class MotionModel:
         -------
         Recognition
         """
-        table = self.distances(curve, duration)
-        scale = self.loo_rms_ if np.isfinite(self.loo_rms_) else self.spread_rms_
+        table = self.distances(curve)
+        scale = self.loo_rms if np.isfinite(self.loo_rms) else self.spread_rms_
         candidates = [self.action_index(action)] if action is not None \
             else list(range(len(self.actions)))
         nearest = np.array([np.nanmin(table[:, a]) for a in range(len(self.actions))])
@@ -519,7 +336,8 @@ class MotionModel:
     def summary(self) -> dict:
         """Plain description of the fitted model (for printing and JSON)."""
         self._check_fitted()
-        observed = np.isfinite(self.data_[..., 0])
+        angle, timing = self.angle_model_, self.timing_model_
+        observed = angle.observed
         return {
             "people": list(self.people), "actions": list(self.actions),
             "segments": len(self.segments), "columns": len(self.columns),
@@ -527,11 +345,13 @@ class MotionModel:
             "cycles": self.cycles, "cycle_column": self.cycle_column,
             "missing_cells": [f"{self.people[p]}_{self.actions[a]}"
                               for p, a in np.argwhere(~observed)],
-            "basis_people": [self.people[i] for i in self.basis_people_],
-            "ranks": [int(f.shape[1]) for f in self.factors_],
-            "energy": [float(e) for e in self.energy_],
-            "ridge_alpha": self.ridge_alpha_, "loo_rms_deg": self.loo_rms_,
+            "basis_people": [self.people[i] for i in angle.basis_people_],
+            "ranks": [int(f.shape[1]) for f in angle.factors_],
+            "energy": [float(e) for e in angle.energy_],
+            "ridge_alpha": angle.ridge_alpha_, "loo_rms_deg": angle.loo_rms_,
             "spread_rms_deg": self.spread_rms_,
+            "timing_rank": timing.rank, "timing_ridge_alpha": timing.ridge_alpha_,
+            "timing_loo_rms_log": timing.loo_rms_,
         }
 
     def save(self, path: str | os.PathLike) -> None:
@@ -539,6 +359,8 @@ class MotionModel:
         from mocap.atomic import atomic_path
 
         self._check_fitted()
+        angle_arrays, angle_meta = self.angle_model_.to_arrays("angles")
+        timing_arrays, timing_meta = self.timing_model_.to_arrays("timing")
         meta = {
             "format": "mocap-motion-model", "version": FORMAT_VERSION,
             "people": self.people, "actions": self.actions, "segments": self.segments,
@@ -547,24 +369,12 @@ class MotionModel:
             "cycle_column": self.cycle_column, "sources": self.sources,
             "people_rank": self.people_rank, "action_rank": self.action_rank,
             "feature_rank": self.feature_rank, "ridge": self.ridge,
-            "timing_weight": self.timing_weight, "timing_weight_": self.timing_weight_,
-            "ridge_alpha": self.ridge_alpha_, "ridge_value": self.ridge_,
-            "loo_rms": self.loo_rms_, "spread_rms": self.spread_rms_,
-            "loo_table": {str(k): v for k, v in self.loo_table_.items()},
-        }
-        arrays = {
-            "data": self.data_, "basis_people": self.basis_people_,
-            "action_mean": self.action_mean_, "core": self.core_,
-            "people_factor": self.factors_[0], "action_factor": self.factors_[1],
-            "feature_factor": self.factors_[2], "signatures": self.signatures_,
-            "people_singular_values": self.singular_values_[0],
-            "action_singular_values": self.singular_values_[1],
-            "feature_singular_values": self.singular_values_[2],
-            "energy": np.asarray(self.energy_),
+            "spread_rms": self.spread_rms_, "angles": angle_meta, "timing": timing_meta,
         }
         with atomic_path(path) as tmp:
             with open(tmp, "wb") as handle:
-                np.savez_compressed(handle, meta=np.array(json.dumps(meta)), **arrays)
+                np.savez_compressed(handle, meta=np.array(json.dumps(meta)), **angle_arrays,
+                                    **timing_arrays)
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> "MotionModel":
@@ -576,37 +386,42 @@ class MotionModel:
             with np.load(path, allow_pickle=False) as archive:
                 meta = json.loads(str(archive["meta"]))
                 arrays = {key: archive[key] for key in archive.files if key != "meta"}
-        except (OSError, ValueError, KeyError, json.JSONDecodeError) as error:
+        except (OSError, ValueError, KeyError, EOFError, json.JSONDecodeError) as error:
             raise MocapError(f"not a motion model file (.npz from 'mocap decompose'): {error}",
                              path) from None
-        if meta.get("format") != "mocap-motion-model":
+        if not isinstance(meta, dict) or meta.get("format") != "mocap-motion-model":
             raise MocapError("not a motion model file (.npz from 'mocap decompose')", path)
         if int(meta.get("version", 0)) > FORMAT_VERSION:
             raise MocapError(f"model format version {meta['version']} is newer than this "
                              f"toolkit reads ({FORMAT_VERSION})", path)
-        model = cls(people_rank=meta["people_rank"], action_rank=meta["action_rank"],
-                    feature_rank=meta["feature_rank"], ridge=meta["ridge"],
-                    timing_weight=meta["timing_weight"])
-        for name in ("people", "actions", "segments", "parents", "columns", "sequence",
-                     "samples", "markerset", "cycles", "cycle_column", "sources"):
-            setattr(model, name, meta[name])
-        model.timing_weight_ = float(meta["timing_weight_"])
-        model.ridge_alpha_, model.ridge_ = float(meta["ridge_alpha"]), float(meta["ridge_value"])
-        model.loo_rms_, model.spread_rms_ = float(meta["loo_rms"]), float(meta["spread_rms"])
-        model.loo_table_ = {float(k): v for k, v in meta.get("loo_table", {}).items()}
-        model.data_ = arrays["data"]
-        model.basis_people_ = arrays["basis_people"].astype(int)
-        model.action_mean_ = arrays["action_mean"]
-        model.core_ = arrays["core"]
-        model.factors_ = [arrays["people_factor"], arrays["action_factor"],
-                          arrays["feature_factor"]]
-        model.singular_values_ = [arrays["people_singular_values"],
-                                  arrays["action_singular_values"],
-                                  arrays["feature_singular_values"]]
-        model.energy_ = [float(e) for e in arrays["energy"]]
-        model.bases_ = action_bases(model.core_, model.factors_[1])
-        model.signatures_ = arrays["signatures"]
+        try:
+            model = cls(people_rank=meta["people_rank"], action_rank=meta["action_rank"],
+                        feature_rank=meta["feature_rank"], ridge=meta["ridge"])
+            for name in ("people", "actions", "segments", "parents", "columns", "sequence",
+                         "samples", "markerset", "cycles", "cycle_column", "sources"):
+                setattr(model, name, meta[name])
+            model.spread_rms_ = float(meta["spread_rms"])
+            model.angle_model_ = SignatureModel.from_arrays("angles", arrays, meta["angles"])
+            model.timing_model_ = SignatureModel.from_arrays("timing", arrays, meta["timing"])
+        except (KeyError, TypeError, ValueError) as error:
+            raise MocapError(f"damaged motion model file (missing {error})", path) from None
         return model
+
+
+@dataclass
+class Signature:
+    """A person's motion signature: one vector per sub-model.
+
+    Attributes
+    ----------
+    angles : ndarray, shape (r_angles,)
+        Coefficients of the angle model's action bases.
+    timing : ndarray, shape (r_timing,)
+        Coefficients of the timing (log-duration) model's action bases.
+    """
+
+    angles: np.ndarray
+    timing: np.ndarray
 
 
 def _cells_text(cells: Sequence[tuple[str, str]]) -> str:

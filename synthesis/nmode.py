@@ -160,9 +160,11 @@ def gram_svd(matrix: np.ndarray, rank: Rank = None, mode: int = 0
         left = vectors
     else:
         left = (matrix @ vectors) / singular_values
-        # Re-orthonormalise: U = D V Σ⁻¹ is orthonormal only up to rounding of the Gram.
-        left, triangle = np.linalg.qr(left)
-        left *= np.sign(np.diag(triangle))
+        # U = D V Σ⁻¹ is orthonormal up to rounding amplified by σ_max²/σ²: re-orthonormalise
+        # only when that shows.
+        if np.abs(left.T @ left - np.eye(left.shape[1])).max() > 1e-10:
+            left, triangle = np.linalg.qr(left)
+            left *= np.sign(np.diag(triangle))
     if left.shape[1] == 0:
         left = np.zeros((rows, 1))
         left[0, 0] = 1.0

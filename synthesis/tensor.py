@@ -142,10 +142,9 @@ def angle_columns(segments: Sequence[str], sequence: str) -> list[str]:
     >>> angle_columns(["pelvis"], "ZYZ")
     ['pelvis.Z', 'pelvis.Y', 'pelvis.Z2']
     """
-    letters = []
-    for i, letter in enumerate(sequence):
-        letters.append(letter + ("2" if letter in sequence[:i] else ""))
-    return [f"{segment}.{letter}" for segment in segments for letter in letters]
+    from mocap.angles import axis_names
+
+    return [f"{segment}.{letter}" for segment in segments for letter in axis_names(sequence)]
 
 
 def is_angle_csv(path: str | Path) -> bool:
@@ -225,22 +224,18 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY"):
 
 
 def _bvh_angles(path: Path, sequence: str):
-    """Joint angles of a BVH file through ``mocap.skeleton.Motion``."""
-    from scipy.spatial.transform import Rotation
+    """Joint angles of a BVH file on the 15-segment body model, in a Z-up lab's axes (the
+    axes of marker-derived angles), through ``mocap.skeleton``."""
+    from mocap.angles import JointAngles, check_sequence, matrices_to_angles, unwrap_angles
+    from mocap.io.bvh import read_bvh
+    from mocap.skeleton import motion_to_lab, reduce_to_segments
 
-    from mocap.angles import JointAngles
-    from mocap.io import bvh
-
-    motion = bvh.read_bvh(path) if hasattr(bvh, "read_bvh") else bvh.read(path)
-    rotations = np.asarray(motion.rotations, dtype=float)      # (frames, joints, 3, 3)
-    frames, joints = rotations.shape[:2]
-    euler = Rotation.from_matrix(rotations.reshape(-1, 3, 3)).as_euler(sequence, degrees=True)
-    skeleton = motion.skeleton
-    names = list(getattr(skeleton, "names", None) or getattr(skeleton, "segments"))
-    parents = list(getattr(skeleton, "parents"))
-    times = np.arange(frames) / float(motion.rate)
-    return JointAngles(times=times, values=euler.reshape(frames, joints, 3), segments=names,
-                       sequence=sequence, parents=parents)
+    check_sequence(sequence)
+    motion = reduce_to_segments(read_bvh(path))
+    rotations, _ = motion_to_lab(motion, up="z")
+    values = unwrap_angles(matrices_to_angles(rotations, sequence), sequence)
+    return JointAngles(times=motion.times, values=values, segments=list(motion.names),
+                       sequence=sequence, parents=list(motion.skeleton.parents))
 
 
 # --------------------------------------------------------------------------- time normalisation
