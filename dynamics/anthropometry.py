@@ -1,0 +1,242 @@
+"""Segment masses, centres of mass and inertias from de Leva (1996), scaled to a skeleton.
+
+de Leva P. (1996) "Adjustments to Zatsiorsky-Seluyanov's segment inertia parameters",
+J. Biomech. 29(9):1223-1230, table 4. Mass as a fraction of body mass; centre of mass as
+a fraction of the segment length from the proximal end (from the upper end for head and
+trunk); radii of gyration as fractions of the segment length.
+
+Axis naming of the radii: "sagittal" is the radius about the sagittal (anteroposterior)
+axis, "transverse" about the transverse (mediolateral) axis, "longitudinal" about the long
+axis. The table itself shows it: the upper trunk, wide from left to right, has r_sag 0.716 >
+r_trans 0.454, while the head, deeper than wide, has r_sag 0.362 < r_trans 0.376.
+
+Segment endpoints in our 15-segment body (each frame is the identity in the neutral pose,
+Y up, Z anterior, X left; a segment's origin is its proximal joint):
+
+* upper arm, forearm, thigh, shank: origin → first child's origin;
+* hand: origin (wrist) → end site (default 0.74 forearm lengths along the forearm);
+* head: origin → end site (head top); de Leva's COM is measured from the vertex;
+* thorax (upper + mid trunk merged): origin → head origin; COM from the bottom 0.584 L
+  (merged with the parallel-axis theorem below);
+* pelvis (lower trunk): midpoint of the hip joints → thorax origin, COM 0.3885 L above the
+  hips (de Leva: 0.6115 from the upper end);
+* foot: heel → toe tip; the toe is the end site, the heel is under the ankle at sole level,
+  0.22 of the horizontal ankle-to-toe distance behind the ankle.
+
+The female radii of gyration are transcribed from de Leva's table 4 but were not
+cross-checked against the project's reference notes (which list male radii only); masses
+and centres of mass of both sexes were.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+#: (mass fraction, COM fraction from proximal/upper end, r_sag, r_trans, r_long), male.
+DE_LEVA_MALE = {
+    "head": (0.0694, 0.5976, 0.362, 0.376, 0.312),
+    "upper_trunk": (0.1596, 0.2999, 0.716, 0.454, 0.659),
+    "mid_trunk": (0.1633, 0.4502, 0.482, 0.383, 0.468),
+    "lower_trunk": (0.1117, 0.6115, 0.615, 0.551, 0.587),
+    "upperarm": (0.0271, 0.5772, 0.285, 0.269, 0.158),
+    "forearm": (0.0162, 0.4574, 0.276, 0.265, 0.121),
+    "hand": (0.0061, 0.7900, 0.628, 0.513, 0.401),
+    "thigh": (0.1416, 0.4095, 0.329, 0.329, 0.149),
+    "shank": (0.0433, 0.4395, 0.251, 0.246, 0.102),
+    "foot": (0.0137, 0.4415, 0.257, 0.245, 0.124),
+}
+#: Lengths (mm) of the reference male, used only to merge the trunk parts.
+_LENGTHS_MALE = {"upper_trunk": 170.7, "mid_trunk": 215.5}
+DE_LEVA_FEMALE = {
+    "head": (0.0668, 0.5894, 0.330, 0.359, 0.318),
+    "upper_trunk": (0.1545, 0.2077, 0.746, 0.502, 0.718),
+    "mid_trunk": (0.1465, 0.4512, 0.433, 0.354, 0.415),
+    "lower_trunk": (0.1247, 0.4920, 0.433, 0.402, 0.444),
+    "upperarm": (0.0255, 0.5754, 0.278, 0.260, 0.148),
+    "forearm": (0.0138, 0.4559, 0.261, 0.257, 0.094),
+    "hand": (0.0056, 0.7474, 0.531, 0.454, 0.335),
+    "thigh": (0.1478, 0.3612, 0.369, 0.364, 0.162),
+    "shank": (0.0481, 0.4352, 0.267, 0.263, 0.092),
+    "foot": (0.0129, 0.4014, 0.299, 0.279, 0.139),
+}
+_LENGTHS_FEMALE = {"upper_trunk": 142.5, "mid_trunk": 205.3}
+
+
+def _merged_thorax(table: dict, lengths: dict) -> tuple[float, float, float, float, float]:
+    """Upper + mid trunk as one segment: (mass, COM from the bottom, r_sag, r_trans, r_long).
+
+    Both parts lie on one long axis (upper above mid); their inertias add about the
+    merged COM with the parallel-axis theorem (the long-axis term has no offset).
+    """
+    mu, cu, su, tu, lu = table["upper_trunk"]
+    mm, cm, sm, tm, lm = table["mid_trunk"]
+    length_u, length_m = lengths["upper_trunk"], lengths["mid_trunk"]
+    total = length_u + length_m
+    # COM positions measured from the top of the merged segment.
+    zu, zm = cu * length_u, length_u + cm * length_m
+    mass = mu + mm
+    z = (mu * zu + mm * zm) / mass
+    def radius(ru: float, rm: float, parallel: bool) -> float:
+        inertia = mu * (ru * length_u) ** 2 + mm * (rm * length_m) ** 2
+        if parallel:
+            inertia += mu * (zu - z) ** 2 + mm * (zm - z) ** 2
+        return float(np.sqrt(inertia / mass) / total)
+    return (mass, 1.0 - z / total, radius(su, sm, True), radius(tu, tm, True),
+            radius(lu, lm, False))
+
+
+def segment_table(sex: str = "male") -> dict[str, tuple[float, float, float, float, float]]:
+    """de Leva parameters per body-segment kind: (mass fraction, COM fraction from our
+    proximal point, r_sag, r_trans, r_long).
+
+    Kinds: pelvis, thorax, head, upperarm, forearm, hand, thigh, shank, foot. The COM
+    fractions are converted to "from the proximal point" of our segment definitions (see
+    the module docstring): head and pelvis measured from below.
+    """
+    if sex not in ("male", "female"):
+        raise ValueError(f"sex must be 'male' or 'female', got {sex!r}")
+    table = DE_LEVA_MALE if sex == "male" else DE_LEVA_FEMALE
+    lengths = _LENGTHS_MALE if sex == "male" else _LENGTHS_FEMALE
+    result = {kind: table[kind] for kind in
+              ("upperarm", "forearm", "hand", "thigh", "shank", "foot")}
+    m, c, s, t, lo = table["head"]
+    result["head"] = (m, 1.0 - c, s, t, lo)
+    m, c, s, t, lo = table["lower_trunk"]
+    result["pelvis"] = (m, 1.0 - c, s, t, lo)
+    result["thorax"] = _merged_thorax(table, lengths)
+    return result
+
+
+def segment_kind(name: str) -> str:
+    """The de Leva kind of one of our body segments ('l_thigh' → 'thigh')."""
+    return name[2:] if name[:2] in ("l_", "r_") else name
+
+
+@dataclass
+class SegmentInertia:
+    """Inertial parameters of one segment in its own frame.
+
+    Attributes
+    ----------
+    mass : float, kg
+    com : ndarray, shape (3,), metres, in the segment frame
+    inertia : ndarray, shape (3, 3), kg m², about the COM, segment axes
+    proximal, distal : ndarray, shape (3,), metres
+        The segment's end points used for length and long axis.
+    """
+
+    mass: float
+    com: np.ndarray
+    inertia: np.ndarray
+    proximal: np.ndarray
+    distal: np.ndarray
+
+    @property
+    def length(self) -> float:
+        return float(np.linalg.norm(self.distal - self.proximal))
+
+
+def foot_points(end_site: np.ndarray, half_width: tuple[float, float] = (0.025, 0.04)
+                ) -> dict[str, np.ndarray]:
+    """Heel and toe contact points of a foot in its frame (origin at the ankle).
+
+    Parameters
+    ----------
+    end_site : ndarray, shape (3,), metres
+        The toe tip in the foot frame (Y up, Z anterior at rest).
+    half_width : (heel, toe) half-widths, metres.
+
+    Returns
+    -------
+    dict
+        ``heel``, ``toe`` (on the long axis) and ``heel_medial``/``heel_lateral``/
+        ``toe_medial``/``toe_lateral`` (sign of X does not matter: both sides are used).
+    """
+    toe = np.asarray(end_site, float)
+    horizontal = toe * np.array([1.0, 0.0, 1.0])
+    heel = np.array([0.0, toe[1], 0.0]) - 0.22 * horizontal
+    forward = horizontal / max(np.linalg.norm(horizontal), 1e-9)
+    side = np.cross(np.array([0.0, 1.0, 0.0]), forward)       # +X when facing +Z
+    # Ball of the foot (metatarsal heads) at 80 % of heel→toe, where the width is.
+    ball = heel + 0.8 * (toe - heel)
+    return {
+        "heel": heel, "toe": toe,
+        "heel_a": heel + half_width[0] * side, "heel_b": heel - half_width[0] * side,
+        "toe_a": ball + half_width[1] * side, "toe_b": ball - half_width[1] * side,
+    }
+
+
+def segment_inertias(skeleton, body_mass: float, sex: str = "male") -> list[SegmentInertia]:
+    """de Leva inertial parameters of every segment of a 15-segment body skeleton.
+
+    Parameters
+    ----------
+    skeleton : mocap.skeleton.Skeleton
+        Names must be those of ``mocap.skeleton.BODY_SEGMENTS`` (use
+        ``reduce_to_segments`` first); end sites for head, hands and feet.
+    body_mass : float, kg
+    sex : {"male", "female"}
+
+    Returns
+    -------
+    list of SegmentInertia, one per skeleton segment.
+    """
+    table = segment_table(sex)
+    names = skeleton.names
+    result = []
+    for i, name in enumerate(names):
+        kind = segment_kind(name)
+        if kind not in table:
+            raise ValueError(f"no de Leva parameters for segment {name!r}")
+        mass_fraction, com_fraction, r_sag, r_trans, r_long = table[kind]
+        proximal, distal = _end_points(skeleton, i, kind)
+        axis = distal - proximal
+        length = float(np.linalg.norm(axis))
+        if length < 1e-6:
+            raise ValueError(f"segment {name!r} has no length")
+        long_axis = axis / length
+        ap = np.array([0.0, 0.0, 1.0])
+        if abs(long_axis @ ap) > 0.9:                 # the foot: long axis is anterior
+            ap = np.array([0.0, 1.0, 0.0])
+        ap = ap - (ap @ long_axis) * long_axis
+        ap /= np.linalg.norm(ap)
+        ml = np.cross(long_axis, ap)
+        mass = mass_fraction * body_mass
+        inertia = mass * length ** 2 * (r_long ** 2 * np.outer(long_axis, long_axis)
+                                        + r_sag ** 2 * np.outer(ap, ap)
+                                        + r_trans ** 2 * np.outer(ml, ml))
+        com = proximal + com_fraction * axis
+        result.append(SegmentInertia(mass, com, inertia, proximal, distal))
+    return result
+
+
+def _end_points(skeleton, index: int, kind: str) -> tuple[np.ndarray, np.ndarray]:
+    names = skeleton.names
+    children = skeleton.children(index)
+    end = skeleton.end_sites[index]
+    origin = np.zeros(3)
+    if kind == "pelvis":
+        hips = [c for c in children if segment_kind(names[c]) == "thigh"]
+        trunk = [c for c in children if segment_kind(names[c]) == "thorax"]
+        if not hips or not trunk:
+            raise ValueError("the pelvis needs two thighs and a thorax as children")
+        return skeleton.offsets[hips].mean(axis=0), skeleton.offsets[trunk[0]]
+    if kind == "thorax":
+        head = [c for c in children if segment_kind(names[c]) == "head"]
+        return origin, skeleton.offsets[head[0] if head else children[0]]
+    if kind == "foot":
+        if not np.isfinite(end).all():
+            raise ValueError(f"foot {names[index]!r} needs an end site (toe tip)")
+        points = foot_points(end)
+        return points["heel"], points["toe"]
+    if kind in ("hand", "head"):
+        if np.isfinite(end).all():
+            return origin, end
+        parent = skeleton.parents[index]
+        along = skeleton.offsets[index]
+        fraction = 0.74 if kind == "hand" else 0.85
+        return origin, along * fraction if parent >= 0 else np.array([0, 0.2, 0])
+    if not children:
+        raise ValueError(f"segment {names[index]!r} has no child to give its length")
+    return origin, skeleton.offsets[children[0]]
