@@ -1,0 +1,148 @@
+"""Marker-file readers and writers, chosen by file suffix.
+
+``read(path)`` and ``write(trial, path)`` dispatch on the suffix, case-insensitive
+(``.c3d``/``.C3D``, ``.csv``, ``.trc``). Other formats plug in with
+:func:`register_format`, for example the BVH module::
+
+    register_format(".bvh", reader=read_bvh, writer=write_bvh, description="BVH motion")
+
+A format's reader takes a path and returns a :class:`~mocap.trial.Trial` (or
+another object for non-marker formats such as BVH); a writer takes
+``(obj, path, **options)``. Modules are imported only when a file of their kind is
+read or written, so ``import mocap.io`` stays light.
+
+Examples
+--------
+>>> from mocap.io import read, write                  # doctest: +SKIP
+>>> trial = read("walk.c3d")
+>>> write(trial, "walk.trc")
+"""
+from __future__ import annotations
+
+import importlib
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable
+
+from mocap.errors import MocapError
+
+
+@dataclass(frozen=True)
+class FileFormat:
+    """One registered file format.
+
+    Attributes
+    ----------
+    suffix : str
+        Lower-case suffix with the dot (``".c3d"``).
+    name : str
+        Short name stored in ``Trial.format`` (``"c3d"``).
+    reader, writer : str or callable or None
+        ``"module:function"`` (imported on first use) or the function itself.
+    description : str
+    """
+
+    suffix: str
+    name: str
+    reader: str | Callable | None
+    writer: str | Callable | None
+    description: str = ""
+
+
+_FORMATS: dict[str, FileFormat] = {}
+
+
+def register_format(suffix: str, reader: str | Callable | None = None,
+                    writer: str | Callable | None = None, name: str | None = None,
+                    description: str = "") -> None:
+    """Make ``read``/``write`` handle files ending in ``suffix``.
+
+    Parameters
+    ----------
+    suffix : str
+        With or without the dot; matched case-insensitively.
+    reader, writer : callable or "module:function", optional
+        ``reader(path) -> object``; ``writer(obj, path, **options)``.
+    name : str, optional
+        Format name; defaults to the suffix without the dot.
+    description : str, optional
+        Shown in error messages and ``--help`` texts.
+    """
+    suffix = suffix.lower()
+    if not suffix.startswith("."):
+        suffix = "." + suffix
+    _FORMATS[suffix] = FileFormat(suffix, name or suffix[1:], reader, writer, description)
+
+
+register_format(".c3d", "mocap.io.c3d:read_c3d", "mocap.io.c3d:write_c3d",
+                description="C3D marker file")
+register_format(".csv", "mocap.io.csv:read_csv", "mocap.io.csv:write_csv",
+                description="marker CSV (time,<label>_x,<label>_y,<label>_z… in metres)")
+register_format(".trc", "mocap.io.trc:read_trc", "mocap.io.trc:write_trc",
+                description="OpenSim / Motion Analysis TRC")
+
+
+def formats() -> dict[str, FileFormat]:
+    """Registered formats by suffix (a copy)."""
+    return dict(_FORMATS)
+
+
+def _resolve(function: str | Callable) -> Callable:
+    if callable(function):
+        return function
+    module, _, name = function.partition(":")
+    return getattr(importlib.import_module(module), name)
+
+
+def format_of(path: str | os.PathLike, for_writing: bool = False) -> FileFormat:
+    """The registered format of ``path`` by its suffix (MocapError if none)."""
+    suffix = Path(path).suffix.lower()
+    file_format = _FORMATS.get(suffix)
+    needed = "writer" if for_writing else "reader"
+    if file_format is None or getattr(file_format, needed) is None:
+        known = sorted(s for s, f in _FORMATS.items() if getattr(f, needed) is not None)
+        what = f"suffix {suffix!r}" if suffix else "no suffix"
+        verb = "write" if for_writing else "read"
+        raise MocapError(f"cannot {verb} files with {what} (known: {', '.join(known)})",
+                         path)
+    return file_format
+
+
+def read(path: str | os.PathLike) -> Any:
+    """Read a marker file (or another registered format) chosen by its suffix.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        ``.c3d``, ``.csv``, ``.trc`` or any registered suffix (case-insensitive).
+
+    Returns
+    -------
+    Trial
+        For marker formats: points (frames, markers, 3) in metres, NaN where missing.
+
+    Raises
+    ------
+    MocapError
+        Unknown suffix, missing file, or a file that is damaged or not of its kind.
+    """
+    file_format = format_of(path)
+    if not Path(path).exists():
+        raise MocapError("no such file", path)
+    if Path(path).is_dir():
+        raise MocapError("is a directory, not a file", path)
+    return _resolve(file_format.reader)(path)
+
+
+def write(obj: Any, path: str | os.PathLike, **options: Any) -> None:
+    """Write ``obj`` (a Trial for marker formats) to ``path`` by its suffix.
+
+    The file appears all-or-nothing (temporary name, then rename). ``options``
+    go to the format's writer (e.g. ``units="mm"`` for C3D and TRC).
+    """
+    file_format = format_of(path, for_writing=True)
+    _resolve(file_format.writer)(obj, path, **options)
+
+
+__all__ = ["read", "write", "register_format", "formats", "format_of", "FileFormat"]

@@ -1,0 +1,426 @@
+"""C3D marker files: read (checked, then ezc3d or our own decoder) and write (ezc3d).
+
+Reading goes in three steps:
+
+1. :func:`mocap.io.c3d_header.inspect_c3d` checks the header, walks the parameter
+   section with bounds checks and matches the data size against the file size,
+   in pure Python. Damaged files stop here with a :class:`MocapError`; ezc3d never
+   sees them (it can crash the process or silently read a truncated file).
+2. ezc3d reads the file when it will lay the data out as the check did
+   (Intel/DEC processor, POINT:FRAMES and the analog rate consistent with the
+   file size). It would misread the others: BTS files without ANALOG:RATE
+   (it skips their analog words and scrambles the points), the KINARM sample it
+   only opens with ``ignore_bad_formatting`` (blank labels, wrong values), and
+   it refuses SGI/MIPS files.
+3. Those go to our vectorised decoder of the checked layout
+   (:func:`mocap.io.c3d_header.decode_c3d_data`), and if that raised, to the
+   pure-Python ``c3d`` package. Our decoder comes first because it agrees with
+   the package to the last bit on every real file both read, 1000× faster (the
+   package decodes frame by frame: 26 s for the 5065-frame KINARM sample).
+
+Every reading ends in the same :class:`~mocap.trial.Trial`: points in metres,
+NaN where the residual is negative, the coordinates are not finite, or the
+point sits exactly at (0, 0, 0) (how some Qualisys files mark gaps). Points that
+a modelling package computed (POINT:ANGLES, FORCES, MOMENTS, POWERS, SCALARS,
+REACTIONS, such as Plug-in Gait's ``LKneeAngles``) are not markers: they are
+kept in ``trial.metadata["modelled"]`` instead.
+
+Units: POINT:UNITS ``mm``/``cm``/``m`` (and their long spellings) are honoured.
+When the file has no usable unit, the unit is inferred from the magnitude of
+the valid coordinates: a 99th percentile above 20 means millimetres (no capture
+volume is 20 m wide, while a marker 20 mm from the origin for 99 % of a trial is
+implausible), otherwise metres; the inference is recorded in
+``metadata["warnings"]``.
+"""
+from __future__ import annotations
+
+import os
+import warnings as python_warnings
+
+import numpy as np
+
+from mocap.atomic import atomic_path
+from mocap.errors import MocapError
+from mocap.io.c3d_header import C3DLayout, decode_c3d_data, inspect_c3d
+from mocap.trial import Trial
+
+#: POINT parameters listing computed (non-marker) points, as Vicon and others write them.
+MODELLED_KINDS = ("ANGLES", "FORCES", "MOMENTS", "POWERS", "SCALARS", "REACTIONS")
+
+_UNIT_FACTORS = {
+    "mm": 1e-3, "millimeter": 1e-3, "millimeters": 1e-3, "millimetre": 1e-3,
+    "millimetres": 1e-3, "cm": 1e-2, "centimeter": 1e-2, "centimeters": 1e-2,
+    "centimetre": 1e-2, "centimetres": 1e-2, "m": 1.0, "meter": 1.0, "meters": 1.0,
+    "metre": 1.0, "metres": 1.0, "dm": 0.1, "in": 0.0254, "inch": 0.0254,
+    "inches": 0.0254,
+}
+#: 99th-percentile |coordinate| above which a file without units is taken as millimetres.
+INFER_MM_ABOVE = 20.0
+
+
+def unit_factor(units: str) -> float | None:
+    """Metres per file unit for a unit string (``"mm"`` → 0.001), None if unknown."""
+    return _UNIT_FACTORS.get(units.strip().lower().rstrip("."))
+
+
+def infer_unit_factor(values: np.ndarray) -> tuple[str, float]:
+    """Guess the unit of coordinates with no stated unit, from their magnitude.
+
+    Parameters
+    ----------
+    values : ndarray
+        Coordinates in the unknown unit, NaN where missing.
+
+    Returns
+    -------
+    (unit, metres per unit) : ``("mm", 0.001)`` or ``("m", 1.0)``.
+    """
+    finite = np.abs(values[np.isfinite(values)])
+    if finite.size and np.percentile(finite, 99) > INFER_MM_ABOVE:
+        return "mm", 1e-3
+    return "m", 1.0
+
+
+def _string_list(value) -> list[str]:
+    if value is None:
+        return []
+    if isinstance(value, str):
+        return [value] if value else []
+    if isinstance(value, list):
+        return [str(v) for v in value]
+    return []
+
+
+def _point_labels(layout: C3DLayout) -> list[str]:
+    """POINT:LABELS, LABELS2 … joined, padded or cut to the point count."""
+    point_group = layout.parameters.get("POINT", {})
+    labels = _string_list(point_group.get("LABELS"))
+    index = 2
+    while f"LABELS{index}" in point_group:
+        labels += _string_list(point_group[f"LABELS{index}"])
+        index += 1
+    labels = [label.strip() for label in labels[:layout.point_count]]
+    labels += [""] * (layout.point_count - len(labels))
+    return labels
+
+
+def _analog_labels(layout: C3DLayout) -> list[str]:
+    group = layout.parameters.get("ANALOG", {})
+    labels = _string_list(group.get("LABELS"))
+    index = 2
+    while f"LABELS{index}" in group:
+        labels += _string_list(group[f"LABELS{index}"])
+        index += 1
+    labels = [label.strip() for label in labels[:layout.analog_channels]]
+    labels += [""] * (layout.analog_channels - len(labels))
+    return [label or f"A{i + 1:03d}" for i, label in enumerate(labels)]
+
+
+def unique_labels(labels: list[str], prefix: str = "M") -> tuple[list[str], list[str]]:
+    """Make labels non-empty and unique, saying what was changed.
+
+    Blank labels become ``M001``… (1-based column); the second and later
+    copies of a repeated label get ``_2``, ``_3``… appended.
+
+    Returns
+    -------
+    (labels, notes) : the new labels and one note per change kind.
+    """
+    notes = []
+    result = []
+    seen: dict[str, int] = {}
+    blank = 0
+    for i, label in enumerate(labels):
+        if not label:
+            label = f"{prefix}{i + 1:03d}"
+            blank += 1
+        if label in seen:
+            seen[label] += 1
+            candidate = f"{label}_{seen[label]}"
+            while candidate in seen:
+                seen[label] += 1
+                candidate = f"{label}_{seen[label]}"
+            notes.append(f"repeated label {label!r} renamed {candidate!r}")
+            label = candidate
+        seen.setdefault(label, 1)
+        result.append(label)
+    if blank:
+        notes.insert(0, f"{blank} blank label(s) named after their column")
+    return result, notes
+
+
+def _ezc3d_layout_matches(layout: C3DLayout) -> bool:
+    """True when ezc3d will lay the data out as the check did (so it reads it right)."""
+    if layout.processor == "mips" or layout.warnings:
+        return False
+    parameters = layout.parameters
+    if "POINT" not in parameters or "USED" not in parameters["POINT"]:
+        return False
+    point = parameters["POINT"]
+    frames = point.get("FRAMES")
+    if not isinstance(frames, np.ndarray) or frames.size == 0 \
+            or (int(frames.reshape(-1)[0]) & 0xFFFF) != layout.frames:
+        return False
+    if len(_string_list(point.get("LABELS"))) < min(layout.point_count, 255):
+        return False
+    analog = parameters.get("ANALOG", {})
+    if layout.analog_channels:
+        rate = analog.get("RATE")
+        if not isinstance(rate, np.ndarray) or rate.size == 0 or layout.rate <= 0:
+            return False
+        if int(float(rate.reshape(-1)[0]) / layout.rate) != layout.analog_samples_per_frame:
+            return False
+        for name in ("SCALE", "OFFSET", "LABELS"):
+            value = analog.get(name)
+            size = len(value) if isinstance(value, list) else getattr(value, "size", 0)
+            if size < min(layout.analog_channels, 255):
+                return False
+    return True
+
+
+def _read_ezc3d(layout: C3DLayout):
+    import ezc3d
+
+    c3d = ezc3d.c3d(layout.path, extract_forceplat_data=False)
+    data = c3d["data"]
+    points = np.asarray(data["points"])[:3].transpose(2, 1, 0)
+    residuals = np.asarray(data["meta_points"]["residuals"])[0].T
+    analogs = np.asarray(data["analogs"])[0].T
+    return points, residuals, analogs
+
+
+def _read_c3d_package(layout: C3DLayout):
+    import c3d
+
+    with open(layout.path, "rb") as handle, python_warnings.catch_warnings():
+        python_warnings.simplefilter("ignore")
+        reader = c3d.Reader(handle)
+        # The package decodes one frame per call; it is only the fallback for
+        # files ezc3d cannot read, which are small.
+        frames = [(p, a) for _, p, a in reader.read_frames(copy=True, check_nan=False)]
+    if not frames:
+        return (np.zeros((0, layout.point_count, 3)), np.zeros((0, layout.point_count)),
+                np.zeros((0, layout.analog_channels)))
+    points = np.stack([p for p, _ in frames]).astype(float)
+    analog_blocks = [np.atleast_2d(a) for _, a in frames]
+    analogs = (np.concatenate([a.T for a in analog_blocks], axis=0).astype(float)
+               if layout.analog_channels and analog_blocks[0].size else
+               np.zeros((0, layout.analog_channels)))
+    return points[:, :, :3], points[:, :, 3], analogs
+
+
+def _analog_transform(layout: C3DLayout, raw: np.ndarray) -> np.ndarray:
+    """Apply ANALOG:OFFSET, SCALE and GEN_SCALE to raw stored analog values."""
+    channels = layout.analog_channels
+    group = layout.parameters.get("ANALOG", {})
+
+    def per_channel(name: str, default: float) -> np.ndarray:
+        value = group.get(name)
+        out = np.full(channels, default, dtype=float)
+        if isinstance(value, np.ndarray):
+            flat = value.reshape(-1)[:channels].astype(float)
+            out[:flat.size] = flat
+        return out
+
+    offsets = per_channel("OFFSET", 0.0)
+    if "OFFSET" not in group:
+        offsets = per_channel("OFFSETS", 0.0)
+    scales = per_channel("SCALE", 1.0)
+    gen_scale = group.get("GEN_SCALE")
+    gen = float(gen_scale.reshape(-1)[0]) if isinstance(gen_scale, np.ndarray) \
+        and gen_scale.size else 1.0
+    values = raw
+    if not layout.is_float and str(group.get("FORMAT", "")).strip().upper() == "UNSIGNED":
+        values = np.where(values < 0, values + 65536, values)
+    return (values - offsets) * scales * gen
+
+
+def _read_own(layout: C3DLayout):
+    points, residuals, raw_analogs = decode_c3d_data(layout)
+    analogs = _analog_transform(layout, raw_analogs) if layout.analog_channels else \
+        np.zeros((0, 0))
+    return points, residuals, analogs
+
+
+def _shape_ok(layout: C3DLayout, points: np.ndarray, residuals: np.ndarray) -> bool:
+    return (points.shape == (layout.frames, layout.point_count, 3)
+            and residuals.shape == (layout.frames, layout.point_count))
+
+
+def read_c3d(path: str | os.PathLike) -> Trial:
+    """Read a C3D file into a :class:`Trial` (metres, NaN for missing samples).
+
+    Parameters
+    ----------
+    path : str or PathLike
+
+    Returns
+    -------
+    Trial
+        ``points`` (frames, markers, 3) in metres; ``units`` as stored in the
+        file (``""`` when absent); ``metadata`` holds ``reader`` (``"ezc3d"``,
+        ``"c3d"`` or ``"mocap"``), ``processor``, ``first_frame``, ``warnings``
+        (list of str) and ``modelled`` (computed points, see module docstring).
+
+    Raises
+    ------
+    MocapError
+        Missing, damaged or unreadable file.
+
+    Examples
+    --------
+    >>> trial = read_c3d("walk.c3d")                   # doctest: +SKIP
+    >>> trial.points.shape, trial.rate
+    ((580, 51, 3), 100.0)
+    """
+    layout = inspect_c3d(path)
+    notes = list(layout.warnings)
+    attempts = []
+    if _ezc3d_layout_matches(layout):
+        attempts.append(("ezc3d", _read_ezc3d))
+    # Our decoder of the checked layout comes before the ``c3d`` package: both
+    # give identical points on every real file ezc3d cannot read (see
+    # tests/test_io_c3d.py), but the package decodes frame by frame in Python
+    # (26 s for the 5065-frame KINARM sample against 5 ms).
+    attempts.append(("mocap", _read_own))
+    attempts.append(("c3d", _read_c3d_package))
+    failures = []
+    for name, reader in attempts:
+        try:
+            points, residuals, analogs = reader(layout)
+        except MemoryError:
+            raise MocapError("file too large to read into memory", layout.path) from None
+        except Exception as error:   # a library's refusal: try the next reader
+            failures.append(f"{name}: {type(error).__name__}: {error}")
+            continue
+        if _shape_ok(layout, points, residuals):
+            break
+        failures.append(f"{name}: read {points.shape[:2]} instead of "
+                        f"{(layout.frames, layout.point_count)}")
+    else:
+        raise MocapError("no reader could decode the data section (" + "; ".join(failures)
+                         + ")", layout.path)
+    return _to_trial(layout, name, points, residuals, analogs, notes)
+
+
+def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.ndarray,
+              analogs: np.ndarray, notes: list[str]) -> Trial:
+    points = np.array(points, dtype=float)
+    invalid = ~(residuals >= 0) | ~np.isfinite(points).all(axis=2) | (points == 0).all(axis=2)
+    points[invalid] = np.nan
+
+    raw_labels = _point_labels(layout)
+    point_group = layout.parameters.get("POINT", {})
+    modelled_names = {}
+    for kind in MODELLED_KINDS:
+        for label in _string_list(point_group.get(kind)):
+            if label.strip():
+                modelled_names.setdefault(label.strip(), kind)
+    is_modelled = np.array([bool(label) and label in modelled_names for label in raw_labels],
+                           dtype=bool)
+    marker_columns = np.flatnonzero(~is_modelled)
+    labels, label_notes = unique_labels([raw_labels[i] for i in marker_columns])
+    notes += label_notes
+
+    units = point_group.get("UNITS", "")
+    units = units[0] if isinstance(units, list) and units else units
+    units = units.strip() if isinstance(units, str) else ""
+    factor = unit_factor(units) if units else None
+    markers = points[:, marker_columns, :]
+    if factor is None and not np.isfinite(markers).any():
+        factor = 1.0            # nothing to convert: no valid coordinate
+    elif factor is None:
+        guess, factor = infer_unit_factor(markers)
+        notes.append(f"POINT:UNITS is {units!r}; {guess} inferred from the coordinates' "
+                     f"magnitude")
+    markers = markers * factor
+
+    metadata = {
+        "reader": reader,
+        "processor": layout.processor,
+        "first_frame": layout.first_frame,
+        "warnings": notes,
+    }
+    if is_modelled.any():
+        columns = np.flatnonzero(is_modelled)
+        metadata["modelled"] = {
+            "labels": [raw_labels[i] for i in columns],
+            "kinds": [modelled_names[raw_labels[i]] for i in columns],
+            "values": points[:, columns, :],
+        }
+    for group, key in (("MANUFACTURER", "COMPANY"), ("MANUFACTURER", "SOFTWARE"),
+                       ("SUBJECTS", "NAMES")):
+        value = layout.parameters.get(group, {}).get(key)
+        if isinstance(value, (str, list)) and value:
+            metadata[f"{group.lower()}_{key.lower()}"] = value
+    analog_labels = _analog_labels(layout) if layout.analog_channels else []
+    analog_rate = layout.rate * layout.analog_samples_per_frame if layout.analog_channels \
+        else None
+    if analogs.ndim != 2 or analogs.shape[1] != len(analog_labels):
+        analogs = None
+        analog_labels = []
+        analog_rate = None
+    return Trial(labels, markers, layout.rate, units, layout.path, "c3d",
+                 analogs if analog_labels else None, analog_labels, analog_rate, metadata)
+
+
+def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:
+    """Write a trial's markers (and analogs) to a C3D file with ezc3d.
+
+    Parameters
+    ----------
+    trial : Trial
+        ``points`` (frames, markers, 3) in metres, NaN where missing.
+    path : str or PathLike
+        Written all-or-nothing (temporary file, then rename).
+    units : {"mm", "cm", "m"}
+        Length unit stored in the file (POINT:UNITS); points are converted.
+
+    Missing samples are written as residual -1 with zero coordinates, the C3D
+    convention; the data are stored as 32-bit floats (POINT:SCALE -1).
+    """
+    import ezc3d
+
+    factor = unit_factor(units)
+    if factor is None or units not in ("mm", "cm", "m"):
+        raise MocapError(f"cannot write C3D in units {units!r} (use mm, cm or m)", path)
+    labels = list(trial.labels)
+    if len(set(labels)) != len(labels) or any(len(label) == 0 for label in labels):
+        raise MocapError("marker labels must be unique and non-empty to write C3D", path)
+    if not (np.isfinite(trial.rate) and trial.rate > 0):
+        raise MocapError(f"cannot write C3D with rate {trial.rate} Hz", path)
+    frames, markers = trial.frames, len(labels)
+    if frames == 0:
+        raise MocapError("cannot write a C3D file without frames", path)
+    c3d = ezc3d.c3d()
+    c3d["parameters"]["POINT"]["RATE"]["value"] = [float(trial.rate)]
+    c3d["parameters"]["POINT"]["LABELS"]["value"] = labels
+    c3d.add_parameter("POINT", "UNITS", [units])
+    values = np.ones((4, markers, frames))
+    coordinates = trial.points.transpose(2, 1, 0) / factor
+    missing = ~np.isfinite(coordinates).all(axis=0)
+    values[:3] = np.where(missing[None], 0.0, coordinates)
+    c3d["data"]["points"] = values
+    residuals = np.where(missing, -1.0, 0.0)[None]
+    c3d["data"]["meta_points"]["residuals"] = residuals
+    c3d["data"]["meta_points"]["camera_masks"] = np.zeros((7, markers, frames), dtype=bool)
+    if trial.analogs is not None and trial.analog_rate and len(trial.analog_labels):
+        per_frame = trial.analog_rate / trial.rate
+        if (abs(per_frame - round(per_frame)) < 1e-9 and per_frame >= 1
+                and trial.analogs.shape[0] == frames * round(per_frame)):
+            c3d["parameters"]["ANALOG"]["RATE"]["value"] = [float(trial.analog_rate)]
+            c3d["parameters"]["ANALOG"]["LABELS"]["value"] = list(trial.analog_labels)
+            c3d["data"]["analogs"] = np.asarray(trial.analogs, dtype=float).T[None]
+    with atomic_path(path) as tmp:
+        # ezc3d appends ".c3d" to any other suffix (".C3D" included).
+        ezc3d_name = tmp.with_suffix(".c3d")
+        try:
+            c3d.write(str(ezc3d_name))
+            os.replace(ezc3d_name, tmp)
+        except Exception as error:   # ezc3d reports write problems as RuntimeError/OSError
+            ezc3d_name.unlink(missing_ok=True)
+            raise MocapError(f"cannot write C3D: {error}", path) from None
+
+
+__all__ = ["read_c3d", "write_c3d", "unit_factor", "infer_unit_factor", "unique_labels",
+           "MODELLED_KINDS"]

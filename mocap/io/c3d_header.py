@@ -1,0 +1,508 @@
+"""Pure-Python C3D structure check: header, parameter section and data size.
+
+A C3D file is a sequence of 512-byte blocks: a header block, a parameter section
+and a data section. ``inspect_c3d`` reads the header and walks every group and
+parameter with bounds checks, then checks that the data section the header
+announces really is in the file. Only a file that passes is handed to ezc3d,
+which can crash the process (segmentation fault), hang, or silently accept a
+truncated file when its input is damaged.
+
+The layout it returns is also enough to decode the data section directly
+(:func:`decode_c3d_data`), which is the last fallback for valid files that
+neither ezc3d nor the ``c3d`` package reads.
+
+References: the C3D User Guide (c3d.org), chapters 2 (header), 3 (parameters)
+and 4 (data).
+"""
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mocap.errors import MocapError
+
+BLOCK = 512
+#: Processor byte in the parameter section header → name.
+PROCESSORS = {84: "intel", 85: "dec", 86: "mips"}
+#: Parameter data types: -1 character, 1 byte, 2 16-bit integer, 4 float.
+_TYPE_SIZES = {-1: 1, 1: 1, 2: 2, 4: 4}
+#: No real C3D file has more groups+parameters than this; it bounds the walk.
+_MAX_ENTRIES = 20000
+#: Upper bounds that no capture reaches; beyond them a header field is damage.
+MAX_POINTS = 65535
+MAX_RATE_HZ = 1.0e6
+
+
+@dataclass
+class C3DLayout:
+    """What a C3D file's header and parameter section say about its contents.
+
+    Attributes
+    ----------
+    path : str
+    file_size : int
+        Bytes.
+    processor : str
+        ``"intel"``, ``"dec"`` or ``"mips"`` (SGI, big-endian).
+    parameter_block : int
+        First block (1-based) of the parameter section.
+    data_block : int
+        First block (1-based) of the data section.
+    point_count : int
+        3-D points stored per frame.
+    analog_per_frame : int
+        Analog samples stored per 3-D frame (channels × samples per frame).
+    analog_channels : int
+    analog_samples_per_frame : int
+    first_frame, last_frame : int
+        1-based frame numbers (``last_frame`` may exceed 65535 via TRIAL parameters).
+    frames : int
+        Frames stored in the data section.
+    scale : float
+        POINT:SCALE; negative means float storage.
+    rate : float
+        Point rate in Hz (POINT:RATE, else the header's).
+    parameters : dict
+        ``{group: {name: value}}``: strings for character parameters (a list of
+        strings when 2-D), numpy arrays for numbers.
+    """
+
+    path: str
+    file_size: int
+    processor: str
+    parameter_block: int
+    data_block: int
+    point_count: int
+    analog_per_frame: int
+    analog_channels: int
+    analog_samples_per_frame: int
+    first_frame: int
+    last_frame: int
+    frames: int
+    scale: float
+    rate: float
+    parameters: dict = field(default_factory=dict)
+    warnings: list = field(default_factory=list)
+
+    @property
+    def is_float(self) -> bool:
+        """True when the data section stores 32-bit floats, False for 16-bit integers."""
+        return self.scale < 0
+
+    @property
+    def word_bytes(self) -> int:
+        """Bytes per stored value (4 for float, 2 for integer files)."""
+        return 4 if self.is_float else 2
+
+    @property
+    def frame_bytes(self) -> int:
+        """Bytes per frame in the data section."""
+        return (4 * self.point_count + self.analog_per_frame) * self.word_bytes
+
+    @property
+    def data_offset(self) -> int:
+        """Byte offset of the data section."""
+        return (self.data_block - 1) * BLOCK
+
+    def get(self, group: str, name: str, default=None):
+        """Value of parameter ``group:name`` (upper case), or ``default``."""
+        return self.parameters.get(group, {}).get(name, default)
+
+
+def _int_dtype(processor: str, size: int) -> np.dtype:
+    return np.dtype((">" if processor == "mips" else "<") + f"i{size}")
+
+
+def decode_floats(raw: bytes | np.ndarray, processor: str) -> np.ndarray:
+    """32-bit floats stored in ``processor`` format as float64, shape (n,).
+
+    DEC files store VAX F-floats: the two 16-bit halves are swapped and the
+    exponent is biased by one more than IEEE's, so the IEEE reading of the
+    swapped word is four times the value.
+    """
+    if processor == "mips":
+        return np.frombuffer(raw, dtype=">f4").astype(float)
+    if processor == "dec":
+        words = np.frombuffer(raw, dtype="<u4")
+        swapped = ((words >> 16) | (words << 16)).astype("<u4")
+        return swapped.view("<f4").astype(float) / 4.0
+    return np.frombuffer(raw, dtype="<f4").astype(float)
+
+
+def _signed_byte(value: int) -> int:
+    return value - 256 if value > 127 else value
+
+
+def _fail(path: str, problem: str) -> MocapError:
+    return MocapError(f"damaged or unsupported C3D file: {problem}", path)
+
+
+def _entry_end(data: bytes, body: int, is_group: bool, end: int) -> int | None:
+    """Byte after a group's or parameter's contents, or None if they overrun ``end``."""
+    if is_group:
+        if body + 1 > end:
+            return None
+        stop = body + 1 + data[body]
+    else:
+        if body + 2 > end:
+            return None
+        data_type = _signed_byte(data[body])
+        if data_type not in _TYPE_SIZES:
+            return None
+        ndims = data[body + 1]
+        if body + 2 + ndims > end:
+            return None
+        dims = data[body + 2:body + 2 + ndims]
+        value_end = body + 2 + ndims + _TYPE_SIZES[data_type] * int(np.prod(list(dims), dtype=np.int64))
+        if value_end + 1 > end:
+            return None
+        stop = value_end + 1 + data[value_end]
+    return stop if stop <= end else None
+
+
+def _decode_parameter(raw: bytes, data_type: int, dims: tuple[int, ...], processor: str):
+    """Value of one parameter from its raw data bytes."""
+    if data_type == -1:
+        text = raw.decode("latin-1")
+        if len(dims) <= 1:
+            return text.rstrip(" \x00")
+        width = dims[0]
+        count = int(np.prod(dims[1:]))
+        return [text[i * width:(i + 1) * width].rstrip(" \x00") for i in range(count)]
+    if data_type == 1:
+        values = np.frombuffer(raw, dtype=np.int8).astype(np.int64)
+    elif data_type == 2:
+        values = np.frombuffer(raw, dtype=_int_dtype(processor, 2)).astype(np.int64)
+    else:
+        values = decode_floats(raw, processor)
+    if len(dims) > 1:
+        # C3D stores the first dimension fastest (Fortran order).
+        values = values.reshape(dims, order="F")
+    return values
+
+
+def _walk_parameters(data: bytes, start: int, end: int, processor: str,
+                     path: str, warnings: list[str]) -> dict:
+    """Every group and parameter between byte ``start`` and ``end``, bounds-checked."""
+    groups_by_id: dict[int, str] = {}
+    pending: list[tuple[int, str, object]] = []
+    position = start
+    for _ in range(_MAX_ENTRIES):
+        if position + 2 > end:
+            break
+        name_length = _signed_byte(data[position])
+        group_id = _signed_byte(data[position + 1])
+        if name_length == 0 or group_id == 0:
+            break
+        name_length = abs(name_length)
+        name_start = position + 2
+        offset_at = name_start + name_length
+        if offset_at + 2 > end:
+            raise _fail(path, f"parameter section ends inside an entry at byte {position}")
+        name = data[name_start:offset_at].decode("latin-1").strip().upper()
+        offset = int(np.frombuffer(data, _int_dtype(processor, 2), 1, offset_at)[0])
+        next_position = offset_at + offset if offset != 0 else None
+        body = offset_at + 2
+        if offset < 0 or (next_position is not None and next_position > end):
+            # Some writers (AMASS on SGI) stored an offset in the wrong byte order:
+            # fall back to the size of the entry's own contents when they fit.
+            content_end = _entry_end(data, body, group_id < 0, end)
+            if content_end is None:
+                raise _fail(path, f"parameter section is corrupt: entry {name!r} at "
+                                  f"byte {position} runs to byte {offset_at + offset}, "
+                                  f"outside the parameter section (bytes {start - 4}"
+                                  f"-{end})")
+            warnings.append(f"parameter {name!r} at byte {position} has a wrong "
+                            f"offset ({offset}); its contents' size was used")
+            next_position = content_end
+        body_end = next_position if next_position is not None else end
+        if group_id < 0:
+            if body + 1 > body_end:
+                raise _fail(path, f"group {name!r} at byte {position} is cut short")
+            groups_by_id[-group_id] = name
+        else:
+            if body + 2 > body_end:
+                raise _fail(path, f"parameter {name!r} at byte {position} is cut short")
+            data_type = _signed_byte(data[body])
+            if data_type not in _TYPE_SIZES:
+                raise _fail(path, f"parameter {name!r} at byte {position} has unknown "
+                                  f"data type {data_type}")
+            ndims = data[body + 1]
+            dims = tuple(data[body + 2:body + 2 + ndims])
+            value_start = body + 2 + ndims
+            size = _TYPE_SIZES[data_type] * int(np.prod(dims, dtype=np.int64))
+            if value_start + size > body_end:
+                raise _fail(path, f"parameter {name!r} at byte {position} holds "
+                                  f"{size} bytes but its entry has room for "
+                                  f"{max(body_end - value_start, 0)}")
+            value = _decode_parameter(data[value_start:value_start + size], data_type,
+                                      dims, processor)
+            pending.append((group_id, name, value))
+        if next_position is None:
+            break
+        position = next_position
+    else:
+        raise _fail(path, "parameter section has no end")
+    parameters: dict[str, dict] = {name: {} for name in groups_by_id.values()}
+    for group_id, name, value in pending:
+        group = groups_by_id.get(group_id, f"GROUP{group_id}")
+        parameters.setdefault(group, {})[name] = value
+    return parameters
+
+
+def _scalar(parameters: dict, group: str, name: str):
+    value = parameters.get(group, {}).get(name)
+    if isinstance(value, np.ndarray) and value.size >= 1:
+        return value.reshape(-1)[0]
+    return None
+
+
+def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
+    """Check a C3D file's structure and describe it, without trusting any count.
+
+    Parameters
+    ----------
+    path : str or PathLike
+
+    Returns
+    -------
+    C3DLayout
+
+    Raises
+    ------
+    MocapError
+        When the file is missing, is not a C3D file, or its header, parameter
+        section or data size is inconsistent (truncated, bit-flipped, absurd
+        counts). The message names the first problem found.
+    """
+    path = os.fspath(path)
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read()
+    except FileNotFoundError:
+        raise MocapError("no such file", path) from None
+    except OSError as error:
+        raise MocapError(f"cannot read file: {error.strerror or error}", path) from None
+    size = len(data)
+    if size < 2 * BLOCK:
+        raise _fail(path, f"only {size} bytes, shorter than a header and a parameter block")
+    if data[1] != 0x50:
+        raise MocapError("not a C3D file (byte 2 of the header is not 0x50)", path)
+    parameter_block = data[0]
+    parameter_offset = (parameter_block - 1) * BLOCK
+    if parameter_block < 2 or parameter_offset + 4 > size:
+        raise _fail(path, f"parameter section starts at block {parameter_block}, "
+                          f"outside the file's {math.ceil(size / BLOCK)} blocks")
+    processor_byte = data[parameter_offset + 3]
+    if processor_byte not in PROCESSORS:
+        raise _fail(path, f"unknown processor type {processor_byte} "
+                          f"(expected 84 Intel, 85 DEC or 86 SGI/MIPS)")
+    processor = PROCESSORS[processor_byte]
+    words = np.frombuffer(data, _int_dtype(processor, 2), 12, 0).astype(np.int64)
+    uwords = words & 0xFFFF
+    point_count = int(uwords[1])
+    analog_per_frame = int(uwords[2])
+    first_frame = int(uwords[3])
+    last_frame = int(uwords[4])
+    header_scale = float(decode_floats(data[12:16], processor)[0])
+    data_block = int(uwords[8])
+    analog_samples_per_frame = int(uwords[9])
+    header_rate = float(decode_floats(data[20:24], processor)[0])
+
+    # The parameter section runs up to the data section (its own block count is
+    # often wrong in real files, so it is not trusted).
+    if data_block <= parameter_block or (data_block - 1) * BLOCK > size:
+        raise _fail(path, f"data section starts at block {data_block}, which is not "
+                          f"after the parameter section (block {parameter_block}) "
+                          f"and inside the file's {math.ceil(size / BLOCK)} blocks")
+    warnings: list[str] = []
+    parameters = _walk_parameters(data, parameter_offset + 4, (data_block - 1) * BLOCK,
+                                  processor, path, warnings)
+
+    # Rate: POINT:RATE is authoritative unless absent or zero with points stored.
+    rate = _scalar(parameters, "POINT", "RATE")
+    rate = float(rate) if rate is not None else header_rate
+    if rate == 0.0 and point_count > 0:
+        rate = header_rate
+    if rate == 0.0 and analog_samples_per_frame > 0:
+        rate = header_rate      # analog-only files (Kistler) keep the frame rate
+    if not math.isfinite(rate) or rate < 0 or rate > MAX_RATE_HZ:
+        raise _fail(path, f"point rate {rate} Hz is not plausible")
+
+    scale = _scalar(parameters, "POINT", "SCALE")
+    scale = float(scale) if scale is not None else header_scale
+    if not math.isfinite(header_scale):
+        raise _fail(path, f"header scale factor {header_scale} is not a number")
+    if (header_scale < 0) != (scale < 0):
+        # The storage type is decided by the header; keep the parameter's magnitude.
+        scale = math.copysign(abs(scale), header_scale if header_scale != 0 else scale)
+    if (scale > 0 and header_scale > 0
+            and not math.isclose(scale, header_scale, rel_tol=1e-4)):
+        # Integer file whose header and POINT:SCALE disagree. The header is the
+        # value the data were scaled with in the one real case known
+        # (MACsample.c3d: with the header's factor heel-to-toe is 19 cm,
+        # shoulder-to-hip 47 cm; with POINT:SCALE 7 cm and 18 cm).
+        warnings.append(f"header scale {header_scale:.6g} and POINT:SCALE {scale:.6g} "
+                        f"disagree; the header's was used")
+        scale = header_scale
+    if not math.isfinite(scale) or (point_count > 0 and scale == 0.0):
+        raise _fail(path, f"point scale factor {scale} is not a usable number")
+
+    layout = _choose_layout(path, size, processor, parameter_block, data_block,
+                            point_count, analog_per_frame, analog_samples_per_frame,
+                            first_frame, last_frame, scale, rate, parameters, warnings)
+    layout.warnings = warnings
+    return layout
+
+
+def _frame_candidates(parameters: dict, first_frame: int, last_frame: int) -> list[int]:
+    """Frame counts the file announces, most trusted first (as ezc3d trusts them)."""
+    candidates = []
+    frames_parameter = _scalar(parameters, "POINT", "FRAMES")
+    if frames_parameter is not None:
+        value = int(frames_parameter)
+        if isinstance(parameters["POINT"]["FRAMES"], np.ndarray) and \
+                parameters["POINT"]["FRAMES"].dtype.kind == "i":
+            value &= 0xFFFF       # 16-bit signed in the file, used as unsigned
+        if value > 0:
+            candidates.append(value)
+    # TRIAL:ACTUAL_*_FIELD hold 32-bit frame numbers (two 16-bit words) for long captures.
+    start_field = parameters.get("TRIAL", {}).get("ACTUAL_START_FIELD")
+    end_field = parameters.get("TRIAL", {}).get("ACTUAL_END_FIELD")
+    if (isinstance(start_field, np.ndarray) and isinstance(end_field, np.ndarray)
+            and start_field.size == 2 and end_field.size == 2):
+        s = start_field.reshape(-1) & 0xFFFF
+        e = end_field.reshape(-1) & 0xFFFF
+        long_frames = int(e[0] + (e[1] << 16)) - int(s[0] + (s[1] << 16)) + 1
+        if long_frames > 0:
+            candidates.append(long_frames)
+    header_frames = last_frame - first_frame + 1
+    if header_frames >= 0:
+        candidates.append(header_frames)
+    return list(dict.fromkeys(candidates))
+
+
+def _choose_layout(path, size, processor, parameter_block, data_block, header_points,
+                   header_analog_words, header_samples, first_frame, last_frame, scale,
+                   rate, parameters, warnings) -> C3DLayout:
+    """Pick the data layout that the header, the parameters and the file size agree on.
+
+    Real files disagree with themselves in known ways (a header analog count that
+    is really the channel count, POINT:FRAMES missing, a parameter group missing);
+    the file size settles which reading is right. A layout whose data section ends
+    in the file's last 512-byte block is an exact fit. When none fits, the file
+    is truncated; a file cut exactly at a frame boundary (a trimmed sample) loads
+    its complete frames with a warning, any other cut is an error.
+    """
+    frame_candidates = _frame_candidates(parameters, first_frame, last_frame)
+    if not frame_candidates:
+        raise _fail(path, f"last frame {last_frame} comes before first frame {first_frame}")
+    used = _scalar(parameters, "POINT", "USED")
+    point_candidates = list(dict.fromkeys(
+        ([int(used) & 0xFFFF] if used is not None else []) + [header_points]))
+    channels = _scalar(parameters, "ANALOG", "USED")
+    channels = int(channels) & 0xFFFF if channels is not None else 0
+    analog_rate = _scalar(parameters, "ANALOG", "RATE")
+    analog_candidates: list[tuple[int, int]] = []       # (channels, samples per frame)
+    if channels and analog_rate is not None and rate > 0 and math.isfinite(analog_rate):
+        ratio = analog_rate / rate
+        if 0 < ratio < 1e5:
+            analog_candidates.append((channels, int(round(ratio))))
+    if channels and header_analog_words % channels == 0:
+        analog_candidates.append((channels, header_analog_words // channels))
+    if channels and header_samples:
+        analog_candidates.append((channels, header_samples))
+    if header_analog_words and header_samples and header_analog_words % header_samples == 0:
+        analog_candidates.append((header_analog_words // header_samples, header_samples))
+    if header_analog_words == 0:
+        analog_candidates.append((0, 0))
+    analog_candidates = list(dict.fromkeys(analog_candidates)) or [(0, 0)]
+
+    def make(frames, points, analog):
+        return C3DLayout(path, size, processor, parameter_block, data_block, points,
+                         analog[0] * analog[1], analog[0], analog[1], first_frame,
+                         first_frame + frames - 1, frames, scale, rate, parameters)
+
+    layouts = [make(f, p, a) for f in frame_candidates for p in point_candidates
+               for a in analog_candidates if p <= MAX_POINTS]
+    if not layouts:
+        raise _fail(path, f"{header_points} points per frame is not plausible")
+    offset = (data_block - 1) * BLOCK
+    for layout in layouts:
+        end = offset + layout.frames * layout.frame_bytes
+        if end <= size and size - end < BLOCK:
+            return layout
+    best = layouts[0]
+    consistent = len(layouts) == 1
+    fitting = [layout for layout in layouts if offset + layout.frames * layout.frame_bytes <= size]
+    if consistent and fitting:
+        # The file holds more than the points and analogs (e.g. ROTATION data).
+        return best
+    if fitting and not consistent:
+        # Header and parameters disagree and no reading fills the file: the most
+        # trusted reading that fits wins only when it is the parameters' own.
+        layout = fitting[0]
+        if layout is layouts[0]:
+            return layout
+        raise _fail(path, "header and parameters disagree about the data size "
+                          f"(frames {frame_candidates}, points {point_candidates}, "
+                          f"analog channels x samples {analog_candidates}) and no "
+                          f"reading matches the file's {size} bytes")
+    stored_bytes = max(size - offset, 0)
+    if best.frame_bytes and stored_bytes % best.frame_bytes == 0 and stored_bytes > 0:
+        complete = stored_bytes // best.frame_bytes
+        warnings.append(f"truncated: the header announces {best.frames} frames but the "
+                        f"file holds {complete} complete frames, which were loaded")
+        trimmed = make(complete, best.point_count,
+                       (best.analog_channels, best.analog_samples_per_frame))
+        return trimmed
+    complete = stored_bytes // max(best.frame_bytes, 1)
+    raise _fail(path, f"truncated: the header announces {best.frames} frames "
+                      f"({offset + best.frames * best.frame_bytes} bytes) but the file "
+                      f"has {size} bytes, {complete} complete frames and a partial one")
+
+
+def decode_c3d_data(layout: C3DLayout) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Decode the data section of a checked file, vectorised over frames.
+
+    Parameters
+    ----------
+    layout : C3DLayout
+        From :func:`inspect_c3d`.
+
+    Returns
+    -------
+    points : ndarray, shape (frames, points, 3), float
+        Coordinates in the file's units (POINT:UNITS).
+    residuals : ndarray, shape (frames, points), float
+        Negative where the point is invalid.
+    analogs : ndarray, shape (frames * samples_per_frame, channels), float
+        Raw stored analog values (no scale or offset applied).
+    """
+    with open(layout.path, "rb") as handle:
+        handle.seek(layout.data_offset)
+        raw = handle.read(layout.frames * layout.frame_bytes)
+    n_words = layout.frame_bytes // layout.word_bytes
+    if layout.is_float:
+        values = decode_floats(raw, layout.processor).reshape(layout.frames, n_words)
+    else:
+        values = np.frombuffer(raw, dtype=_int_dtype(layout.processor, 2))
+        values = values.astype(float).reshape(layout.frames, n_words)
+    point_words = values[:, :4 * layout.point_count].reshape(layout.frames,
+                                                            layout.point_count, 4)
+    points = point_words[:, :, :3].copy()
+    fourth = point_words[:, :, 3]
+    if not layout.is_float:
+        points *= layout.scale
+    # Fourth word: high byte camera mask, low byte residual; a negative word
+    # (a negative float in float files) marks an invalid point.
+    invalid = ~(fourth >= 0)
+    word = np.clip(np.where(invalid, 0, fourth), 0, 65535).astype(np.int64)
+    residuals = np.where(invalid, -1.0, (word & 0xFF) * abs(layout.scale))
+    analogs = values[:, 4 * layout.point_count:].reshape(
+        layout.frames * max(layout.analog_samples_per_frame, 0), layout.analog_channels) \
+        if layout.analog_channels else np.zeros((0, 0))
+    return points, residuals, analogs

@@ -1,0 +1,171 @@
+"""Marker CSV files: this project's layout (read/write) and Vicon Nexus exports (read).
+
+This project's layout, one row per frame::
+
+    time,LASI_x,LASI_y,LASI_z,RASI_x,RASI_y,RASI_z
+    0.0,0.1234,0.5,0.93,,,
+    0.01,0.1236,0.5,0.93,0.12,-0.11,0.94
+
+- ``time`` in seconds; the rate is (rows − 1) / (last time − first time), so a
+  one-row file has no rate (read as 0 Hz, with a warning);
+- coordinates in **metres**, three columns per marker named ``<label>_x``,
+  ``_y``, ``_z`` (``.x``, ``:x`` or `` x`` and upper case are read too);
+- a missing sample is an empty cell (``NaN`` is read too); a marker at exactly
+  (0, 0, 0) is read as missing, as in the other formats.
+
+Vicon Nexus "Trajectories" exports are recognised by their section line and read
+with their own rate and units::
+
+    Trajectories
+    100
+    ,,Subject:LASI,,,Subject:RASI,,,
+    Frame,Sub Frame,X,Y,Z,X,Y,Z
+    ,,mm,mm,mm,mm,mm,mm
+    1,0,44.16,-276.8,675.6,32.5,-243.1,676.5
+"""
+from __future__ import annotations
+
+import os
+import re
+
+import numpy as np
+
+from mocap.atomic import atomic_path
+from mocap.errors import MocapError
+from mocap.io.c3d import infer_unit_factor, unique_labels, unit_factor
+from mocap.io.text_table import format_rows, mark_missing, parse_numeric_rows
+from mocap.trial import Trial
+
+_AXIS_COLUMN = re.compile(r"^(?P<label>.+?)[_.: ](?P<axis>[xyzXYZ])$")
+#: Section names of Vicon Nexus CSV exports.
+_VICON_SECTIONS = {"trajectories", "devices", "model outputs", "joints", "segments",
+                   "global angle", "events"}
+
+
+def _read_lines(path: str | os.PathLike) -> list[str]:
+    try:
+        with open(path, "r", encoding="utf-8-sig", errors="replace", newline=None) as handle:
+            return handle.read().splitlines()
+    except FileNotFoundError:
+        raise MocapError("no such file", path) from None
+    except OSError as error:
+        raise MocapError(f"cannot read file: {error.strerror or error}", path) from None
+
+
+def read_csv(path: str | os.PathLike) -> Trial:
+    """Read a marker CSV file (this project's layout or a Vicon Nexus export).
+
+    Parameters
+    ----------
+    path : str or PathLike
+
+    Returns
+    -------
+    Trial
+        Points (frames, markers, 3) in metres, NaN where missing.
+
+    Raises
+    ------
+    MocapError
+        Missing file, empty file, or a header that fits neither layout.
+    """
+    lines = _read_lines(path)
+    first_cells = [line.split(",")[0].strip().lower() for line in lines[:1]]
+    if not lines or not lines[0].strip():
+        raise MocapError("empty CSV file", path)
+    if first_cells[0] in _VICON_SECTIONS:
+        return _read_vicon(lines, path)
+    return _read_plain(lines, path)
+
+
+def _read_plain(lines: list[str], path) -> Trial:
+    header = [cell.strip() for cell in lines[0].split(",")]
+    if header[0].lower() not in ("time", "time_s", "time (s)", "t"):
+        raise MocapError("not a marker CSV: the first column must be 'time' (seconds) "
+                         "or the file a Vicon Nexus 'Trajectories' export", path)
+    columns = header[1:]
+    while columns and not columns[-1]:
+        columns.pop()
+    if len(columns) % 3:
+        raise MocapError(f"{len(columns)} coordinate columns is not a multiple of 3 "
+                         f"(x, y, z per marker)", path)
+    labels = []
+    for i in range(0, len(columns), 3):
+        matches = [_AXIS_COLUMN.match(name) for name in columns[i:i + 3]]
+        axes = [m.group("axis").lower() if m else None for m in matches]
+        names = {m.group("label") for m in matches if m}
+        if axes != ["x", "y", "z"] or len(names) != 1:
+            raise MocapError(f"columns {i + 2}-{i + 4} ({', '.join(columns[i:i + 3])}) must "
+                             f"be <label>_x, <label>_y, <label>_z", path)
+        labels.append(names.pop())
+    labels, warnings = unique_labels(labels)
+    data_lines = [line for line in lines[1:] if line.strip(" ,")]
+    table = parse_numeric_rows(data_lines, ",", 1 + len(columns))
+    times = table[:, 0]
+    points = mark_missing(table[:, 1:].reshape(len(data_lines), len(labels), 3))
+    rate = 0.0
+    if len(times) > 1 and np.isfinite(times).all():
+        span = times[-1] - times[0]
+        if span > 0:
+            rate = (len(times) - 1) / span
+            steps = np.diff(times)
+            if np.abs(steps - 1.0 / rate).max() > 1e-3 / rate:
+                warnings.append("time column is not evenly spaced; the mean rate was used")
+    if rate == 0.0:
+        warnings.append("no rate: the time column needs two or more increasing times")
+    finite = points[np.isfinite(points)]
+    if finite.size and infer_unit_factor(points)[0] == "mm":
+        warnings.append("coordinates look like millimetres, but this CSV layout is in "
+                        "metres: check the file")
+    metadata = {"start_time": float(times[0]) if times.size else 0.0, "warnings": warnings}
+    return Trial(labels, points, rate, "m", os.fspath(path), "csv", metadata=metadata)
+
+
+def _read_vicon(lines: list[str], path) -> Trial:
+    start = next((i for i, line in enumerate(lines)
+                  if line.split(",")[0].strip().lower() == "trajectories"), None)
+    if start is None or start + 5 > len(lines):
+        raise MocapError("Vicon CSV export without a complete 'Trajectories' section", path)
+    try:
+        rate = float(lines[start + 1].split(",")[0])
+    except ValueError:
+        raise MocapError(f"Vicon CSV: rate line {start + 2} is not a number", path) from None
+    label_cells = [cell.strip() for cell in lines[start + 2].split(",")]
+    raw_labels = [cell for cell in label_cells[2:] if cell]
+    unit_cells = [cell.strip() for cell in lines[start + 4].split(",")[2:] if cell.strip()]
+    units = unit_cells[0] if unit_cells else ""
+    end = start + 5
+    while end < len(lines) and lines[end].strip(" ,"):
+        end += 1
+    labels, warnings = unique_labels(raw_labels)
+    table = parse_numeric_rows(lines[start + 5:end], ",", 2 + 3 * len(labels))
+    points = mark_missing(table[:, 2:].reshape(table.shape[0], len(labels), 3))
+    factor = unit_factor(units) if units else None
+    if factor is None:
+        guess, factor = infer_unit_factor(points)
+        warnings.append(f"units {units!r}; {guess} inferred from the coordinates' magnitude")
+    metadata = {"first_frame": int(table[0, 0]) if len(table) and np.isfinite(table[0, 0])
+                else 1, "warnings": warnings, "layout": "vicon-nexus"}
+    return Trial(labels, points * factor, rate, units, os.fspath(path), "csv",
+                 metadata=metadata)
+
+
+def write_csv(trial: Trial, path: str | os.PathLike) -> None:
+    """Write a trial in this project's CSV layout (metres, empty cells for NaN).
+
+    Parameters
+    ----------
+    trial : Trial
+    path : str or PathLike
+        Written all-or-nothing.
+    """
+    if any("," in label or '"' in label or not label for label in trial.labels):
+        raise MocapError("marker labels must be non-empty and free of commas and quotes "
+                         "to write CSV", path)
+    header = "time," + ",".join(f"{label}_{axis}" for label in trial.labels
+                                for axis in "xyz")
+    table = np.empty((trial.frames, 1 + 3 * len(trial.labels)))
+    table[:, 0] = trial.times
+    table[:, 1:] = trial.points.reshape(trial.frames, -1)
+    with atomic_path(path) as tmp:
+        tmp.write_text(header + "\n" + format_rows(table, ","), encoding="utf-8")
