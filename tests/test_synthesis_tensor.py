@@ -1,0 +1,136 @@
+"""Corpus → tensor: names, manifests, unwrapping, time normalisation, cycle detection."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mocap.angles import JointAngles, write_angles_csv
+from mocap.errors import MocapError
+from synthesis.tensor import (angle_columns, detect_cycles, is_angle_csv, list_corpus_folder,
+                              load_corpus, normalise_cycles, parse_trial_name, read_manifest,
+                              resample, unwrap_degrees)
+
+
+def write_cycle(path, values, duration, segments=("pelvis", "r_thigh")):
+    """Angle CSV of ``values`` (frames, segments·3) spanning ``duration`` seconds."""
+    frames = values.shape[0]
+    angles = JointAngles(times=np.linspace(0.0, duration, frames),
+                         values=values.reshape(frames, len(segments), 3),
+                         segments=list(segments), sequence="ZXY", parents=[-1, 0])
+    write_angles_csv(angles, path)
+
+
+def test_trial_names():
+    assert parse_trial_name("x/ana_walk.c3d") == ("ana", "walk")
+    assert parse_trial_name("ana_walk_trial3.trc") == ("ana", "walk")
+    with pytest.raises(MocapError, match="<person>_<action>"):
+        parse_trial_name("walking.c3d")
+
+
+def test_folder_listing_ignores_subfolders_and_other_files(tmp_path):
+    (tmp_path / "truth").mkdir()
+    (tmp_path / "truth" / "ana_walk_angles.csv").write_text("time\n")
+    (tmp_path / "notes.txt").write_text("hello")
+    for name in ("ben_run.c3d", "ana_walk_2.trc"):
+        (tmp_path / name).write_bytes(b"")
+    entries = list_corpus_folder(tmp_path)
+    assert [(e.person, e.action) for e in entries] == [("ana", "walk"), ("ben", "run")]
+
+
+def test_manifest_resolves_relative_paths(tmp_path):
+    (tmp_path / "m.csv").write_text("path,person,action\ndata/a.c3d,ana,walk\n/abs/b.c3d,ben,run\n")
+    entries = read_manifest(tmp_path / "m.csv")
+    assert entries[0].path == tmp_path / "data" / "a.c3d"
+    assert str(entries[1].path) == "/abs/b.c3d" and entries[1].action == "run"
+    (tmp_path / "bad.csv").write_text("file,who\nx,y\n")
+    with pytest.raises(MocapError, match="path,person,action"):
+        read_manifest(tmp_path / "bad.csv")
+
+
+def test_unwrap_across_the_wrap_point_with_missing_samples():
+    true = np.linspace(150.0, 230.0, 81)                     # crosses +180°
+    wrapped = (true + 180.0) % 360.0 - 180.0
+    wrapped[10:15] = np.nan
+    unwrapped = unwrap_degrees(wrapped[:, None])[:, 0]
+    valid = ~np.isnan(unwrapped)
+    assert np.allclose(unwrapped[valid], true[valid])
+    assert np.isnan(unwrapped[10:15]).all()
+
+
+def test_resample_is_exact_for_linear_signals():
+    times = np.sort(np.random.default_rng(0).uniform(0, 2, 50))
+    values = np.column_stack([3 * times + 1, -times])
+    out = resample(times, values, times[0], times[-1], 17)
+    instants = np.linspace(times[0], times[-1], 17)
+    assert np.allclose(out, np.column_stack([3 * instants + 1, -instants]))
+
+
+def test_one_cycle_normalisation_keeps_duration_fills_gaps_and_picks_the_branch():
+    times = np.arange(91) / 100.0                              # 0.90 s
+    angle = 200.0 + 10 * np.sin(2 * np.pi * times / 0.9)       # stored wrapped to (-180, 180]
+    values = np.column_stack([(angle + 180) % 360 - 180, 5 * times])
+    values[30:40, 1] = np.nan                                  # a gap in a linear angle
+    curve, duration, count = normalise_cycles(times, values, samples=10)
+    assert duration == pytest.approx(0.9) and count == 1
+    phase = np.linspace(0, 0.9, 10)
+    assert np.allclose(curve[:, 1], 5 * phase, atol=1e-9)
+    # Mean 200° is brought to the branch with mean in (-180, 180]: −160°.
+    expected = -160.0 + 10 * np.sin(2 * np.pi * phase / 0.9)
+    assert np.allclose(curve[:, 0], expected, atol=0.1)
+
+
+def test_cycle_detection_finds_the_period_and_averages_cycles():
+    rate, period = 100.0, 1.1
+    times = np.arange(int(3.6 * period * rate)) / rate
+    hip = 20 * np.cos(2 * np.pi * (times - 0.25) / period)    # maxima at 0.25 + k·1.1 s
+    knee = 30 + 25 * np.sin(2 * np.pi * (times - 0.25) / period) ** 2
+    bounds = detect_cycles(times, hip)
+    assert len(bounds) == 3
+    assert np.allclose(bounds[:, 0], 0.25 + period * np.arange(3), atol=2e-3)
+    assert np.allclose(bounds[:, 1] - bounds[:, 0], period, atol=2e-3)
+    curve, duration, count = normalise_cycles(times, np.column_stack([hip, knee]), 50,
+                                              cycles=True)
+    assert count == 3 and duration == pytest.approx(period, abs=2e-3)
+    u = np.linspace(0, 1, 50)
+    assert np.allclose(curve[:, 0], 20 * np.cos(2 * np.pi * u), atol=0.1)
+
+
+def test_cycle_detection_without_repetition_is_a_clear_error():
+    times = np.arange(100) / 100.0
+    with pytest.raises(MocapError, match="no complete cycle"):
+        normalise_cycles(times, np.column_stack([times ** 2]), cycles=True)
+
+
+def test_angle_csv_detection(tmp_path):
+    write_cycle(tmp_path / "a.csv", np.zeros((5, 6)), 1.0)
+    assert is_angle_csv(tmp_path / "a.csv")
+    (tmp_path / "m.csv").write_text("time,LASI_x,LASI_y,LASI_z\n0,1,2,3\n")
+    assert not is_angle_csv(tmp_path / "m.csv")
+    assert angle_columns(["pelvis"], "ZYZ") == ["pelvis.Z", "pelvis.Y", "pelvis.Z2"]
+
+
+def test_corpus_of_angle_csvs_with_a_missing_cell_and_averaged_repeats(tmp_path):
+    rng = np.random.default_rng(0)
+    base = rng.normal(size=(20, 6))
+    for person, scale in (("ana", 1.0), ("ben", 2.0)):
+        for action, duration in (("walk", 1.1), ("run", 0.7)):
+            if (person, action) == ("ben", "run"):
+                continue
+            write_cycle(tmp_path / f"{person}_{action}.csv", scale * base, duration)
+    write_cycle(tmp_path / "ana_walk_2.csv", 3.0 * base, 1.3)          # a repeat: averaged
+    corpus = load_corpus(tmp_path, samples=20)
+    assert corpus.people == ["ana", "ben"] and corpus.actions == ["run", "walk"]
+    assert corpus.angles.shape == (2, 2, 20, 6)
+    assert corpus.missing_cells() == [("ben", "run")]
+    assert np.isnan(corpus.angles[1, 0]).all() and np.isnan(corpus.durations[1, 0])
+    assert np.allclose(corpus.angles[0, 1], 2.0 * base, atol=1e-3)   # CSV times: 6 decimals
+    assert corpus.durations[0, 1] == pytest.approx(1.2)
+    assert corpus.cycle_counts[0, 1] == 2
+
+
+def test_one_person_or_one_action_is_a_clear_error(tmp_path):
+    for action in ("walk", "run"):
+        write_cycle(tmp_path / f"ana_{action}.csv", np.zeros((5, 6)), 1.0)
+    with pytest.raises(MocapError, match=r"need at least 2 people and 2 actions.*found 1 person "
+                                         r"\(ana\) and 2 actions"):
+        load_corpus(tmp_path)
