@@ -499,7 +499,8 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
     com = _centre_of_mass(humanoid, world_r, world_p)
     residual_torque = residual[:, 3:] - np.cross(com - kin.root, residual[:, :3])
 
-    joint_torques = _joint_torques(humanoid, tau, world_r, world_p, contact_world, forces)
+    joint_torques = tau[:, 6:].reshape(frames, -1, 3) - contact_joint_torques(
+        humanoid, world_r, world_p, contact_world, forces)
 
     # Geometry of the raw (unsmoothed) motion: floor contact, skating.
     raw_r, raw_p = body.forward_kinematics()
@@ -546,23 +547,33 @@ def _centre_of_mass(humanoid: Humanoid, world_r: np.ndarray, world_p: np.ndarray
     return np.einsum("s,fsi->fi", masses, points) / masses.sum()
 
 
-def _joint_torques(humanoid: Humanoid, tau: np.ndarray, world_r: np.ndarray,
-                   world_p: np.ndarray, contacts: np.ndarray, forces: np.ndarray) -> np.ndarray:
-    """Spherical joint torques with the contact forces' share removed, (frames, J-1, 3).
+def contact_joint_torques(humanoid: Humanoid, world_r: np.ndarray, world_p: np.ndarray,
+                          contacts: np.ndarray, forces: np.ndarray,
+                          points: list[int] | None = None) -> np.ndarray:
+    """Torques the contact forces put on each spherical joint, (frames, J-1, 3).
 
-    A contact force f at point c below joint j adds ``(c − p_j) × f`` (in joint j's frame)
-    to what the joint must hold without it; RNEA assumed no contact, so take it off.
+    A force f at contact point c below joint j adds ``(c − p_j) × f`` about the joint, in
+    joint j's frame — the joint rows of ``J_cᵀ f``. RNEA assumed no contact, so a joint's
+    torque with contacts is ``tau[6:] −`` this.
+
+    Parameters
+    ----------
+    world_r, world_p : (frames, segments, 3, 3) and (frames, segments, 3) segment poses
+    contacts, forces : (frames, points, 3) contact positions (m) and forces (N), world
+    points : list of int, optional
+        Only these contact points (default: all).
     """
     sk = humanoid.skeleton
-    frames = tau.shape[0]
-    result = tau[:, 6:].reshape(frames, sk.count - 1, 3).copy()
+    frames = world_p.shape[0]
+    chosen = range(len(humanoid.contact_segments)) if points is None else points
+    result = np.zeros((frames, sk.count - 1, 3))
     for j in range(1, sk.count):
         below = set(sk.subtree(j))
-        points = [k for k, s in enumerate(humanoid.contact_segments) if s in below]
-        if not points:
+        on = [k for k in chosen if humanoid.contact_segments[k] in below]
+        if not on:
             continue
-        moment = np.cross(contacts[:, points] - world_p[:, j, None], forces[:, points]).sum(1)
-        result[:, j - 1] -= np.einsum("fji,fj->fi", world_r[:, j], moment)
+        moment = np.cross(contacts[:, on] - world_p[:, j, None], forces[:, on]).sum(axis=1)
+        result[:, j - 1] = np.einsum("fji,fj->fi", world_r[:, j], moment)
     return result
 
 

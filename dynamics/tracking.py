@@ -1,0 +1,198 @@
+"""Physical animation: forward dynamics (ABA) of the humanoid tracking a motion.
+
+Each spherical joint is driven by computed-torque feed-forward — RNEA of the current state
+with the reference acceleration and the contact forces acting now (so a foot that lands
+earlier, later or elsewhere than the motion says gets no torques meant for another
+contact state) — plus a PD servo on the configuration error
+(``pin.difference``) whose gains come from the joint-space inertia: with the inertia a
+joint sees while the rest of the body is free, ``I_j = 1 / (M⁻¹)_jj`` (mass matrix at the
+first frame), ``kp = ω² I_j`` and ``kd = 2 ζ ω I_j`` with ``ω = 2π·frequency`` (the
+diagonal ``M_jj`` itself would overestimate distal inertias up to 20-fold and make the
+explicit step unstable). The root is not actuated — the body stays up only through its
+feet on the floor — except for an optional, weak "root assist" PD (a helping hand whose
+force is reported, so a user sees how much outside help the motion needs). The floor is a
+penalty contact at the foot points (spring-damper along y; tangential spring-damper to the
+touch-down point for static friction, capped by the Coulomb cone so the foot slides when
+it must). Semi-implicit Euler on the manifold (``pin.integrate``) at 1 kHz.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from mocap.skeleton import Motion, reduce_to_segments
+
+from dynamics.humanoid import Humanoid, build_humanoid, motion_kinematics
+
+
+@dataclass
+class TrackingResult:
+    """A simulated motion and what it took.
+
+    Attributes
+    ----------
+    motion : Motion
+        The simulated motion on the body skeleton, at the reference's frame rate.
+    assist_force : ndarray, shape (frames,), N
+        Magnitude of the root-assist force (0 when the assist is off).
+    contact_force : ndarray, shape (frames, 3), N
+        Total ground reaction force (world axes).
+    joint_error_deg : ndarray, shape (frames,)
+        Mean angle between simulated and reference joint rotations.
+    root_error_m : ndarray, shape (frames,)
+        Distance between simulated and reference root positions.
+    """
+
+    motion: Motion
+    assist_force: np.ndarray
+    contact_force: np.ndarray
+    joint_error_deg: np.ndarray
+    root_error_m: np.ndarray
+
+
+def simulate_tracking(motion: Motion, body_mass: float = 75.0, sex: str = "male",
+                      dt: float = 1e-3, frequency: float = 8.0, damping_ratio: float = 1.0,
+                      root_assist: float = 0.25, ground_stiffness: float = 1.0e4,
+                      ground_damping: float = 50.0, mu: float = 0.8,
+                      humanoid: Humanoid | None = None) -> TrackingResult:
+    """Simulate the body tracking a motion with PD servos and penalty ground contact.
+
+    Parameters
+    ----------
+    motion : Motion
+        Any skeleton our body model can map; floor y = 0, Y up.
+    body_mass : float, kg
+    sex : {"male", "female"}
+    dt : float, s
+        Integration step (stiff contacts need about 1 ms).
+    frequency : float, Hz
+        Natural frequency of the joint servos.
+    damping_ratio : float
+    root_assist : float
+        Root servo gains as a fraction of the joint servos' (0: no outside help, the body
+        may fall when the motion does not balance).
+    ground_stiffness : float, N/m per contact point (6 points per foot)
+    ground_damping : float, N·s/m per contact point; a foot's rotation about the ankle is
+        light (~0.2 kg at the toe), and the explicit step needs ``6·c·dt/m < 2``
+    mu : float
+        Friction coefficient.
+    humanoid : Humanoid, optional
+
+    Returns
+    -------
+    TrackingResult
+    """
+    import pinocchio as pin
+
+    body = reduce_to_segments(motion)
+    if humanoid is None:
+        humanoid = build_humanoid(body.skeleton, body_mass, sex)
+    model = humanoid.model
+    data = model.createData()
+    kin = motion_kinematics(body)
+    frames = body.frames
+
+    omega = 2.0 * np.pi * frequency
+    mass_matrix = pin.crba(model, data, kin.q[0])
+    mass_matrix = np.triu(mass_matrix) + np.triu(mass_matrix, 1).T
+    # Inertia each joint "sees" with the rest of the body free: 1 / (M⁻¹)_jj.
+    inertia = 1.0 / np.diag(np.linalg.inv(mass_matrix))
+    kp = omega ** 2 * inertia
+    kd = 2.0 * damping_ratio * omega * inertia
+    kp[:6] *= root_assist
+    kd[:6] *= root_assist
+
+    # Tangential springs are softer and less damped than the normal ones: a foot point's
+    # effective mass against sliding can be ~0.1 kg, and an explicit damper c needs
+    # c·dt/m < 2 to stay stable.
+    tangential_stiffness, tangential_damping = ground_stiffness / 3.0, ground_damping / 6.0
+    contact_joint = [model.frames[f].parentJoint for f in humanoid.contact_frames]
+    frame_time = 1.0 / body.rate
+    steps_per_frame = max(1, int(round(frame_time / dt)))
+    h = frame_time / steps_per_frame
+    q, v = kin.q[0].copy(), kin.v[0].copy()
+    recorded = np.empty_like(kin.q)
+    assist = np.zeros(body.frames)
+    contact_total = np.zeros((body.frames, 3))
+    zero_force = pin.Force.Zero()
+    anchors: list[np.ndarray | None] = [None] * len(humanoid.contact_frames)
+    # Time stepping is sequential (each state depends on the previous one).
+    for frame in range(body.frames):
+        recorded[frame] = q
+        if frame == body.frames - 1:
+            break
+        total = np.zeros(3)
+        for sub in range(steps_per_frame):
+            fraction = sub / steps_per_frame
+            q_ref = pin.interpolate(model, kin.q[frame], kin.q[frame + 1], fraction)
+            v_ref = (1 - fraction) * kin.v[frame] + fraction * kin.v[frame + 1]
+            blend = lambda x: (1 - fraction) * x[frame] + fraction * x[frame + 1]  # noqa: E731
+            pin.forwardKinematics(model, data, q, v)
+            pin.updateFramePlacements(model, data)
+            fext = pin.StdVec_Force()
+            for _ in range(model.njoints):
+                fext.append(zero_force)
+            touching = set()
+            for k, frame_id in enumerate(humanoid.contact_frames):
+                position = data.oMf[frame_id].translation
+                if position[1] >= 0.0:
+                    anchors[k] = None
+                    continue
+                velocity = pin.getFrameVelocity(model, data, frame_id,
+                                                pin.LOCAL_WORLD_ALIGNED).linear
+                normal = max(0.0, -ground_stiffness * position[1]
+                             - ground_damping * velocity[1])
+                force = _friction(position, velocity, normal, anchors, k, tangential_stiffness,
+                                  tangential_damping, mu)
+                force[1] = normal
+                touching.add(k)
+                total += force / steps_per_frame
+                joint = contact_joint[k]
+                placement = data.oMi[joint]
+                local_force = placement.rotation.T @ force
+                lever = placement.rotation.T @ (position - placement.translation)
+                fext[joint] = fext[joint] + pin.Force(local_force, np.cross(lever, local_force))
+            error = pin.difference(model, q, q_ref)
+            tau = kp * error + kd * (v_ref - v)
+            # Computed-torque feed-forward: what the joints need for the reference
+            # acceleration with the contact forces acting now (RNEA with fext).
+            tau[6:] += pin.rnea(model, data, q, v, blend(kin.a), fext)[6:]
+            acceleration = pin.aba(model, data, q, v, tau, fext)
+            v = v + h * acceleration
+            q = pin.integrate(model, q, v * h)
+        root_rotation = Rotation.from_quat(q[3:7]).as_matrix()
+        assist[frame + 1] = np.linalg.norm(root_rotation @ tau[:3])
+        contact_total[frame + 1] = total
+
+    skeleton = body.skeleton
+    quats = recorded[:, 3:].reshape(body.frames, skeleton.count, 4)
+    rotations = Rotation.from_quat(quats.reshape(-1, 4)).as_matrix().reshape(
+        body.frames, skeleton.count, 3, 3)
+    simulated = Motion(skeleton, recorded[:, :3] - skeleton.offsets[0], rotations, body.rate,
+                       {"source": motion.metadata.get("source"), "simulated": True})
+    relative = np.einsum("fsji,fsjk->fsik", kin.rotations, rotations)
+    angle = np.degrees(np.arccos(np.clip((np.trace(relative, axis1=2, axis2=3) - 1) / 2,
+                                         -1.0, 1.0)))
+    return TrackingResult(simulated, assist, contact_total, angle[:, 1:].mean(axis=1),
+                          np.linalg.norm(recorded[:, :3] - kin.q[:, :3], axis=1))
+
+
+def _friction(position: np.ndarray, velocity: np.ndarray, normal: float, anchors: list,
+              k: int, stiffness: float, damping: float, mu: float) -> np.ndarray:
+    """Tangential ground force at one contact point: a spring-damper to the point where it
+    touched down (static friction), capped at the Coulomb limit ``mu · normal`` (sliding,
+    the anchor is dragged along). Updates ``anchors[k]``; returns the force (y = 0)."""
+    planar = np.array([position[0], 0.0, position[2]])
+    if anchors[k] is None:
+        anchors[k] = planar.copy()
+    stretch = planar - anchors[k]
+    force = -stiffness * stretch - damping * np.array([velocity[0], 0.0, velocity[2]])
+    size = np.linalg.norm(force)
+    limit = mu * normal
+    if size > limit:
+        force *= limit / size
+        # Slip: move the anchor so the spring alone would give the limit force.
+        anchors[k] = planar + force / stiffness
+    return force
