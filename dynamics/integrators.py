@@ -359,12 +359,16 @@ def _check_stable(system, dt: float, integrator: str, before) -> None:
         return
     p.position[...], p.velocity[...] = before
     limit = stability_limit(system)
-    hint = (f"reduce dt below about {0.5 * limit:.3g} s (estimated stability limit "
-            f"{limit:.3g} s) or use integrator = \"implicit-euler\"")
+    smaller = 0.5 * limit if limit < dt else 0.25 * dt
+    hint = (f"reduce dt to about {smaller:.3g} s or use integrator = \"implicit-euler\"")
+    if limit < np.inf:
+        hint += f" (estimated spring stability limit {limit:.3g} s)"
     if integrator == "implicit-euler":
-        hint = "reduce dt, raise the projective solver's iterations or add damping"
+        hint = (f"reduce dt (e.g. to {0.25 * dt:.3g} s), raise the projective solver's "
+                "iterations or add damping")
     elif integrator == "explicit-euler":
-        hint = "use integrator = \"symplectic-euler\" or \"implicit-euler\", or " + hint.split(" or ")[0]
+        hint = ("use integrator = \"symplectic-euler\" or \"implicit-euler\" (explicit Euler "
+                f"gains energy at any dt), or reduce dt to about {smaller:.3g} s")
     raise SimulationUnstable(
         f"simulation became unstable at step {system.step_count + 1} (t = {system.time + dt:.4g} s, "
         f"dt = {dt:.3g} s, {integrator}): particle speeds exceeded "

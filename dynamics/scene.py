@@ -379,7 +379,7 @@ def _fluid_force(t: _Table, spacing: float, members, melt, finish: bool = True) 
     a = t.number("a", 2.0, above=0.0)
     b = t.number("b", 4.0, above=0.0)
     beta = t.number("beta", equilibrium_beta(alpha, zeta, spacing, a, b), above=0.0)
-    cutoff = t.number("cutoff", 2.5 * spacing, above=0.0)
+    cutoff = t.number("cutoff", 1.25 * spacing, above=0.0)
     viscosity = t.number("viscosity", 0.0, minimum=0.0)
     if finish:
         t.finish()

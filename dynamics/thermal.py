@@ -100,6 +100,7 @@ class HeatModel:
     thermoelastic: bool = True
     edges: np.ndarray | None = field(default=None, repr=False)
     edge_weight: np.ndarray | None = field(default=None, repr=False)
+    edge_spring: np.ndarray | None = field(default=None, repr=False)
     melted_at: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
@@ -108,13 +109,28 @@ class HeatModel:
         if self.thermoelastic and np.isfinite(self.melt) and not self.melt > self.soften:
             raise ValueError("heat: the melting temperature must exceed the softening one")
 
-    def conduction_graph(self, springs: Springs) -> tuple[np.ndarray, np.ndarray]:
-        """(E, 2) conducting edges and (E,) weights 1/l², from the structural/user springs."""
-        if self.edges is None or self.edge_weight is None:
+    def conduction_graph(self, springs: Springs,
+                         position: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """(E, 2) conducting edges and (E,) weights 1/l².
+
+        Edges are the structural and user springs. A melted (broken) spring conducts only
+        while its ends stay in contact (closer than 1.5 rest lengths, when ``position``
+        is given), so molten particles that flowed away exchange no heat through it.
+        """
+        if self.edges is None or self.edge_spring is None:
             conducting = np.isin(springs.kind, (STRUCTURAL, USER)) & (springs.rest_length > 0)
+            self.edge_spring = np.flatnonzero(conducting)
             self.edges = springs.pairs[conducting]
             self.edge_weight = 1.0 / springs.rest_length[conducting] ** 2
-        return self.edges, self.edge_weight
+        broken = springs.broken[self.edge_spring]
+        if position is None or not broken.any():
+            return self.edges, self.edge_weight
+        e = self.edges[broken]
+        apart2 = np.einsum("ij,ij->i", position[e[:, 1]] - position[e[:, 0]],
+                           position[e[:, 1]] - position[e[:, 0]])
+        weight = self.edge_weight.copy()
+        weight[np.flatnonzero(broken)[apart2 * self.edge_weight[broken] > 2.25]] = 0.0
+        return self.edges, weight
 
     def stable_dt(self, n_particles: int, springs: Springs) -> float:
         """Largest stable explicit diffusion step, seconds."""
@@ -135,7 +151,7 @@ class HeatModel:
         springs : Springs (the conduction graph is taken from it once)
         """
         n = len(temperature)
-        edges, weight = self.conduction_graph(springs)
+        edges, weight = self.conduction_graph(springs, position)
         limit = 0.9 * self.stable_dt(n, springs)
         substeps = max(1, int(np.ceil(dt / limit))) if np.isfinite(limit) else 1
         h = dt / substeps
