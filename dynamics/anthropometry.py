@@ -21,7 +21,7 @@ Y up, Z anterior, X left; a segment's origin is its proximal joint):
 * pelvis (lower trunk): midpoint of the hip joints → thorax origin, COM 0.3885 L above the
   hips (de Leva: 0.6115 from the upper end);
 * foot: heel → toe tip; the toe is the end site, the heel is under the ankle at sole level,
-  0.22 of the horizontal ankle-to-toe distance behind the ankle.
+  0.3 of the horizontal ankle-to-toe distance behind the ankle.
 
 The female radii of gyration are transcribed from de Leva's table 4 but were not
 cross-checked against the project's reference notes (which list male radii only); masses
@@ -155,7 +155,7 @@ def foot_points(end_site: np.ndarray, half_width: tuple[float, float] = (0.025, 
     """
     toe = np.asarray(end_site, float)
     horizontal = toe * np.array([1.0, 0.0, 1.0])
-    heel = np.array([0.0, toe[1], 0.0]) - 0.22 * horizontal
+    heel = np.array([0.0, toe[1], 0.0]) - 0.3 * horizontal
     forward = horizontal / max(np.linalg.norm(horizontal), 1e-9)
     side = np.cross(np.array([0.0, 1.0, 0.0]), forward)       # +X when facing +Z
     # Ball of the foot (metatarsal heads) at 80 % of heel→toe, where the width is.

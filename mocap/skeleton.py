@@ -294,6 +294,16 @@ class Motion:
         return np.unwrap(angles, period=360.0, axis=0)
 
 
+def frame_rate(frame_time: float) -> float:
+    """Frames per second for a frame time, snapped to a whole number of Hz when the frame
+    time is that rate rounded to a file's few decimals (0.033333 s → 30 Hz)."""
+    rate = 1.0 / frame_time
+    whole = round(rate)
+    if whole > 0 and abs(1.0 / whole - frame_time) <= 5e-6 * max(1.0, frame_time * 100):
+        return float(whole)
+    return rate
+
+
 # ----------------------------------------------------------------------------------------
 # A default body
 # ----------------------------------------------------------------------------------------
@@ -477,8 +487,8 @@ def _default_end_sites(skeleton: Skeleton) -> None:
 
     Head and hands continue the parent's long axis (direction parent origin → segment
     origin) for a fraction of the parent's length; feet point anterior (+Z) and down to the
-    floor level implied by the shank. Fractions from Winter's table: hand 0.108 H vs forearm
-    0.146 H; head 0.13 H vs trunk; foot 0.152 H long.
+    sole, in proportion to the shank. Fractions from Winter's table: hand 0.108 H vs forearm
+    0.146 H; head 0.13 H vs trunk.
     """
     fractions = {"head": 0.85, "hand": 0.74}
     for i in range(skeleton.count):
@@ -493,9 +503,10 @@ def _default_end_sites(skeleton: Skeleton) -> None:
             continue
         name = canonical_segment(skeleton.names[i]) or skeleton.names[i]
         if name.endswith("foot"):
-            # Winter: ankle 0.039 H above the sole, toe 0.113 H ahead of the ankle, shank
-            # 0.246 H long: the toe tip at (0, -0.16, 0.46) shank lengths.
-            skeleton.end_sites[i] = np.array([0.0, -0.16, 0.46]) * length
+            # The sole 0.19 and the toe tip 0.40 shank lengths below and ahead of the ankle
+            # (an 80 mm ankle height and 167 mm ankle-to-toe for a 417 mm shank, as in the
+            # project's synthetic people; Winter's table gives 0.16 and 0.46).
+            skeleton.end_sites[i] = np.array([0.0, -0.19, 0.40]) * length
         else:
             fraction = fractions["head"] if name == "head" else fractions["hand"]
             skeleton.end_sites[i] = along * fraction
@@ -529,7 +540,7 @@ def motion_from_angles(angles, skeleton: Skeleton | None = None,
     values = np.asarray(angles.values, dtype=float)
     frames = values.shape[0]
     times = np.asarray(getattr(angles, "times", np.arange(frames) / 100.0), float)
-    rate = 1.0 / np.median(np.diff(times)) if times.size > 1 else 100.0
+    rate = frame_rate(float(np.median(np.diff(times)))) if times.size > 1 else 100.0
     rotations = np.broadcast_to(np.eye(3), (frames, skeleton.count, 3, 3)).copy()
     for k, name in enumerate(angles.segments):
         if name not in skeleton.names:

@@ -27,7 +27,7 @@ from scipy.spatial.transform import Rotation
 
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
-from mocap.skeleton import Motion, Skeleton
+from mocap.skeleton import Motion, Skeleton, frame_rate
 
 #: Metres per unit for the units a BVH file may use.
 UNIT_SCALES = {"m": 1.0, "cm": 0.01, "mm": 0.001, "in": 0.0254,
@@ -285,16 +285,6 @@ def read_bvh(path: str | os.PathLike, units: str | None = None) -> Motion:
         metadata["joint_translation_dropped_m"] = moved
     return Motion(skeleton, translation[:, 0] * scale, rotations, frame_rate(frame_time),
                   metadata)
-
-
-def frame_rate(frame_time: float) -> float:
-    """Frames per second for a frame time, snapped to a whole number of Hz when the frame
-    time is that rate rounded to the file's few decimals (0.033333 s → 30 Hz)."""
-    rate = 1.0 / frame_time
-    whole = round(rate)
-    if whole > 0 and abs(1.0 / whole - frame_time) <= 5e-6 * max(1.0, frame_time * 100):
-        return float(whole)
-    return rate
 
 
 def _joint_channels(motion: Motion, rotation_order: str) -> list[list[str]]:
