@@ -88,6 +88,12 @@ def _add_corpus_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--cycle-angle", metavar="COLUMN",
                         help="angle column whose maxima cut the cycles (e.g. r_thigh.Y); "
                              "default: the angle that moves most over the corpus")
+    parser.add_argument("--fill-gaps", type=int, default=None, metavar="FRAMES",
+                        help="fill marker gaps of up to FRAMES frames (cubic spline) before the "
+                             "angles; the model remembers it for later trials")
+    parser.add_argument("--lowpass", type=float, default=None, metavar="HZ",
+                        help="zero-lag Butterworth low-pass of the markers at HZ before the "
+                             "angles (e.g. 6); the model remembers it for later trials")
     parser.add_argument("--people", type=_names, metavar="P1,P2,…",
                         help="use only these people")
     parser.add_argument("--actions", type=_names, metavar="A1,A2,…",
@@ -118,7 +124,8 @@ def _load_corpus(args: argparse.Namespace):
         raise MocapError("give either a corpus folder or --manifest, not both")
     corpus = load_corpus(args.corpus, args.manifest, markerset=args.markerset,
                          sequence=args.sequence, samples=args.samples, cycles=args.cycles,
-                         cycle_column=args.cycle_angle, progress=progress)
+                         cycle_column=args.cycle_angle, lowpass_hz=args.lowpass,
+                         max_gap_frames=args.fill_gaps, progress=progress)
     if args.people or args.actions:
         corpus = corpus.subset(args.people, args.actions)
     return corpus

@@ -97,6 +97,7 @@ class MotionModel:
     cycles: bool = field(default=False, init=False)
     cycle_column: str | None = field(default=None, init=False)
     sources: dict = field(default_factory=dict, init=False)
+    cleaning: dict = field(default_factory=dict, init=False)
     angle_model_: SignatureModel | None = field(default=None, init=False, repr=False)
     timing_model_: SignatureModel | None = field(default=None, init=False, repr=False)
     spread_rms_: float = field(default=float("nan"), init=False)
@@ -122,6 +123,7 @@ class MotionModel:
         self.samples, self.markerset = corpus.samples, corpus.markerset
         self.cycles, self.cycle_column = corpus.cycles, corpus.cycle_column
         self.sources = {f"{p}_{a}": list(v) for (p, a), v in corpus.sources.items()}
+        self.cleaning = dict(corpus.cleaning)
         observed = corpus.observed
         complete = np.flatnonzero(observed.all(axis=1))
         if complete.size < 2:
@@ -282,7 +284,9 @@ class MotionModel:
     def read_trial(self, path: str | os.PathLike) -> tuple[np.ndarray, float]:
         """A trial file (marker trial with the model's marker set, angle CSV or BVH) →
         normalised ``(curve (samples, columns) degrees, duration s)``."""
-        angles = read_trial_angles(path, self.markerset, self.sequence)
+        angles = read_trial_angles(path, self.markerset, self.sequence,
+                                   self.cleaning.get("lowpass_hz"),
+                                   self.cleaning.get("max_gap_frames"))
         try:
             return self.normalise(angles)
         except MocapError as error:
@@ -343,7 +347,7 @@ class MotionModel:
             "segments": len(self.segments), "columns": len(self.columns),
             "sequence": self.sequence, "samples": self.samples, "markerset": self.markerset,
             "cycles": self.cycles, "cycle_column": self.cycle_column,
-            "missing_cells": [f"{self.people[p]}_{self.actions[a]}"
+            "cleaning": self.cleaning, "missing_cells": [f"{self.people[p]}_{self.actions[a]}"
                               for p, a in np.argwhere(~observed)],
             "basis_people": [self.people[i] for i in angle.basis_people_],
             "ranks": [int(f.shape[1]) for f in angle.factors_],
@@ -367,7 +371,7 @@ class MotionModel:
             "parents": self.parents, "columns": self.columns, "sequence": self.sequence,
             "samples": self.samples, "markerset": self.markerset, "cycles": self.cycles,
             "cycle_column": self.cycle_column, "sources": self.sources,
-            "people_rank": self.people_rank, "action_rank": self.action_rank,
+            "cleaning": self.cleaning, "people_rank": self.people_rank, "action_rank": self.action_rank,
             "feature_rank": self.feature_rank, "ridge": self.ridge,
             "spread_rms": self.spread_rms_, "angles": angle_meta, "timing": timing_meta,
         }
@@ -400,6 +404,7 @@ class MotionModel:
             for name in ("people", "actions", "segments", "parents", "columns", "sequence",
                          "samples", "markerset", "cycles", "cycle_column", "sources"):
                 setattr(model, name, meta[name])
+            model.cleaning = dict(meta.get("cleaning") or {})
             model.spread_rms_ = float(meta["spread_rms"])
             model.angle_model_ = SignatureModel.from_arrays("angles", arrays, meta["angles"])
             model.timing_model_ = SignatureModel.from_arrays("timing", arrays, meta["timing"])

@@ -174,6 +174,19 @@ def is_angle_csv(path: str | Path) -> bool:
     return True
 
 
+def _named_like_markers(path: Path, markerset) -> bool:
+    """True when a CSV that parses as angles (``<name>.x,<name>.y,<name>.z``) is rather a
+    marker CSV: a marker set is given and the names are not its segments but its markers."""
+    if markerset is None or isinstance(markerset, (str, Path)):
+        return False
+    with open(path, newline="", encoding="utf-8") as handle:
+        header = next(csv.reader(handle), [])
+    names = {column.strip().rpartition(".")[0] for column in header[1:]}
+    markers = {label for segment in markerset.segments for label in segment.markers}
+    return not names <= set(markerset.segment_names) and names <= markers | \
+        {v.name for v in getattr(markerset, "virtual", [])}
+
+
 def _bvh_reader_available() -> bool:
     try:
         import mocap.io.bvh  # noqa: F401
@@ -182,7 +195,8 @@ def _bvh_reader_available() -> bool:
     return True
 
 
-def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY"):
+def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
+                      lowpass_hz: float | None = None, max_gap_frames: int | None = None):
     """Joint angles of one trial file.
 
     Parameters
@@ -195,6 +209,12 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY"):
         CSVs.
     sequence : str
         Euler sequence (scipy convention) for marker trials.
+    lowpass_hz : float, optional
+        Zero-lag Butterworth low-pass of the markers before the angles
+        (:func:`mocap.clean.lowpass`), Hz.
+    max_gap_frames : int, optional
+        Fill marker gaps up to this many frames with cubic splines first
+        (:func:`mocap.clean.fill_gaps`).
 
     Returns
     -------
@@ -204,7 +224,10 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY"):
     path = Path(path)
     if not path.exists():
         raise MocapError("trial file not found", path)
-    if is_angle_csv(path):
+    if isinstance(markerset, (str, Path)) and not is_angle_csv(path):
+        from mocap.markerset import load_markerset
+        markerset = load_markerset(markerset)
+    if is_angle_csv(path) and not _named_like_markers(path, markerset):
         from mocap.angles import read_angles_csv
         return read_angles_csv(path)
     if path.suffix.lower() == ".bvh":
@@ -217,10 +240,14 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY"):
                          path)
     from mocap.angles import joint_angles
     from mocap.io import read
-    if isinstance(markerset, (str, Path)):
-        from mocap.markerset import load_markerset
-        markerset = load_markerset(markerset)
-    return joint_angles(read(path), markerset, sequence)
+    trial = read(path)
+    if max_gap_frames:
+        from mocap.clean import fill_gaps as fill_marker_gaps
+        trial, _ = fill_marker_gaps(trial, max_gap_frames=int(max_gap_frames))
+    if lowpass_hz:
+        from mocap.clean import lowpass
+        trial = lowpass(trial, float(lowpass_hz), short_runs="keep")
+    return joint_angles(trial, markerset, sequence)
 
 
 def _bvh_angles(path: Path, sequence: str):
@@ -466,6 +493,8 @@ class MotionCorpus:
         Reference angle of cycle detection.
     sources : dict of (person, action) to list of str
         Files of each cell.
+    cleaning : dict
+        Marker cleaning applied before the angles: ``lowpass_hz``, ``max_gap_frames``.
     """
 
     people: list[str]
@@ -481,6 +510,7 @@ class MotionCorpus:
     cycles: bool = False
     cycle_column: str | None = None
     sources: dict = field(default_factory=dict)
+    cleaning: dict = field(default_factory=dict)
 
     @property
     def samples(self) -> int:
@@ -574,7 +604,8 @@ def stack_corpus(cells: dict[tuple[str, str], list[tuple[np.ndarray, float, int]
 
 def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = "ZXY",
                 samples: int = DEFAULT_SAMPLES, cycles: bool = False,
-                cycle_column: str | None = None,
+                cycle_column: str | None = None, lowpass_hz: float | None = None,
+                max_gap_frames: int | None = None,
                 progress: Callable[[Iterable, str], Iterable] | None = None) -> MotionCorpus:
     """Read, time-normalise and stack the trials of a corpus.
 
@@ -593,6 +624,8 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
     cycle_column : str, optional
         Reference angle column for cycle detection (``"r_thigh.Y"``); default: the column
         with the largest mean standard deviation over the corpus.
+    lowpass_hz, max_gap_frames : optional
+        Marker cleaning before the angles (see :func:`read_trial_angles`).
     progress : callable, optional
         ``progress(iterable, description)`` wrapper (e.g. :func:`mocap.progress.progress`).
 
@@ -611,7 +644,7 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
     wrap = progress or (lambda items, description: items)
     read = []
     for entry in wrap(entries, "reading trials"):
-        angles = read_trial_angles(entry.path, markerset, sequence)
+        angles = read_trial_angles(entry.path, markerset, sequence, lowpass_hz, max_gap_frames)
         read.append((entry, angles))
     reference_segments, reference_sequence = read[0][1].segments, read[0][1].sequence
     for entry, angles in read:
@@ -642,7 +675,8 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
     return stack_corpus(cells, reference_segments, read[0][1].parents, reference_sequence,
                         markerset=markerset_name, cycles=cycles,
                         cycle_column=None if reference is None else columns[reference],
-                        sources=sources)
+                        sources=sources,
+                        cleaning={"lowpass_hz": lowpass_hz, "max_gap_frames": max_gap_frames})
 
 
 def _flat(angles) -> np.ndarray:

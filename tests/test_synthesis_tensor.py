@@ -134,3 +134,25 @@ def test_one_person_or_one_action_is_a_clear_error(tmp_path):
     with pytest.raises(MocapError, match=r"need at least 2 people and 2 actions.*found 1 person "
                                          r"\(ana\) and 2 actions"):
         load_corpus(tmp_path)
+
+
+def test_marker_csv_with_dotted_axis_names_is_read_as_markers(tmp_path):
+    """``PELO.x,PELO.y,PELO.z`` parses as angles in the sequence xyz; with a marker set whose
+    markers those are, it is a marker CSV."""
+    from mocap import io
+    from mocap.markerset import load_markerset
+    from mocap.synthetic import synthesize_trial
+    from synthesis.tensor import read_trial_angles
+
+    trial, _ = synthesize_trial(0, "walk")
+    io.write(trial, tmp_path / "ana_walk.csv")
+    text = (tmp_path / "ana_walk.csv").read_text()
+    header, _, body = text.partition("\n")
+    dotted = ",".join(name[:-2] + "." + name[-1] if name[-2:] in ("_x", "_y", "_z") else name
+                      for name in header.split(","))
+    (tmp_path / "dotted.csv").write_text(dotted + "\n" + body)
+    markerset = load_markerset("synthetic15")
+    expected = read_trial_angles(tmp_path / "ana_walk.csv", markerset)
+    angles = read_trial_angles(tmp_path / "dotted.csv", markerset)
+    assert angles.segments == expected.segments
+    assert np.allclose(angles.values, expected.values, atol=1e-6, equal_nan=True)
