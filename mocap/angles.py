@@ -145,6 +145,25 @@ def relative_rotations(rotations: np.ndarray, parent_index: list[int] | np.ndarr
     return relative
 
 
+def _relative_components(components: np.ndarray, parent_index: list[int]) -> np.ndarray:
+    """relative_rotations in the component-major layout of iter_frame_blocks.
+
+    components : (3, 3, frames, segments) → same shape, ``R_parent^T R_child``.
+    """
+    parents = np.asarray(parent_index, dtype=int)
+    roots = parents < 0
+    parent = components[..., np.where(roots, 0, parents)]
+    relative = np.empty_like(components)
+    for i in range(3):
+        for k in range(3):
+            entry = relative[i, k]
+            np.multiply(parent[0, i], components[0, k], out=entry)
+            entry += parent[1, i] * components[1, k]
+            entry += parent[2, i] * components[2, k]
+    relative[..., roots] = components[..., roots]
+    return relative
+
+
 def matrices_to_angles(matrices: np.ndarray, sequence: str) -> np.ndarray:
     """Euler angles of rotation matrices, principal values, degrees.
 
@@ -165,10 +184,11 @@ def matrices_to_angles(matrices: np.ndarray, sequence: str) -> np.ndarray:
     check_sequence(sequence)
     shape = matrices.shape[:-2]
     flat = matrices.reshape(-1, 3, 3)
-    valid = np.isfinite(flat).all(axis=(1, 2))
+    # a rotation is NaN as a whole (segment_frames), so one element tells
+    valid = np.isfinite(flat[:, :, 0]).all(axis=1) & np.isfinite(flat[:, 0, 1:]).all(axis=1)
     out = np.full((flat.shape[0], 3), np.nan)
     if valid.any():
-        chosen = flat[valid]
+        chosen = flat if valid.all() else flat[valid]
         try:
             # our matrices are orthonormal by construction: skip re-orthogonalising
             rotation = Rotation.from_matrix(chosen, assume_valid=True)
@@ -177,7 +197,11 @@ def matrices_to_angles(matrices: np.ndarray, sequence: str) -> np.ndarray:
         with warnings.catch_warnings():
             # scipy's gimbal warning names no frame; joint_angles gives a better one
             warnings.filterwarnings("ignore", message=".*[Gg]imbal lock.*")
-            out[valid] = rotation.as_euler(sequence, degrees=True)
+            euler = rotation.as_euler(sequence, degrees=True)
+        if valid.all():
+            out = euler
+        else:
+            out[valid] = euler
     return out.reshape(shape + (3,))
 
 
@@ -206,11 +230,6 @@ def angles_to_matrices(values_deg: np.ndarray, sequence: str) -> np.ndarray:
     return out.reshape(shape + (3, 3))
 
 
-def _wrap(x: np.ndarray) -> np.ndarray:
-    """Angles wrapped into [-180, 180) degrees."""
-    return (x + 180.0) % 360.0 - 180.0
-
-
 def _other_branch(values: np.ndarray, proper: bool) -> np.ndarray:
     """The second Euler triple of the same rotation.
 
@@ -221,6 +240,17 @@ def _other_branch(values: np.ndarray, proper: bool) -> np.ndarray:
     other[..., 2] += 180.0
     other[..., 1] = (180.0 - values[..., 1]) if not proper else -values[..., 1]
     return other
+
+
+def _turns(step: np.ndarray) -> np.ndarray:
+    """Whole turns to remove from a step of less than 540° (-1, 0 or 1)."""
+    return (step > 180.0).astype(np.int32) - (step < -180.0)
+
+
+def _circle_distance(step: np.ndarray) -> np.ndarray:
+    """Distance on the circle of a step of at most 360° in size, degrees."""
+    step = np.abs(step)
+    return np.minimum(step, 360.0 - step)
 
 
 def unwrap_angles(values: np.ndarray, sequence: str) -> np.ndarray:
@@ -247,35 +277,98 @@ def unwrap_angles(values: np.ndarray, sequence: str) -> np.ndarray:
     ndarray, shape (frames, segments, 3)
         Same rotations (angles_to_matrices gives the same matrices), continuous.
     """
-    frames = values.shape[0]
-    if frames < 2:
-        return values.copy()
-    proper = is_proper_euler(sequence)
-    valid = np.isfinite(values).all(axis=-1)                              # (F, S)
-    index = np.where(valid, np.arange(frames)[:, None], -1)
-    last_valid = np.maximum.accumulate(index, axis=0)
-    previous = np.vstack([np.full((1, values.shape[1]), -1), last_valid[:-1]])
-    has_previous = valid & (previous >= 0)
-    segments = np.arange(values.shape[1])[None, :]
-    prev_values = values[np.maximum(previous, 0), segments]               # (F, S, 3)
-
-    # branch: switching is needed where the other triple is nearer the
-    # previous frame (both triples of the previous frame are equally far
-    # apart, so comparing principal values suffices), then accumulate (XOR)
-    same = np.sum(_wrap(values - prev_values) ** 2, axis=-1)
-    other = np.sum(_wrap(_other_branch(values, proper) - prev_values) ** 2, axis=-1)
-    switch = has_previous & (other < same)
-    branch = (np.cumsum(switch, axis=0) % 2).astype(bool)
-    chosen = np.where(branch[..., None], _other_branch(values, proper), values)
-
-    # turns: remove 360° jumps between consecutive valid frames
-    prev_chosen = chosen[np.maximum(previous, 0), segments]
-    step = chosen - prev_chosen
-    correction = np.where(has_previous[..., None], -360.0 * np.round(step / 360.0), 0.0)
-    correction = np.nan_to_num(correction)
-    out = chosen + np.cumsum(correction, axis=0)
-    out[~valid] = np.nan
+    unwrapper = Unwrapper(sequence, values.shape[1])
+    out = np.empty_like(values)
+    # blocks of frames keep the temporaries in the cache; state carries over
+    for start in range(0, values.shape[0], UNWRAP_BLOCK):
+        block = slice(start, start + UNWRAP_BLOCK)
+        out[block] = unwrapper(values[block])
     return out
+
+
+#: Frames per block of Unwrapper work in unwrap_angles.
+UNWRAP_BLOCK = 2048
+
+
+class Unwrapper:
+    """unwrap_angles over consecutive blocks of frames, carrying its state.
+
+    Parameters
+    ----------
+    sequence : str
+    segments : int
+
+    Calling it with the principal values of the next block of frames
+    (frames, segments, 3) returns their continuous values; the result over all
+    blocks equals unwrap_angles over the whole trial.
+    """
+
+    def __init__(self, sequence: str, segments: int):
+        self.proper = is_proper_euler(sequence)
+        self.last = np.full((segments, 3), np.nan)       # principal, last valid frame
+        self.branch = np.zeros(segments, dtype=bool)     # its branch
+        self.turns = np.zeros((segments, 3), dtype=np.int32)  # its accumulated turns
+
+    def __call__(self, values: np.ndarray) -> np.ndarray:
+        frames, segments = values.shape[:2]
+        if frames == 0:
+            return values.copy()
+        proper = self.proper
+        # row 0 is the carried last valid frame (NaN when there is none yet)
+        rows = np.concatenate([self.last[None], values], axis=0)          # (F+1, S, 3)
+        valid = ~np.isnan(rows[..., 0])
+        if valid.all():
+            def previous_of(array: np.ndarray) -> np.ndarray:
+                return array[:-1]
+            has_previous = np.ones((frames, segments), dtype=bool)
+            last_row = np.full(segments, frames)
+        else:
+            index = np.where(valid, np.arange(frames + 1)[:, None], -1)
+            last_valid = np.maximum.accumulate(index, axis=0)
+            last_row = last_valid[-1]
+            previous = last_valid[:-1]                                    # for rows 1..F
+            has_previous = valid[1:] & (previous >= 0)
+            take, columns = np.maximum(previous, 0), np.arange(segments)[None, :]
+
+            def previous_of(array: np.ndarray) -> np.ndarray:
+                return array[take, columns]
+        current = rows[1:]
+
+        # branch: switch where the other triple is nearer the previous frame
+        # (both triples of the previous frame are equally far apart, so
+        # comparing principal values suffices); the branch is a running XOR
+        step = current - previous_of(rows)                                # (F, S, 3)
+        outer = _circle_distance(step[..., [0, 2]])                       # |wrap(a)|, |wrap(c)|
+        same = np.einsum("fsk,fsk->fs", outer, outer) + step[..., 1] ** 2
+        flipped = (180.0 - current[..., 1]) if not proper else -current[..., 1]
+        middle_other = _circle_distance(flipped - previous_of(rows[..., 1]))
+        outer_other = 180.0 - outer            # a shift of 180° on the circle
+        other = np.einsum("fsk,fsk->fs", outer_other, outer_other) + middle_other ** 2
+        switch = has_previous & (other < same)
+        branch = np.empty((frames + 1, segments), dtype=bool)
+        branch[0] = self.branch
+        branch[1:] = ((np.cumsum(switch, axis=0, dtype=np.int32) & 1).astype(bool)
+                      ^ self.branch)
+        chosen = rows.copy()
+        if branch.any():
+            chosen[branch] = _other_branch(rows[branch], proper)
+
+        # turns: remove 360° jumps between consecutive valid frames
+        step = chosen[1:] - previous_of(chosen)
+        turns = np.empty((frames + 1, segments, 3), dtype=np.int32)
+        turns[0] = self.turns
+        turns[1:] = np.where(has_previous[..., None], _turns(step), 0)
+        np.cumsum(turns, axis=0, out=turns)
+        out = chosen[1:] - 360.0 * turns[1:]
+        out[~valid[1:]] = np.nan
+
+        # carry the last valid frame of each segment into the next block
+        had = last_row >= 0
+        pick = np.maximum(last_row, 0), np.arange(segments)
+        self.last = np.where(had[:, None], rows[pick], np.nan)
+        self.branch = np.where(had, branch[pick], False)
+        self.turns = np.where(had[:, None], turns[pick], 0)
+        return out
 
 
 def near_gimbal_lock(principal: np.ndarray, sequence: str,
@@ -329,21 +422,30 @@ def joint_angles(trial: Trial, markerset: MarkerSet, sequence: str = DEFAULT_SEQ
     MocapError
         Unknown sequence, or markers the set needs missing from the trial.
     """
-    from mocap.frames import segment_frames
+    from mocap.frames import iter_frame_blocks
 
     check_sequence(sequence)
-    rotations, _ = segment_frames(trial, markerset)
+    full = markerset.apply_virtual(trial)
+    columns = markerset.marker_columns(full.labels)
     parents = markerset.parent_index
-    principal = matrices_to_angles(relative_rotations(rotations, parents), sequence)
-    _warn_gimbal(principal, sequence, markerset.segment_names, trial, gimbal_tolerance)
-    values = unwrap_angles(principal, sequence) if unwrap else principal
+    values = np.empty((trial.frames, len(parents), 3))
+    near = np.zeros((trial.frames, len(parents)), dtype=bool)
+    unwrapper = Unwrapper(sequence, len(parents))
+    # block by block of frames, so the intermediate matrices stay in the cache
+    for block, components in iter_frame_blocks(full.points, columns,
+                                               markerset.axes_matrices):
+        relative = _relative_components(components, parents)
+        matrices = np.ascontiguousarray(np.moveaxis(relative, (0, 1), (2, 3)))
+        principal = matrices_to_angles(matrices, sequence)
+        near[block] = near_gimbal_lock(principal, sequence, gimbal_tolerance)
+        values[block] = unwrapper(principal) if unwrap else principal
+    _warn_gimbal(near, sequence, markerset.segment_names, trial, gimbal_tolerance)
     return JointAngles(times=trial.times, values=values, segments=markerset.segment_names,
                        sequence=sequence, parents=list(parents))
 
 
-def _warn_gimbal(principal: np.ndarray, sequence: str, segments: list[str], trial: Trial,
+def _warn_gimbal(near: np.ndarray, sequence: str, segments: list[str], trial: Trial,
                  tolerance: float) -> None:
-    near = near_gimbal_lock(principal, sequence, tolerance)            # (F, S)
     for s in np.flatnonzero(near.any(axis=0)):
         frames = np.flatnonzero(near[:, s])
         first = int(frames[0])

@@ -334,12 +334,20 @@ class MarkerSet:
             When the trial lacks markers the set needs (all of them listed).
         """
         self.check_trial(trial)
+        if not self.virtual:
+            return trial
         labels = list(trial.labels)
-        columns = [trial.points[:, i, :] for i in range(len(labels))]
+        replaced: dict[int, np.ndarray] = {}
+        added: list[np.ndarray] = []
         index = _LabelIndex(labels)
 
         def get(name: str) -> np.ndarray:
-            return columns[index.find(name)]
+            column = index.find(name)
+            if column in replaced:
+                return replaced[column]
+            if column >= trial.points.shape[1]:
+                return added[column - trial.points.shape[1]]
+            return trial.points[:, column, :]
 
         for v in self.virtual:
             existing = index.find(v.name)
@@ -349,12 +357,20 @@ class MarkerSet:
                 continue  # not needed by any segment (check_trial passed)
             value = _compute_virtual(v, get, trial)
             if existing is not None and labels[existing] == v.name:
-                columns[existing] = value
+                if existing < trial.points.shape[1]:
+                    replaced[existing] = value
+                else:
+                    added[existing - trial.points.shape[1]] = value
             else:
                 labels.append(v.name)
-                columns.append(value)
+                added.append(value)
                 index = _LabelIndex(labels)
-        points = np.stack(columns, axis=1) if columns else trial.points
+        points = trial.points
+        if replaced or added:
+            points = np.concatenate([points] + [a[:, None, :] for a in added], axis=1) \
+                if added else points.copy()
+            for column, value in replaced.items():
+                points[:, column, :] = value
         return Trial(labels, points, trial.rate, trial.units, trial.path, trial.format,
                      trial.analogs, trial.analog_labels, trial.analog_rate,
                      dict(trial.metadata))
@@ -425,18 +441,66 @@ def frame_from_markers(p1: np.ndarray, p2: np.ndarray, p3: np.ndarray
         Columns e1, e2, e3; NaN where a marker is missing or the markers are
         (nearly) collinear or coincident.
     """
+    p1, p2, p3 = (np.moveaxis(np.asarray(p, dtype=float), -1, 0) for p in (p1, p2, p3))
+    return np.moveaxis(frame_components(p2 - p1, p3 - p1), (0, 1), (-2, -1))
+
+
+def frame_components(axis: np.ndarray, plane: np.ndarray) -> np.ndarray:
+    """Frames from component-major arrays (the fast path of frame_from_markers).
+
+    Parameters
+    ----------
+    axis, plane : ndarray, shape (3, ...)
+        ``p2 - p1`` and ``p3 - p1``; ``axis`` is overwritten (normalised).
+
+    Returns
+    -------
+    ndarray, shape (3, 3, ...)
+        ``out[i, j]`` is component i of axis j.
+    """
+    ax, ay, az = axis
+    bx, by, bz = plane
+    out = np.empty((3, 3) + ax.shape)
     with np.errstate(invalid="ignore", divide="ignore"):
-        a = p2 - p1
-        e1 = a / np.linalg.norm(a, axis=-1, keepdims=True)
-        n = np.cross(e1, p3 - p1)
-        n_norm = np.linalg.norm(n, axis=-1, keepdims=True)
+        scale = ax * ax
+        scale += ay * ay
+        scale += az * az
+        np.sqrt(scale, out=scale)
+        np.divide(1.0, scale, out=scale)
+        ax *= scale
+        ay *= scale
+        az *= scale
+        nx, ny, nz = out[0, 2], out[1, 2], out[2, 2]
+        np.multiply(ay, bz, out=nx)
+        nx -= az * by
+        np.multiply(az, bx, out=ny)
+        ny -= ax * bz
+        np.multiply(ax, by, out=nz)
+        nz -= ay * bx
+        length = nx * nx
+        length += ny * ny
+        length += nz * nz
         # collinear markers leave no plane: refuse rather than return noise
-        scale = np.linalg.norm(p3 - p1, axis=-1, keepdims=True)
-        n_norm = np.where(n_norm > 1e-9 * np.maximum(scale, 1e-300), n_norm, np.nan)
-        e3 = n / n_norm
-        e1 = e1 + 0.0 * e3[..., :1]          # NaN for the whole frame, not half of it
-        e2 = np.cross(e3, e1)
-    return np.stack([e1, e2, e3], axis=-1)
+        plane_sq = bx * bx
+        plane_sq += by * by
+        plane_sq += bz * bz
+        length[~(length > 1e-18 * plane_sq)] = np.nan
+        np.sqrt(length, out=length)
+        np.divide(1.0, length, out=length)
+        nx *= length
+        ny *= length
+        nz *= length
+        ax += 0.0 * nx                     # NaN for the whole frame, not half of it
+        ay += 0.0 * nx
+        az += 0.0 * nx
+        out[0, 0], out[1, 0], out[2, 0] = ax, ay, az
+        np.multiply(ny, az, out=out[0, 1])
+        out[0, 1] -= nz * ay
+        np.multiply(nz, ax, out=out[1, 1])
+        out[1, 1] -= nx * az
+        np.multiply(nx, ay, out=out[2, 1])
+        out[2, 1] -= ny * ax
+    return out
 
 
 def _median_distance(a: np.ndarray, b: np.ndarray) -> float:

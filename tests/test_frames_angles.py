@@ -15,6 +15,7 @@ from mocap.angles import (SEQUENCES, GimbalLockWarning, JointAngles, angles_to_m
                           write_angles_csv)
 from mocap.errors import MocapError
 from mocap.frames import segment_frames
+from mocap.io import read
 from mocap.markerset import load_markerset, markerset_from_dict
 from mocap.trial import Trial
 from tests.conftest import realdata_path
@@ -258,47 +259,18 @@ def test_read_angles_csv_rejects_bad_files(tmp_path):
 # ------------------------------------------------------------------ real data
 
 
-def read_trial(path) -> Trial:
-    """Read a C3D: mocap.io.read when it is there, else ezc3d directly."""
-    try:
-        from mocap.io import read
-    except ImportError:
-        read = None
-    if read is not None:
-        return read(path)
-    import ezc3d
-    c3d = ezc3d.c3d(str(path))
-    point = c3d["parameters"]["POINT"]
-    labels = list(point["LABELS"]["value"])
-    k = 2
-    while f"LABELS{k}" in point:
-        labels += point[f"LABELS{k}"]["value"]
-        k += 1
-    points = c3d["data"]["points"][:3].transpose(2, 1, 0).copy()
-    points[c3d["data"]["meta_points"]["residuals"][0].T < 0] = np.nan
-    scale = {"mm": 1e-3, "cm": 1e-2, "m": 1.0}[point["UNITS"]["value"][0].strip()]
-    return Trial(labels[:points.shape[1]], points * scale, point["RATE"]["value"][0],
-                 path=str(path))
-
-
-def vicon_output(path, label: str) -> np.ndarray:
-    """A Plug-in Gait model output stored as a C3D point (angles in degrees,
-    joint centres in mm), straight from ezc3d, NaN where invalid."""
-    import ezc3d
-    c3d = ezc3d.c3d(str(path))
-    point = c3d["parameters"]["POINT"]
-    labels = list(point["LABELS"]["value"]) + list(point.get("LABELS2", {}).get("value", []))
-    column = labels.index(label)
-    values = c3d["data"]["points"][:3, column, :].T.copy()
-    values[c3d["data"]["meta_points"]["residuals"][0, column] < 0] = np.nan
-    return values
+def vicon_output(trial: Trial, label: str) -> np.ndarray:
+    """A Plug-in Gait model output Vicon stored in the file (angles in degrees),
+    kept by mocap.io.read in ``metadata["modelled"]``; shape (frames, 3)."""
+    modelled = trial.metadata["modelled"]
+    return modelled["values"][:, modelled["labels"].index(label), :]
 
 
 @pytest.mark.parametrize("relative", ["HC002D/Straight/HC002D06.c3d",
                                       "HC030A/Straight/HC030A05.c3d"])
 def test_plugingait_preset_knee_flexion_on_real_walk(relative):
     path = realdata_path("biomechzoo_sample_study", *relative.split("/"))
-    trial = read_trial(path)
+    trial = read(path)
     ms = load_markerset("plugingait-lower")
     assert "RPSI" not in trial.labels and "SACR" in trial.labels
     angles = joint_angles(trial, ms, "YXZ")
@@ -309,25 +281,25 @@ def test_plugingait_preset_knee_flexion_on_real_walk(relative):
         assert 40 < np.nanmax(knee) < 80
         assert -15 < np.nanmin(knee) < 15
         # and agrees with Vicon's own Plug-in Gait knee flexion stored in the file
-        vicon = vicon_output(path, f"{side}KneeAngles")[:, 0]
+        vicon = vicon_output(trial, f"{side}KneeAngles")[:, 0]
         ok = np.isfinite(knee) & np.isfinite(vicon)
         assert np.corrcoef(knee[ok], vicon[ok])[0, 1] > 0.99
         assert abs(np.nanmax(knee) - np.nanmax(vicon[ok])) < 8
         # hip flexion is negative about +y (left) by the preset's convention
         hip = angles.segment(f"{side.lower()}_thigh")[:, 0]
-        vicon_hip = vicon_output(path, f"{side}HipAngles")[:, 0]
+        vicon_hip = vicon_output(trial, f"{side}HipAngles")[:, 0]
         ok = np.isfinite(hip) & np.isfinite(vicon_hip)
         assert np.corrcoef(hip[ok], vicon_hip[ok])[0, 1] < -0.98
         # our Davis hip joint centre lands near Vicon's, which used a measured
         # leg length and inter-ASIS distance (ours: estimated from the markers)
         ours = ms.apply_virtual(trial).marker(f"{side}HJC")
-        theirs = vicon_output(path, f"{side}HJC") / 1000.0
+        theirs = trial.marker(f"{side}HJC")
         assert np.nanmedian(np.linalg.norm(ours - theirs, axis=1)) < 0.02
 
 
 def test_plugingait_preset_with_psis_instead_of_sacrum():
     path = realdata_path("pycgm", "Test_Files", "Movement_trial.c3d")
-    trial = read_trial(path)
+    trial = read(path)
     assert "SACR" not in trial.labels and "RPSI" in trial.labels
     ms = load_markerset("plugingait-lower")
     with warnings.catch_warnings():
@@ -335,7 +307,7 @@ def test_plugingait_preset_with_psis_instead_of_sacrum():
         angles = joint_angles(trial, ms, "YXZ")
     for side in "LR":
         knee = angles.segment(f"{side.lower()}_shank")[:, 0]
-        vicon = vicon_output(path, f"{side}KneeAngles")[:, 0]
+        vicon = vicon_output(trial, f"{side}KneeAngles")[:, 0]
         ok = np.isfinite(knee) & np.isfinite(vicon)
         assert ok.mean() > 0.9
         assert np.corrcoef(knee[ok], vicon[ok])[0, 1] > 0.99

@@ -1,0 +1,126 @@
+"""Joint-angle throughput: segment frames + relative rotations + Euler angles.
+
+Prints segment-frames per second for 100 000 frames x 15 segments (the
+synthetic15 marker set) through the vectorised path, beside a plain per-frame
+Python reference (a loop over frames and segments calling numpy and scipy for
+each) on fewer frames, and the ratio.  Timings are noisy on a shared machine:
+compare the ratio, not the absolute figures.  Never asserts.
+
+    /tmp/venv/bin/python benchmarks/angles.py [--frames 100000] [--reference-frames 2000]
+"""
+from __future__ import annotations
+
+import argparse
+import time
+import warnings
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from mocap.angles import (GimbalLockWarning, joint_angles, matrices_to_angles,
+                          relative_rotations)
+from mocap.frames import segment_frames
+from mocap.markerset import load_markerset
+from mocap.trial import Trial
+
+
+def make_trial(markerset, frames: int, seed: int = 0) -> Trial:
+    """Markers of a smoothly moving tree: 3 per segment (origin, +0.1 e1, +0.1 e2)."""
+    rng = np.random.default_rng(seed)
+    segments = len(markerset.segments)
+    t = np.arange(frames) / 100.0
+    amplitude = rng.uniform(10, 40, (segments, 3))
+    frequency = rng.uniform(0.5, 2.0, (segments, 3))
+    phase = rng.uniform(0, 2 * np.pi, (segments, 3))
+    angles = amplitude * np.sin(2 * np.pi * frequency * t[:, None, None] + phase)
+    rot = Rotation.from_euler("ZXY", angles.reshape(-1, 3), degrees=True).as_matrix() \
+        .reshape(frames, segments, 3, 3)
+    origin = rng.normal(scale=0.3, size=(segments, 3)) + 0.01 * t[:, None, None]
+    points = np.stack([origin, origin + 0.1 * rot[..., 0], origin + 0.1 * rot[..., 1]],
+                      axis=2).reshape(frames, 3 * segments, 3)
+    labels = [m for s in markerset.segments for m in s.markers]
+    return Trial(labels, points, 100.0)
+
+
+def reference(trial: Trial, markerset, sequence: str) -> np.ndarray:
+    """Plain per-frame loop: numpy per segment, one scipy call per joint and frame."""
+    columns = markerset.marker_columns(trial.labels)
+    parents = markerset.parent_index
+    out = np.empty((trial.frames, len(parents), 3))
+    for f in range(trial.frames):
+        frames = []
+        for s in range(len(parents)):
+            p1, p2, p3 = trial.points[f, columns[s, :3]]
+            e1 = (p2 - p1) / np.linalg.norm(p2 - p1)
+            e3 = np.cross(e1, p3 - p1)
+            e3 /= np.linalg.norm(e3)
+            frames.append(np.column_stack([e1, np.cross(e3, e1), e3]))
+        for s, parent in enumerate(parents):
+            relative = frames[s] if parent < 0 else frames[parent].T @ frames[s]
+            out[f, s] = Rotation.from_matrix(relative).as_euler(sequence, degrees=True)
+    return out
+
+
+def best_of(function, repeats: int) -> float:
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--frames", type=int, default=100_000)
+    parser.add_argument("--reference-frames", type=int, default=2000)
+    parser.add_argument("--sequence", default="ZXY")
+    parser.add_argument("--repeats", type=int, default=3)
+    args = parser.parse_args()
+
+    markerset = load_markerset("synthetic15")
+    segments = len(markerset.segments)
+    trial = make_trial(markerset, args.frames)
+    small = make_trial(markerset, args.reference_frames)
+
+    def whole_arrays():
+        # the public building blocks on whole-trial arrays
+        rotations, _ = segment_frames(trial, markerset)
+        relative = relative_rotations(rotations, markerset.parent_index)
+        return matrices_to_angles(relative, args.sequence)
+
+    def full():
+        # the product path: frames + relative rotations + Euler angles, block by
+        # block of frames, plus unwrapping and the gimbal-lock check
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", GimbalLockWarning)
+            return joint_angles(trial, markerset, args.sequence)
+
+    full_s = best_of(full, args.repeats)
+    whole_s = best_of(whole_arrays, args.repeats)
+    ref_s = best_of(lambda: reference(small, markerset, args.sequence), 1)
+
+    # the vectorised and per-frame paths agree (principal values) on the small trial
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GimbalLockWarning)
+        vectorised = joint_angles(small, markerset, args.sequence, unwrap=False).values
+    difference = np.abs(vectorised - reference(small, markerset, args.sequence)).max()
+
+    work = args.frames * segments
+    rate_full = work / full_s
+    rate_whole = work / whole_s
+    rate_ref = args.reference_frames * segments / ref_s
+    print(f"joint angles, {args.frames} frames x {segments} segments, sequence {args.sequence}")
+    print(f"  joint_angles (frames+relative+Euler, unwrap, gimbal check): {full_s:7.3f} s "
+          f"{rate_full / 1e6:7.2f} M segment-frames/s")
+    print(f"  segment_frames+relative_rotations+matrices_to_angles      : {whole_s:7.3f} s "
+          f"{rate_whole / 1e6:7.2f} M segment-frames/s  (whole-trial arrays)")
+    print(f"  per-frame Python reference (numpy + scipy per frame)      : {ref_s:7.3f} s "
+          f"{rate_ref / 1e6:7.3f} M segment-frames/s  ({args.reference_frames} frames)")
+    print(f"  ratio joint_angles / reference: {rate_full / rate_ref:.0f} x;  "
+          f"target 2 M segment-frames/s: {'met' if rate_full >= 2e6 else 'NOT met'}")
+    print(f"  max |vectorised - reference| = {difference:.2e} degrees")
+
+
+if __name__ == "__main__":
+    main()
