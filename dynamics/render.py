@@ -29,6 +29,22 @@ def _to_plot(points: np.ndarray) -> np.ndarray:
     return points[..., [0, 2, 1]]
 
 
+def _draw_colliders(axes, result: dict) -> None:
+    """Static wireframes of sphere and box colliders (planes are left to the axes)."""
+    for sphere in np.asarray(result.get("spheres", np.zeros((0, 4)))).reshape(-1, 4):
+        u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 16), np.linspace(0, np.pi, 9))
+        points = sphere[:3] + sphere[3] * np.stack(
+            [np.cos(u) * np.sin(v), np.cos(v), np.sin(u) * np.sin(v)], axis=-1)
+        p = _to_plot(points)
+        axes.plot_wireframe(p[..., 0], p[..., 1], p[..., 2], color="tab:green", linewidth=0.4)
+    for box in np.asarray(result.get("boxes", np.zeros((0, 6)))).reshape(-1, 6):
+        corners = np.array([[x, y, z] for x in (box[0], box[3]) for y in (box[1], box[4])
+                            for z in (box[2], box[5])])
+        for a, b in BOX_EDGES:
+            p = _to_plot(corners[[a, b]])
+            axes.plot(p[:, 0], p[:, 1], p[:, 2], color="tab:green", linewidth=0.6)
+
+
 def render_animation(result: dict, path: str | os.PathLike, fps: float = 30.0,
                      max_frames: int = 300, dpi: int = 80, title: str = "") -> int:
     """Write an animation of a saved run to ``path`` (.gif or .mp4); returns frames drawn.
@@ -92,6 +108,7 @@ def render_animation(result: dict, path: str | os.PathLike, fps: float = 30.0,
     axes.add_collection3d(lines, autolim=False)
     boxes = Line3DCollection([], colors="tab:red", linewidths=1.2)
     axes.add_collection3d(boxes, autolim=False)
+    _draw_colliders(axes, result)
     label = axes.set_title(title)
     if temperature is not None:
         temperature = np.asarray(temperature)

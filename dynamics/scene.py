@@ -525,6 +525,9 @@ class SimulationResult:
     rigid_positions : (S, B, 3), rigid_orientations : (S, B, 4) quaternions (x, y, z, w),
     rigid_vertices : (S, B, V, 3) world corners, rigid_angular_momentum : (S, B, 3)
     dt : float, integrator : str
+    spheres : (K, 4) float, centre and radius of each sphere collider at the end (for drawing)
+    boxes : (K, 6) float, minimum and maximum corners of each box collider
+    planes : (K, 6) float, point and unit normal of each plane collider
     """
 
     times: np.ndarray
@@ -543,6 +546,9 @@ class SimulationResult:
     rigid_angular_momentum: np.ndarray
     dt: float
     integrator: str
+    spheres: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
+    boxes: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
+    planes: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
 
     def arrays(self) -> dict[str, np.ndarray]:
         """Every field as an array (what ``save`` writes)."""
@@ -619,10 +625,16 @@ def run_scene(scene: Scene, show_progress: bool | None = None) -> SimulationResu
             record(step // scene.save_every)
     broken_at = (system.heat.melted_at if system.heat is not None
                  and system.heat.melted_at is not None else np.full(len(system.springs), np.inf))
+    colliders = system.colliders
+    spheres = [np.r_[c.centre, c.radius] for c in colliders if isinstance(c, Sphere)]
+    boxes = [np.r_[c.minimum, c.maximum] for c in colliders if isinstance(c, Box)]
+    planes = [np.r_[c.point, c.normal] for c in colliders if isinstance(c, Plane)]
     return SimulationResult(times, positions, system.springs.pairs.copy(),
                             system.springs.kind.copy(), broken_at.copy(), p.colour.copy(),
                             p.mass.copy(), p.pinned.copy(), energy, temperature, rigid[0], rigid[1],
-                            rigid[2], rigid[3], scene.dt, scene.integrator)
+                            rigid[2], rigid[3], scene.dt, scene.integrator,
+                            np.reshape(spheres, (-1, 4)), np.reshape(boxes, (-1, 6)),
+                            np.reshape(planes, (-1, 6)))
 
 
 def load_result(path: str | os.PathLike) -> dict[str, np.ndarray]:
