@@ -118,10 +118,13 @@ def test_rotations_reproduced_from_angles(sequence):
 
 
 @pytest.mark.parametrize("sequence", ["ZXY", "zxy", "ZYZ", "xzx"])
-def test_passing_gimbal_lock_stays_continuous_and_warns(sequence):
+@pytest.mark.parametrize("small_blocks", [False, True])
+def test_passing_gimbal_lock_stays_continuous_and_warns(sequence, small_blocks, request):
     """A joint whose middle angle crosses the principal range's limit (scipy then
     flips all three angles) comes out continuous and equal to the truth, and a
     GimbalLockWarning names the segment and the first frame near the lock."""
+    if small_blocks:
+        request.getfixturevalue("tiny_blocks")
     proper = is_proper_euler(sequence)
     frames = 60
     limit = 0.0 if proper else 90.0
@@ -311,3 +314,36 @@ def test_plugingait_preset_with_psis_instead_of_sacrum():
         ok = np.isfinite(knee) & np.isfinite(vicon)
         assert ok.mean() > 0.9
         assert np.corrcoef(knee[ok], vicon[ok])[0, 1] > 0.99
+
+
+@pytest.fixture
+def tiny_blocks(monkeypatch):
+    """Blocks of a few frames, so state must carry across many block edges."""
+    import mocap.angles
+    import mocap.frames
+    monkeypatch.setattr(mocap.frames, "BLOCK_FRAMES", 7)
+    monkeypatch.setattr(mocap.angles, "UNWRAP_BLOCK", 5)
+
+
+@pytest.mark.parametrize("sequence", ["ZXY", "zyz"])
+def test_block_edges_change_nothing(tiny_blocks, sequence):
+    truth = smooth_truth(sequence, seed=21)
+    trial = markers_from_joints(angles_to_matrices(truth, sequence), seed=3)
+    points = trial.points.copy()
+    points[33:52, trial.labels.index("shank_P")] = np.nan   # a gap across block edges
+    points[:9, trial.labels.index("trunk_O")] = np.nan      # missing from the start
+    angles = joint_angles(trial.with_points(points), tree_markerset(), sequence)
+    expected = truth.copy()
+    expected[33:52, [2, 3]] = np.nan                         # shank and its child foot
+    expected[:9, 4] = np.nan
+    valid = np.isfinite(expected)
+    assert np.array_equal(np.isfinite(angles.values), valid)
+    # the trunk starts at frame 9 in scipy's principal range: compare rotations
+    # there, values elsewhere
+    trunk = angles.values[:, 4]
+    np.testing.assert_allclose(angles_to_matrices(trunk[9:], sequence),
+                               angles_to_matrices(truth[9:, 4], sequence), atol=1e-9)
+    np.testing.assert_allclose(angles.values[:, :4], expected[:, :4], atol=1e-6)
+    # and unwrap_angles in small blocks equals one whole-array pass
+    principal = matrices_to_angles(angles_to_matrices(truth, sequence), sequence)
+    np.testing.assert_allclose(unwrap_angles(principal, sequence), truth, atol=1e-6)
