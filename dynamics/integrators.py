@@ -105,7 +105,7 @@ def _velocity_coefficients(system) -> np.ndarray:
 
 
 def implicit_euler_step(system, dt: float, solver: str = "projective", iterations: int = 10,
-                        tolerance: float = 1e-8) -> None:
+                        tolerance: float = 1e-6) -> None:
     """Backward Euler step.
 
     Parameters
@@ -191,8 +191,8 @@ def _linearised_step(system, dt: float, solver: str, tolerance: float) -> None:
         if guess is None or guess.shape != rhs.shape:
             guess = np.zeros_like(rhs)
         preconditioner = sp.diags(1.0 / matrix.diagonal())
-        delta, info = spla.cg(matrix, rhs, x0=guess, rtol=tolerance, maxiter=10 * len(rhs),
-                              M=preconditioner)
+        delta, info = spla.cg(matrix, rhs, x0=guess, rtol=tolerance,
+                              maxiter=max(1000, len(rhs) // 4), M=preconditioner)
         if info != 0:
             raise SimulationUnstable(
                 f"conjugate gradients did not converge at step {system.step_count + 1} "
