@@ -217,3 +217,44 @@ def test_unstable_run_stops_with_step_and_remedy():
     message = str(caught.value)
     assert "step" in message and "reduce dt" in message and "implicit-euler" in message
     assert np.all(np.isfinite(system.particles.position))
+
+
+def test_driving_pins_keeps_the_implicit_factorisation():
+    system = System()
+    body = cloth_grid([0, 1, 0], [0.3, 0.3], [6, 6], 0.1, 300.0, 0.1, pin=["top"])
+    index = system.add(body)
+    top = index[body.named("top")]
+    system.add_force(Gravity(G))
+    dt = 1 / 60
+    advance(system, dt, "implicit-euler")
+    factor = system.cache["projective"][1][0]
+    for step in range(30):
+        system.drive_pinned(top, system.particles.position[top] + [0.01, 0.0, 0.0], dt)
+        advance(system, dt, "implicit-euler")
+    assert system.cache["projective"][1][0] is factor
+    system.pin(index[-1])                                   # a new pinned set: refactorised
+    advance(system, dt, "implicit-euler")
+    assert system.cache["projective"][1][0] is not factor
+
+
+def test_wind_drag_reaches_the_wind_speed_and_callbacks_add_forces():
+    from dynamics.forces import ForceCallback, Wind
+    system = System()
+    system.add(Particles([[0, 0, 0]], 0.0, 0.5, False))
+    system.add_force(Wind([2.0, 0.0, 0.0], coefficient=1.0))
+    for _ in range(2000):                                   # time constant m / c = 0.5 s
+        advance(system, 2e-3, "rk4")
+    np.testing.assert_allclose(system.particles.velocity[0], [2 * (1 - np.exp(-8)), 0, 0],
+                               rtol=1e-6)
+    assert system.particles.age[0] == pytest.approx(4.0)
+    pushed = System()
+    pushed.add(Particles([[0, 0, 0]], 0.0, 2.0, False))
+    pushed.add_force(ForceCallback(lambda t, x, v: np.tile([0.0, 0.0, 4.0], (len(x), 1))))
+    for _ in range(100):
+        advance(pushed, 0.01, "rk4")
+    np.testing.assert_allclose(pushed.particles.position[0], [0, 0, 0.5 * 2.0 * 1.0 ** 2])
+
+
+def test_particles_validate_masses():
+    with pytest.raises(ValueError, match="positive"):
+        Particles([[0, 0, 0]], 0.0, 0.0, False)
