@@ -18,7 +18,9 @@ from mocap.skeleton import Motion, reduce_to_segments
 
 #: Capsule radius (m) of each limb segment for a 1.75 m body (scaled by height).
 CAPSULE_RADII = {"upperarm": 0.05, "forearm": 0.04, "thigh": 0.075, "shank": 0.055}
-TRUNK_RADIUS = 0.13
+TRUNK_RADIUS = 0.12
+#: How far behind the shoulder joints the cape is pinned (m, 1.75 m body): outside the trunk.
+CAPE_BACK = TRUNK_RADIUS + 0.025
 HEAD_RADIUS = 0.1
 
 
@@ -127,11 +129,13 @@ def simulate_secondary(motion: Motion, cape: bool = True, rope: bool = False,
     scale = height / 1.75 if height > 0.5 else 1.0
     dt = 1.0 / body.rate / substeps
 
-    # Anchor points per frame: shoulders moved back and up a little, the back of the head.
+    # Anchor points per frame: the shoulders moved up a little and back to just outside the
+    # trunk capsule (so the cape starts on the back, not inside it); the back of the head.
     anterior = world_r[:, index["thorax"], :, 2]                          # (F, 3)
     up = world_r[:, index["thorax"], :, 1]
-    left = world_p[:, index["l_upperarm"]] - 0.07 * scale * anterior + 0.03 * scale * up
-    right = world_p[:, index["r_upperarm"]] - 0.07 * scale * anterior + 0.03 * scale * up
+    back = CAPE_BACK * scale
+    left = world_p[:, index["l_upperarm"]] - back * anterior + 0.03 * scale * up
+    right = world_p[:, index["r_upperarm"]] - back * anterior + 0.03 * scale * up
     head_r = world_r[:, index["head"]]
     head_back = world_p[:, index["head"]] + np.einsum(
         "fij,j->fi", head_r, np.array([0.0, 0.12, -0.1]) * scale)

@@ -1,16 +1,17 @@
 """Physical animation: forward dynamics (ABA) of the humanoid tracking a motion.
 
-Each spherical joint is driven by computed-torque feed-forward — RNEA of the current state
-with the reference acceleration and the contact forces acting now (so a foot that lands
-earlier, later or elsewhere than the motion says gets no torques meant for another
-contact state) — plus a PD servo on the configuration error
-(``pin.difference``) whose gains come from the joint-space inertia: with the inertia a
-joint sees while the rest of the body is free, ``I_j = 1 / (M⁻¹)_jj`` (mass matrix at the
-first frame), ``kp = ω² I_j`` and ``kd = 2 ζ ω I_j`` with ``ω = 2π·frequency`` (the
-diagonal ``M_jj`` itself would overestimate distal inertias up to 20-fold and make the
-explicit step unstable). The root is not actuated — the body stays up only through its
-feet on the floor — except for an optional, weak "root assist" PD (a helping hand whose
-force is reported, so a user sees how much outside help the motion needs). The floor is a
+The joints are driven by computed torques: each joint's desired acceleration is the
+reference's plus a PD servo on the configuration error, ``a* = a_ref + ω² e + 2ζω ė``
+(``e`` from ``pin.difference``, ``ω = 2π·frequency``); the root, unactuated, gets the
+acceleration the root rows of ``M a + h − Jᵀf = [assist; τ]`` give with the contact forces
+acting now, so the whole body (its composite inertia) responds to the floor; the joint
+torques are then RNEA of that acceleration with the contact forces, and ABA with those
+torques and forces advances the state (it reproduces the accelerations: the servo decides,
+physics moves). A foot that lands earlier, later or elsewhere than the motion says thus
+changes the body's motion instead of getting torques meant for another contact state. The root is
+not actuated — the body stays up only through its feet on the floor — except for an
+optional "root assist" (a helping hand, the root's own servo scaled by ``root_assist``,
+whose force is reported so a user sees how much outside help the motion needs). The floor is a
 penalty contact at the foot points (spring-damper along y; tangential spring-damper to the
 touch-down point for static friction, capped by the Coulomb cone so the foot slides when
 it must). Semi-implicit Euler on the manifold (``pin.integrate``) at 1 kHz.
@@ -54,8 +55,8 @@ class TrackingResult:
 
 def simulate_tracking(motion: Motion, body_mass: float = 75.0, sex: str = "male",
                       dt: float = 1e-3, frequency: float = 8.0, damping_ratio: float = 1.0,
-                      root_assist: float = 0.25, ground_stiffness: float = 1.0e4,
-                      ground_damping: float = 50.0, mu: float = 0.8,
+                      root_assist: float = 0.25, ground_stiffness: float = 3.0e4,
+                      ground_damping: float = 600.0, mu: float = 0.8,
                       humanoid: Humanoid | None = None) -> TrackingResult:
     """Simulate the body tracking a motion with PD servos and penalty ground contact.
 
@@ -71,11 +72,11 @@ def simulate_tracking(motion: Motion, body_mass: float = 75.0, sex: str = "male"
         Natural frequency of the joint servos.
     damping_ratio : float
     root_assist : float
-        Root servo gains as a fraction of the joint servos' (0: no outside help, the body
-        may fall when the motion does not balance).
+        Fraction of the root's own servo applied as an outside helping wrench (0: none, the
+        body may fall when the motion does not balance; 1: the root follows the motion).
     ground_stiffness : float, N/m per contact point (6 points per foot)
-    ground_damping : float, N·s/m per contact point; a foot's rotation about the ankle is
-        light (~0.2 kg at the toe), and the explicit step needs ``6·c·dt/m < 2``
+    ground_damping : float, N·s/m per contact point (the defaults damp the body's bounce on
+        its feet at about 0.7 of critical)
     mu : float
         Friction coefficient.
     humanoid : Humanoid, optional
@@ -95,19 +96,11 @@ def simulate_tracking(motion: Motion, body_mass: float = 75.0, sex: str = "male"
     frames = body.frames
 
     omega = 2.0 * np.pi * frequency
-    mass_matrix = pin.crba(model, data, kin.q[0])
-    mass_matrix = np.triu(mass_matrix) + np.triu(mass_matrix, 1).T
-    # Inertia each joint "sees" with the rest of the body free: 1 / (M⁻¹)_jj.
-    inertia = 1.0 / np.diag(np.linalg.inv(mass_matrix))
-    kp = omega ** 2 * inertia
-    kd = 2.0 * damping_ratio * omega * inertia
-    kp[:6] *= root_assist
-    kd[:6] *= root_assist
+    kp, kd = omega ** 2, 2.0 * damping_ratio * omega        # acceleration-level servo gains
 
-    # Tangential springs are softer and less damped than the normal ones: a foot point's
-    # effective mass against sliding can be ~0.1 kg, and an explicit damper c needs
-    # c·dt/m < 2 to stay stable.
-    tangential_stiffness, tangential_damping = ground_stiffness / 3.0, ground_damping / 6.0
+    # Tangential springs a little softer than the normal ones (sliding is resisted less
+    # stiffly than sinking); the explicit damper needs c·dt/m < 2 for the body mass m.
+    tangential_stiffness, tangential_damping = ground_stiffness / 2.0, ground_damping / 2.0
     contact_joint = [model.frames[f].parentJoint for f in humanoid.contact_frames]
     frame_time = 1.0 / body.rate
     steps_per_frame = max(1, int(round(frame_time / dt)))
@@ -154,11 +147,19 @@ def simulate_tracking(motion: Motion, body_mass: float = 75.0, sex: str = "male"
                 local_force = placement.rotation.T @ force
                 lever = placement.rotation.T @ (position - placement.translation)
                 fext[joint] = fext[joint] + pin.Force(local_force, np.cross(lever, local_force))
+            # Joints follow the reference exactly up to the servo: desired accelerations.
             error = pin.difference(model, q, q_ref)
-            tau = kp * error + kd * (v_ref - v)
-            # Computed-torque feed-forward: what the joints need for the reference
-            # acceleration with the contact forces acting now (RNEA with fext).
-            tau[6:] += pin.rnea(model, data, q, v, blend(kin.a), fext)[6:]
+            desired = blend(kin.a) + kp * error + kd * (v_ref - v)
+            # The root is free: its acceleration follows from the root rows of
+            # M a + h − Jᵀf = [assist, τ] with the joints' accelerations imposed.
+            mass_matrix = pin.crba(model, data, q)
+            root_block = np.triu(mass_matrix[:6, :6]) + np.triu(mass_matrix[:6, :6], 1).T
+            bias = pin.rnea(model, data, q, v, np.zeros(model.nv), fext)      # h − Jᵀf
+            wrench = root_assist * (root_block @ desired[:6])                 # helping hand
+            desired[:6] = np.linalg.solve(
+                root_block, wrench - bias[:6] - mass_matrix[:6, 6:] @ desired[6:])
+            tau = pin.rnea(model, data, q, v, desired, fext)
+            tau[:6] = wrench            # only the assist acts on the root; ABA checks the rest
             acceleration = pin.aba(model, data, q, v, tau, fext)
             v = v + h * acceleration
             q = pin.integrate(model, q, v * h)
