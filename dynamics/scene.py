@@ -30,6 +30,7 @@ from dynamics.integrators import IMPLICIT_SOLVERS, INTEGRATORS, advance
 from dynamics.particles import Particles
 from dynamics.rigid import RigidBody, newton_euler_step
 from dynamics.springs import STRUCTURAL, USER, Springs
+from dynamics.springs import concatenate as concatenate_springs
 from dynamics.system import System
 from dynamics.thermal import HeatModel, HeatSource
 
@@ -257,11 +258,15 @@ def build_scene(document: dict, path=None) -> Scene:
             system.add_force(Drag(gamma))
 
     _add_particles(system, _tables(document, "particle", path))
-    fluid_forces = _add_bodies(system, document, path)
+    fluid_forces, molten = _add_bodies(system, document, path)
     _add_springs(system, _tables(document, "spring", path))
     for force in fluid_forces:
         system.add_force(force)
     _add_heat(system, _table(document, "heat", path))
+    for table, spacing, index in molten:
+        if system.heat is None or not np.isfinite(system.heat.melt):
+            raise MocapError(f"{table.where} needs [heat] with a 'melt' temperature", path)
+        system.add_force(_fluid_force(table, spacing, index, system.heat.melt))
     _add_colliders(system, document, path)
     wind = _table(document, "wind", path)
     if wind is not None:
@@ -314,24 +319,50 @@ def _finish_body(system: System, body: builders.Body, table: _Table, colour) -> 
     return system.add(body)
 
 
-def _add_bodies(system: System, document: dict, path) -> list:
-    fluid_forces = []
+#: Most particles one scene may create (memory and time guard for typos in resolutions).
+MAX_PARTICLES = 2_000_000
+#: Largest in-memory result (saved frames) a run may build, bytes.
+MAX_OUTPUT_BYTES = 4_000_000_000
+
+
+def _check_count(t: _Table, count: int, system: System, key: str) -> None:
+    if count + len(system.particles) > MAX_PARTICLES:
+        raise t.error(key, f"would make {count} particles; a scene may have at most "
+                           f"{MAX_PARTICLES}")
+
+
+def _positive_sizes(t: _Table, key: str, length: int = 3) -> np.ndarray:
+    size = t.vector(key, length=length)
+    if not np.all(size > 0):
+        raise t.error(key, f"must be positive on every axis, not {size.tolist()}")
+    return size
+
+
+def _add_bodies(system: System, document: dict, path) -> tuple[list, list]:
+    """Ropes, cloths, lattices and fluid blocks, in that order.
+
+    Returns the fluid forces of [[fluid]] blocks and the pending molten-fluid settings
+    of lattices (table, spacing, particle indices), built once [heat] is known.
+    """
+    fluid_forces, molten = [], []
     for t in _tables(document, "rope", path):
+        count = t.integer("particles", 20, minimum=2)
+        _check_count(t, count, system, "particles")
         try:
-            body = builders.rope(t.vector("start"), t.vector("end"),
-                                 t.integer("particles", 20, minimum=2),
+            body = builders.rope(t.vector("start"), t.vector("end"), count,
                                  t.number("mass", 0.2, above=0.0),
                                  t.number("stiffness", 500.0, minimum=0.0),
                                  t.number("damping", 0.5, minimum=0.0),
                                  t.number("bend_stiffness", 0.0, minimum=0.0), _pin_list(t))
-        except ValueError as error:
+        except (ValueError, IndexError) as error:
             raise MocapError(f"{t.where}: {error}", path) from None
         _finish_body(system, body, t, [0.6, 0.4, 0.2])
     for t in _tables(document, "cloth", path):
+        resolution = t.vector("resolution", [16, 16], length=2, integer=True, minimum=2)
+        _check_count(t, int(np.prod(resolution)), system, "resolution")
         try:
             body = builders.cloth_grid(
-                t.vector("origin"), t.vector("size", length=2, minimum=0.0),
-                t.vector("resolution", [16, 16], length=2, integer=True, minimum=2),
+                t.vector("origin"), _positive_sizes(t, "size", 2), resolution,
                 t.number("mass", 0.5, above=0.0), t.per_kind("stiffness", 500.0),
                 t.per_kind("damping", 0.0), _pin_list(t),
                 t.vector("u_axis", [1, 0, 0]), t.vector("v_axis", [0, 0, 1]))
@@ -339,38 +370,34 @@ def _add_bodies(system: System, document: dict, path) -> list:
             raise MocapError(f"{t.where}: {error}", path) from None
         _finish_body(system, body, t, [0.2, 0.4, 0.8])
     for t in _tables(document, "lattice", path):
+        resolution = t.vector("resolution", [5, 5, 5], integer=True, minimum=2)
+        _check_count(t, int(np.prod(resolution)), system, "resolution")
+        size = _positive_sizes(t, "size")
         try:
             body = builders.lattice_block(
-                t.vector("origin"), t.vector("size", minimum=0.0),
-                t.vector("resolution", [5, 5, 5], integer=True, minimum=2),
-                t.number("mass", 1.0, above=0.0), t.per_kind("stiffness", 2000.0),
-                t.per_kind("damping", 1.0), _pin_list(t))
+                t.vector("origin"), size, resolution, t.number("mass", 1.0, above=0.0),
+                t.per_kind("stiffness", 2000.0), t.per_kind("damping", 1.0), _pin_list(t))
         except (ValueError, IndexError) as error:
             raise MocapError(f"{t.where}: {error}", path) from None
         fluid = t.raw("molten_fluid")
         index = _finish_body(system, body, t, [0.7, 0.7, 0.75])
         if fluid is not None:
-            ft = _Table(fluid, f"{t.where} molten_fluid", path)
-            spacing = float(np.min(np.asarray(t.data["size"], float)
-                                   / (np.asarray(t.data.get("resolution", [5, 5, 5])) - 1)))
-            melt = float(document.get("heat", {}).get("melt", np.inf))
-            fluid_forces.append(_fluid_force(ft, spacing, index, melt))
+            spacing = float(np.min(size / (resolution - 1)))
+            molten.append((_Table(fluid, f"{t.where} molten_fluid", path), spacing, index))
     for t in _tables(document, "fluid", path):
         spacing = t.number("spacing", above=0.0)
-        body = builders.particle_block(t.vector("origin"), t.vector("size", minimum=0.0), spacing,
+        size = t.vector("size", minimum=0.0)
+        count = int(np.prod(np.floor(size / spacing + 1e-9) + 1))
+        _check_count(t, count, system, "spacing")
+        body = builders.particle_block(t.vector("origin"), size, spacing,
                                        t.number("mass", 1.0, above=0.0),
                                        t.number("jitter", 0.0, minimum=0.0),
                                        t.integer("seed", 0))
-        force_table = t          # the pair-force keys live in the same table
-        count = len(body.particles)
-        if count > 200_000:
-            raise MocapError(f"{t.where}: {count} particles is more than 200000; "
-                             "raise 'spacing'", path)
-        force = _fluid_force(force_table, spacing, None, None, finish=False)
-        index = _finish_body(system, body, t, [0.1, 0.5, 0.9])
-        force.members = index
+        # the pair-force keys live in the same table; _finish_body checks for unknown keys
+        force = _fluid_force(t, spacing, None, None, finish=False)
+        force.members = _finish_body(system, body, t, [0.1, 0.5, 0.9])
         fluid_forces.append(force)
-    return fluid_forces
+    return fluid_forces, molten
 
 
 def _fluid_force(t: _Table, spacing: float, members, melt, finish: bool = True) -> FluidForce:
@@ -407,8 +434,7 @@ def _add_springs(system: System, tables: list[_Table]) -> None:
                              minimum=0.0))
         t.finish()
     springs = Springs(np.array(pairs), np.array(rest), np.array(k), np.array(g), USER)
-    from dynamics.springs import concatenate
-    system.springs = concatenate([system.springs, springs])
+    system.springs = concatenate_springs([system.springs, springs])
     system.cache.clear()
 
 
@@ -582,6 +608,11 @@ def run_scene(scene: Scene, show_progress: bool | None = None) -> SimulationResu
     saved = scene.steps // scene.save_every + 1
     n, b = len(p), len(bodies)
     vertices = max((len(body.vertices) for body in bodies), default=0)
+    size = saved * (n * (3 + (system.heat is not None)) + b * (10 + 3 * vertices)) * 8
+    if size > MAX_OUTPUT_BYTES:
+        raise MocapError(f"the saved frames would take {size / 1e9:.1f} GB ({saved} frames of "
+                         f"{n} particles); raise [simulation] save_every or lower steps",
+                         scene.path)
     times = np.empty(saved)
     positions = np.empty((saved, n, 3))
     energy = np.empty((saved, 4))

@@ -159,3 +159,18 @@ def test_build_scene_particle_order_and_springs():
     assert springs.rest_length[-1] == pytest.approx(np.sqrt(2))
     with pytest.raises(MocapError, match="'pin' must be a list"):
         build_scene({"rope": [{"start": [0, 0, 0], "end": [1, 0, 0], "pin": 3}]})
+
+
+def test_size_guards_and_molten_fluid_needs_heat(tmp_path):
+    with pytest.raises(MocapError, match="at most 2000000"):
+        build_scene({"cloth": [{"origin": [0, 0, 0], "size": [1, 1],
+                                "resolution": [5000, 5000]}]})
+    with pytest.raises(MocapError, match="'size' must be positive"):
+        build_scene({"lattice": [{"origin": [0, 0, 0], "size": [1, 0, 1]}]})
+    with pytest.raises(MocapError, match="needs \\[heat\\]"):
+        build_scene({"lattice": [{"origin": [0, 0, 0], "size": [1, 1, 1],
+                                  "molten_fluid": {"alpha": 1.0}}]})
+    scene = build_scene({"particle": [{"position": [0, 0, 0]}],
+                         "simulation": {"steps": 10 ** 9, "save_every": 1}})
+    with pytest.raises(MocapError, match="save_every"):
+        run_scene(scene, show_progress=False)
