@@ -211,7 +211,7 @@ class MarkerSet:
     ----------
     name : str
     segments : list of Segment
-        In file order; every parent comes before its children.
+        Parents before their children, otherwise in file order.
     virtual : list of VirtualMarker
         In dependency order (inputs before the markers computed from them).
     path : str or None
@@ -252,27 +252,7 @@ class MarkerSet:
         markers; a fallback virtual marker needs its inputs only when ``labels``
         lacks its own name.
         """
-        available = _LabelIndex(labels)
-        virtual = {v.name: v for v in self.virtual}
-        missing: set[str] = set()
-        seen: set[str] = set()
-
-        def need(name: str) -> None:
-            if name in seen:
-                return
-            seen.add(name)
-            v = virtual.get(name)
-            if v is None or (v.fallback and available.find(name) is not None):
-                if v is None and available.find(name) is None:
-                    missing.add(name)
-                return
-            for item in v.inputs:
-                need(item)
-
-        for segment in self.segments:
-            for name in segment.required:
-                need(name)
-        return sorted(missing)
+        return self._requirements(labels)[1]
 
     def used_labels(self, labels: list[str]) -> list[str]:
         """The labels (of ``labels``, in their order) the set reads.
@@ -280,9 +260,14 @@ class MarkerSet:
         Recorded markers the segments use directly or through virtual markers;
         handy to clean only what the analysis needs.
         """
+        return [labels[i] for i in self._requirements(labels)[0]]
+
+    def _requirements(self, labels: list[str]) -> tuple[list[int], list[str]]:
+        """Columns of ``labels`` the set reads, and the names it lacks."""
         index = _LabelIndex(labels)
         virtual = {v.name: v for v in self.virtual}
         used: set[int] = set()
+        missing: set[str] = set()
         seen: set[str] = set()
 
         def need(name: str) -> None:
@@ -292,7 +277,9 @@ class MarkerSet:
             column = index.find(name)
             v = virtual.get(name)
             if v is None or (v.fallback and column is not None):
-                if column is not None:
+                if column is None:
+                    missing.add(name)
+                else:
                     used.add(column)
                 return
             for item in v.inputs:
@@ -301,7 +288,7 @@ class MarkerSet:
         for segment in self.segments:
             for name in segment.required:
                 need(name)
-        return [labels[i] for i in sorted(used)]
+        return sorted(used), sorted(missing)
 
     def check_trial(self, trial: Trial) -> None:
         """Raise MocapError listing every marker the trial lacks."""
@@ -633,6 +620,9 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
     """
     text_name = os.fspath(name_or_path)
     path = Path(text_name)
+    if path.suffix == ".toml" and not path.exists() and path.parent == Path(".") \
+            and path.stem in preset_names():
+        text_name, path = path.stem, Path(path.stem)          # "plugingait-lower.toml"
     if not path.suffix and not path.exists():
         folder = resources.files("mocap") / "markersets"
         candidate = folder / f"{text_name}.toml"

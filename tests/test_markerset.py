@@ -56,6 +56,7 @@ def test_presets_ship_and_load():
         load_markerset("nope")
     with pytest.raises(MocapError, match="not found"):
         load_markerset("missing/file.toml")
+    assert load_markerset("plugingait-lower.toml").name == "plugingait-lower"
 
 
 @pytest.mark.parametrize("text, problem", [
@@ -132,12 +133,14 @@ def test_midpoint_fallback_and_subject_prefix(tmp_path):
     rng = np.random.default_rng(0)
     pts = rng.normal(size=(4, 4, 3))
     psis = Trial(["S:RPSI", "S:LPSI", "S:B", "S:C"], pts, 100.0)
+    assert ms.used_labels(psis.labels + ["S:EXTRA"]) == ["S:RPSI", "S:LPSI", "S:B", "S:C"]
     out = ms.apply_virtual(psis)
     assert out.labels[-1] == "SACR"
     np.testing.assert_allclose(out.marker("SACR"), (pts[:, 0] + pts[:, 1]) / 2)
     # a recorded SACR wins over the fallback
     sacrum = Trial(["SACR", "B", "C"], pts[:, :3], 100.0)
     assert ms.missing_markers(sacrum.labels) == []
+    assert ms.used_labels(["RPSI", "LPSI"] + sacrum.labels) == ["SACR", "B", "C"]
     out = ms.apply_virtual(sacrum)
     assert out.labels == ["SACR", "B", "C"]
     np.testing.assert_array_equal(out.points, pts[:, :3])
