@@ -137,3 +137,32 @@ def test_box_keeps_particles_inside():
         advance(system, 1e-3, "symplectic-euler")
     p = system.particles.position
     assert np.all(p >= -0.1 - 1e-12) and np.all(p <= 0.1 + 1e-12)
+
+
+@pytest.mark.parametrize("integrator, dt", [("implicit-euler", 1 / 120),
+                                            ("symplectic-euler", 1 / 2400)])
+def test_cape_on_a_moving_torso_stays_outside_it(integrator, dt):
+    # the humanoid use: a cloth pinned along its top edge to moving points, draped over a
+    # moving capsule; no free particle may end inside the capsule
+    from dynamics.builders import cloth_grid
+    system = System()
+    cape = cloth_grid([-0.2, 1.5, -0.16], [0.4, 0.7], [8, 12], 0.4,
+                      {"structural": 400.0, "shear": 50.0, "bend": 5.0}, {"structural": 0.05},
+                      pin=["top"], u_axis=[1, 0, 0], v_axis=[0, -1, 0])
+    index = system.add(cape)
+    top = index[cape.named("top")]
+    system.add_force(Gravity(G))
+    torso = Capsule([0, 0.9, 0], [0, 1.45, 0], 0.15, margin=0.01, friction=0.3)
+    system.add_collider(torso)
+    anchors = system.particles.position[top].copy()
+    seconds = 1.0
+    for step in range(1, int(round(seconds / dt)) + 1):
+        shift = np.array([0.0, 0.0, 0.3 * np.sin(np.pi * step * dt)])   # walk forward and back
+        system.drive_pinned(top, anchors + shift, dt)
+        torso.move_to([0, 0.9, 0] + shift, [0, 1.45, 0] + shift, dt=dt)
+        advance(system, dt, integrator)
+    free = np.setdiff1d(index, top)
+    distance = torso.signed_distance(system.particles.position[free])
+    assert distance.min() > -1e-9
+    np.testing.assert_allclose(system.particles.position[top], anchors + shift, atol=1e-12)
+    assert np.all(np.isfinite(system.particles.position))
