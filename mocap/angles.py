@@ -453,7 +453,8 @@ def _warn_gimbal(near: np.ndarray, sequence: str, segments: list[str], trial: Tr
         warnings.warn(
             f"segment '{segments[s]}'{where}: {len(frames)} frame(s) within "
             f"{tolerance:g} degrees of gimbal lock for sequence {sequence}, first at frame "
-            f"{first} ({first / trial.rate:.3f} s); the first and third angles are "
+            f"{first}{f' ({first / trial.rate:.3f} s)' if trial.rate > 0 else ''}; the "
+            f"first and third angles are "
             f"ill-defined there, try a sequence with another middle axis",
             GimbalLockWarning, stacklevel=3)
 
