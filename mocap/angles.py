@@ -421,6 +421,14 @@ def joint_angles(trial: Trial, markerset: MarkerSet, sequence: str = DEFAULT_SEQ
     ------
     MocapError
         Unknown sequence, or markers the set needs missing from the trial.
+
+    Examples
+    --------
+    >>> from mocap.io import read                                  # doctest: +SKIP
+    >>> from mocap.markerset import load_markerset                 # doctest: +SKIP
+    >>> trial = read("HC002D06.c3d")                               # doctest: +SKIP
+    >>> angles = joint_angles(trial, load_markerset("plugingait-lower"), "YXZ")  # doctest: +SKIP
+    >>> knee_flexion = angles.segment("l_shank")[:, 0]             # doctest: +SKIP
     """
     from mocap.frames import iter_frame_blocks
 
