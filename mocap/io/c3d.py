@@ -13,10 +13,13 @@ Reading goes in three steps:
    only opens with ``ignore_bad_formatting`` (blank labels, wrong values), and
    it refuses SGI/MIPS files.
 3. Those go to our vectorised decoder of the checked layout
-   (:func:`mocap.io.c3d_header.decode_c3d_data`), and if that raised, to the
-   pure-Python ``c3d`` package. Our decoder comes first because it agrees with
-   the package to the last bit on every real file both read, 1000× faster (the
-   package decodes frame by frame: 26 s for the 5065-frame KINARM sample).
+   (:func:`mocap.io.c3d_header.decode_c3d_data`). The pure-Python ``c3d``
+   package reads most of them too and the tests use it as the reference: it
+   agrees with our decoder on every real file both read, but decodes frame by
+   frame (26 s for the 5065-frame KINARM sample; ours takes 5 ms), so it is not
+   used at run time. A file whose parameter section shows oddities (a group
+   defined twice, a parameter of an undefined group, unprintable names) also
+   skips ezc3d: a bit flip of that kind crashed ezc3d in the damage tests.
 
 Every reading ends in the same :class:`~mocap.trial.Trial`: points in metres,
 NaN where the residual is negative, the coordinates are not finite, or the
@@ -35,7 +38,6 @@ implausible), otherwise metres; the inference is recorded in
 from __future__ import annotations
 
 import os
-import warnings as python_warnings
 
 import numpy as np
 
@@ -151,7 +153,7 @@ def unique_labels(labels: list[str], prefix: str = "M") -> tuple[list[str], list
 
 def _ezc3d_layout_matches(layout: C3DLayout) -> bool:
     """True when ezc3d will lay the data out as the check did (so it reads it right)."""
-    if layout.processor == "mips" or layout.warnings:
+    if layout.processor == "mips" or layout.warnings or layout.anomalies:
         return False
     parameters = layout.parameters
     if "POINT" not in parameters or "USED" not in parameters["POINT"]:
@@ -187,26 +189,6 @@ def _read_ezc3d(layout: C3DLayout):
     residuals = np.asarray(data["meta_points"]["residuals"])[0].T
     analogs = np.asarray(data["analogs"])[0].T
     return points, residuals, analogs
-
-
-def _read_c3d_package(layout: C3DLayout):
-    import c3d
-
-    with open(layout.path, "rb") as handle, python_warnings.catch_warnings():
-        python_warnings.simplefilter("ignore")
-        reader = c3d.Reader(handle)
-        # The package decodes one frame per call; it is only the fallback for
-        # files ezc3d cannot read, which are small.
-        frames = [(p, a) for _, p, a in reader.read_frames(copy=True, check_nan=False)]
-    if not frames:
-        return (np.zeros((0, layout.point_count, 3)), np.zeros((0, layout.point_count)),
-                np.zeros((0, layout.analog_channels)))
-    points = np.stack([p for p, _ in frames]).astype(float)
-    analog_blocks = [np.atleast_2d(a) for _, a in frames]
-    analogs = (np.concatenate([a.T for a in analog_blocks], axis=0).astype(float)
-               if layout.analog_channels and analog_blocks[0].size else
-               np.zeros((0, layout.analog_channels)))
-    return points[:, :, :3], points[:, :, 3], analogs
 
 
 def _analog_transform(layout: C3DLayout, raw: np.ndarray) -> np.ndarray:
@@ -278,12 +260,12 @@ def read_c3d(path: str | os.PathLike) -> Trial:
     attempts = []
     if _ezc3d_layout_matches(layout):
         attempts.append(("ezc3d", _read_ezc3d))
-    # Our decoder of the checked layout comes before the ``c3d`` package: both
-    # give identical points on every real file ezc3d cannot read (see
-    # tests/test_io_c3d.py), but the package decodes frame by frame in Python
-    # (26 s for the 5065-frame KINARM sample against 5 ms).
+    # Everything else (and a file ezc3d raised on) goes to our decoder of the
+    # checked layout. The ``c3d`` package is not a runtime fallback: it gives
+    # the same points on every real file ezc3d cannot read (tests/test_io_c3d.py
+    # checks it) but decodes frame by frame in Python, 26 s for the 5065-frame
+    # KINARM sample against 5 ms.
     attempts.append(("mocap", _read_own))
-    attempts.append(("c3d", _read_c3d_package))
     failures = []
     for name, reader in attempts:
         try:

@@ -86,6 +86,7 @@ class C3DLayout:
     rate: float
     parameters: dict = field(default_factory=dict)
     warnings: list = field(default_factory=list)
+    anomalies: list = field(default_factory=list)
 
     @property
     def is_float(self) -> bool:
@@ -185,8 +186,14 @@ def _decode_parameter(raw: bytes, data_type: int, dims: tuple[int, ...], process
 
 
 def _walk_parameters(data: bytes, start: int, end: int, processor: str,
-                     path: str, warnings: list[str]) -> dict:
-    """Every group and parameter between byte ``start`` and ``end``, bounds-checked."""
+                     path: str, warnings: list[str], anomalies: list[str]) -> dict:
+    """Every group and parameter between byte ``start`` and ``end``, bounds-checked.
+
+    Structural damage raises MocapError. Oddities that do not stop a reading
+    (a group defined twice, a parameter of an undefined group, unprintable
+    names) are appended to ``anomalies``: a file with any is not given to
+    ezc3d, which crashed on such a file in the damage tests.
+    """
     groups_by_id: dict[int, str] = {}
     pending: list[tuple[int, str, object]] = []
     position = start
@@ -222,6 +229,8 @@ def _walk_parameters(data: bytes, start: int, end: int, processor: str,
         if group_id < 0:
             if body + 1 > body_end:
                 raise _fail(path, f"group {name!r} at byte {position} is cut short")
+            if -group_id in groups_by_id or name in groups_by_id.values():
+                anomalies.append(f"group {name!r} (id {-group_id}) defined twice")
             groups_by_id[-group_id] = name
         else:
             if body + 2 > body_end:
@@ -248,8 +257,15 @@ def _walk_parameters(data: bytes, start: int, end: int, processor: str,
         raise _fail(path, "parameter section has no end")
     parameters: dict[str, dict] = {name: {} for name in groups_by_id.values()}
     for group_id, name, value in pending:
+        if group_id not in groups_by_id:
+            anomalies.append(f"parameter {name!r} belongs to undefined group {group_id}")
         group = groups_by_id.get(group_id, f"GROUP{group_id}")
+        if name in parameters.get(group, {}):
+            anomalies.append(f"parameter {group}:{name} defined twice")
         parameters.setdefault(group, {})[name] = value
+    names = list(groups_by_id.values()) + [name for _, name, _ in pending]
+    if any(not name or not all(32 < ord(c) < 127 for c in name) for name in names):
+        anomalies.append("a group or parameter name has unprintable characters")
     return parameters
 
 
@@ -319,8 +335,9 @@ def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
                           f"after the parameter section (block {parameter_block}) "
                           f"and inside the file's {math.ceil(size / BLOCK)} blocks")
     warnings: list[str] = []
+    anomalies: list[str] = []
     parameters = _walk_parameters(data, parameter_offset + 4, (data_block - 1) * BLOCK,
-                                  processor, path, warnings)
+                                  processor, path, warnings, anomalies)
 
     # Rate: POINT:RATE is authoritative unless absent or zero with points stored.
     rate = _scalar(parameters, "POINT", "RATE")
@@ -355,6 +372,7 @@ def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
                             point_count, analog_per_frame, analog_samples_per_frame,
                             first_frame, last_frame, scale, rate, parameters, warnings)
     layout.warnings = warnings
+    layout.anomalies = anomalies
     return layout
 
 

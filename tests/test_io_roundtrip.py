@@ -1,0 +1,157 @@
+"""Write → read round trips for C3D, CSV and TRC, and the suffix dispatcher."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mocap.errors import MocapError
+from mocap.io import format_of, read, register_format, write
+from mocap.trial import Trial
+
+
+def synthetic_trial(frames: int = 120, markers: int = 5, rate: float = 100.0,
+                    seed: int = 0) -> Trial:
+    """Markers on smooth paths (metres) with a few gaps, one at the first frame."""
+    rng = np.random.default_rng(seed)
+    times = np.arange(frames) / rate
+    phase = rng.uniform(0, 2 * np.pi, (1, markers, 3))
+    centre = rng.uniform(-1.0, 1.0, (1, markers, 3))
+    points = centre + 0.3 * np.sin(2 * np.pi * 1.1 * times[:, None, None] + phase)
+    points[0, 0] = np.nan
+    points[10:15, 1] = np.nan
+    points[-1, markers - 1] = np.nan
+    labels = ["LASI", "RASI", "L.Knee", "r_ankle", "Subj:TOE"][:markers]
+    return Trial(labels, points, rate)
+
+
+@pytest.mark.parametrize("suffix", [".c3d", ".csv", ".trc", ".C3D", ".Trc", ".CSV"])
+def test_round_trip_keeps_points_labels_rate_and_gaps(tmp_path, suffix):
+    trial = synthetic_trial(rate=69.99261474609375)
+    path = tmp_path / f"walk{suffix}"
+    write(trial, path)
+    back = read(path)
+    assert back.labels == trial.labels
+    assert back.rate == pytest.approx(trial.rate, rel=1e-12)
+    assert back.frames == trial.frames
+    np.testing.assert_array_equal(np.isnan(back.points), np.isnan(trial.points))
+    # C3D stores 32-bit floats in mm: 1e-7 m; the text formats are exact.
+    tolerance = 2e-6 if suffix.lower() == ".c3d" else 1e-12
+    np.testing.assert_allclose(back.points, trial.points, atol=tolerance, equal_nan=True)
+    assert back.format == suffix.lower()[1:]
+    assert list(tmp_path.iterdir()) == [path]          # no temporary files left
+
+
+@pytest.mark.parametrize("suffix", [".c3d", ".trc"])
+@pytest.mark.parametrize("units, factor", [("mm", 1000.0), ("cm", 100.0), ("m", 1.0)])
+def test_units_are_stored_as_asked_and_read_back_in_metres(tmp_path, suffix, units, factor):
+    trial = synthetic_trial()
+    path = tmp_path / f"walk{suffix}"
+    write(trial, path, units=units)
+    back = read(path)
+    assert back.units == units
+    np.testing.assert_allclose(back.points, trial.points, atol=2e-6, equal_nan=True)
+    if suffix == ".c3d":
+        import ezc3d
+
+        raw = ezc3d.c3d(str(path))
+        assert raw["parameters"]["POINT"]["UNITS"]["value"] == [units]
+        stored = raw["data"]["points"][:3, 2, 3]
+        np.testing.assert_allclose(stored, trial.points[3, 2] * factor, rtol=1e-6)
+        residuals = raw["data"]["meta_points"]["residuals"][0]
+        assert residuals[1, 12] == -1 and residuals[1, 20] >= 0   # NaN → residual -1
+    else:
+        row = path.read_text().splitlines()[6 + 3].split("\t")
+        assert float(row[2 + 3 * 2]) == pytest.approx(trial.points[3, 2, 0] * factor)
+
+
+def test_csv_layout_is_time_and_label_axis_columns_in_metres(tmp_path):
+    trial = synthetic_trial(frames=3, markers=2)
+    path = tmp_path / "t.csv"
+    write(trial, path)
+    lines = path.read_text().splitlines()
+    assert lines[0] == "time,LASI_x,LASI_y,LASI_z,RASI_x,RASI_y,RASI_z"
+    assert lines[1].split(",")[:4] == ["0.0", "", "", ""]        # NaN is an empty cell
+    assert float(lines[2].split(",")[0]) == pytest.approx(0.01)
+
+
+def test_zero_marker_is_missing_in_every_text_format(tmp_path):
+    (tmp_path / "a.csv").write_text("time,A_x,A_y,A_z\n0,0,0,0\n0.5,1,2,3\n1.0,,2,3\n")
+    trial = read(tmp_path / "a.csv")
+    assert trial.rate == 2.0
+    assert np.isnan(trial.points[0]).all() and np.isnan(trial.points[2]).all()
+    np.testing.assert_array_equal(trial.points[1, 0], [1, 2, 3])
+
+
+def test_c3d_written_by_us_is_read_identically_by_ezc3d_and_our_decoder(tmp_path):
+    from mocap.io.c3d_header import decode_c3d_data, inspect_c3d
+
+    trial = synthetic_trial()
+    path = tmp_path / "t.c3d"
+    write(trial, path)
+    layout = inspect_c3d(path)
+    points, residuals, _ = decode_c3d_data(layout)
+    import ezc3d
+
+    raw = ezc3d.c3d(str(path))
+    valid = residuals >= 0
+    np.testing.assert_array_equal(valid, raw["data"]["meta_points"]["residuals"][0].T >= 0)
+    np.testing.assert_array_equal(points[valid],
+                                  raw["data"]["points"][:3].transpose(2, 1, 0)[valid])
+    assert read(path).metadata["reader"] == "ezc3d"
+
+
+def test_analogs_survive_a_c3d_round_trip(tmp_path):
+    trial = synthetic_trial(frames=50)
+    trial.analogs = np.arange(50 * 4 * 2, dtype=float).reshape(200, 2)
+    trial.analog_labels = ["Fz", "EMG1"]
+    trial.analog_rate = 400.0
+    write(trial, tmp_path / "a.c3d")
+    back = read(tmp_path / "a.c3d")
+    assert back.analog_labels == ["Fz", "EMG1"] and back.analog_rate == 400.0
+    np.testing.assert_allclose(back.analogs, trial.analogs)
+
+
+def test_unknown_suffix_and_missing_file_are_clear_errors(tmp_path):
+    with pytest.raises(MocapError, match="cannot read files with suffix '.xyz'"):
+        read(tmp_path / "walk.xyz")
+    with pytest.raises(MocapError, match="no such file"):
+        read(tmp_path / "missing.c3d")
+    with pytest.raises(MocapError, match="cannot write files with no suffix"):
+        write(synthetic_trial(), tmp_path / "noext")
+    with pytest.raises(MocapError, match="not a C3D file"):
+        (tmp_path / "text.c3d").write_bytes(b"hello" * 300)
+        read(tmp_path / "text.c3d")
+    with pytest.raises(MocapError, match="not a TRC file"):
+        (tmp_path / "x.trc").write_text("time,a\n")
+        read(tmp_path / "x.trc")
+    with pytest.raises(MocapError, match="first column must be 'time'"):
+        (tmp_path / "x.csv").write_text("frame,a_x,a_y,a_z\n1,2,3,4\n")
+        read(tmp_path / "x.csv")
+
+
+def test_writers_refuse_bad_trials_without_leaving_files(tmp_path):
+    trial = synthetic_trial()
+    trial.labels[1] = trial.labels[0]
+    with pytest.raises(MocapError, match="unique"):
+        write(trial, tmp_path / "dup.c3d")
+    with pytest.raises(MocapError, match="units"):
+        write(synthetic_trial(), tmp_path / "x.trc", units="furlong")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_other_formats_can_register(tmp_path):
+    seen = {}
+
+    def read_fake(path):
+        seen["read"] = str(path)
+        return "motion"
+
+    def write_fake(obj, path, **options):
+        seen["write"] = (obj, options)
+
+    register_format("FAKE", reader=read_fake, writer=write_fake, description="test")
+    (tmp_path / "a.fake").write_text("x")
+    assert read(tmp_path / "A.FAKE".lower()) == "motion"
+    write("obj", tmp_path / "b.Fake", scale=2)
+    assert seen["write"] == ("obj", {"scale": 2})
+    assert format_of("x.FAKE").name == "fake"
