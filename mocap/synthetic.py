@@ -31,6 +31,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from mocap.errors import MocapError
+from mocap.planting import planted_translation
 from mocap.trial import Trial
 
 #: Actions the generator knows, with their nominal cycle duration in seconds.
@@ -388,21 +389,13 @@ def _planted_root(joint_rotations: np.ndarray, offsets: np.ndarray, person: Pers
                   action: str, times: np.ndarray, cycle_seconds: float) -> np.ndarray:
     """Root translation that keeps the stance foot's lowest point planted, (frames, 3) metres.
 
-    The stance foot is the one whose lowest contact point is lower; the root moves
-    opposite to that point's motion relative to the root, so the point stays
-    fixed in the lab; its height then puts the lowest point on the floor.
+    See :func:`mocap.planting.planted_translation`; stair trials then rise or fall
+    by two steps per cycle.
     """
     zero = np.zeros((len(times), 3))
     rotations, origins = forward_kinematics(joint_rotations, offsets, zero)
     points = _contact_points(rotations, origins, person)
-    stacked = np.stack([points["l_heel"], points["l_toe"], points["r_heel"], points["r_toe"]],
-                       axis=1)                                   # (frames, 4, 3)
-    lowest = np.argmin(stacked[:, :, 2], axis=1)                 # contact point in stance
-    frames = np.arange(len(times))
-    step = np.zeros((len(times), 3))
-    step[1:] = stacked[frames[:-1], lowest[:-1]] - stacked[frames[1:], lowest[:-1]]
-    root = np.cumsum(step, axis=0)
-    root[:, 2] = -stacked[frames, lowest, 2]
+    root = planted_translation(np.stack(list(points.values()), axis=1), up=2)
     if action in ("ascend", "descend"):
         rise = 2 * STEP_RISE * person.height / 1.75 * (1 if action == "ascend" else -1)
         root[:, 2] += rise * times / cycle_seconds
