@@ -25,8 +25,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numba
 import numpy as np
-from scipy.optimize import nnls
 from scipy.signal import savgol_filter
 from scipy.spatial.transform import Rotation
 
@@ -285,6 +285,83 @@ def _pool(humanoid: Humanoid, size: int):
 # ----------------------------------------------------------------------------------------
 # Contact forces in friction pyramids
 # ----------------------------------------------------------------------------------------
+@numba.njit(cache=True)
+def _solve_passive(gram: np.ndarray, rhs: np.ndarray, passive: np.ndarray):
+    """Indices of the passive set and the solution of G[P, P] x = h[P]."""
+    index = np.flatnonzero(passive)
+    sub = np.empty((index.size, index.size))
+    for a in range(index.size):
+        for b in range(index.size):
+            sub[a, b] = gram[index[a], index[b]]
+    return index, np.linalg.solve(sub, rhs[index])
+
+
+@numba.njit(cache=True)
+def _fnnls(gram: np.ndarray, rhs: np.ndarray, tolerance: float,
+           start: np.ndarray) -> np.ndarray:
+    """Fast NNLS (Bro & de Jong 1997): min ½xᵀGx − hᵀx, x ≥ 0, for a positive-definite G.
+
+    ``start`` (bool, n) is a guess of the variables that end up positive: they seed the
+    passive set (pruned until its solution is positive, which gives a feasible start), so a
+    good guess leaves few active-set iterations.
+    """
+    n = rhs.shape[0]
+    x = np.zeros(n)
+    passive = start.copy()
+    while passive.any():
+        index, solution = _solve_passive(gram, rhs, passive)
+        if solution.min() > 0.0:
+            x[index] = solution
+            break
+        for a in range(index.size):
+            if solution[a] <= 0.0:
+                passive[index[a]] = False
+    gradient = rhs - gram @ x
+    for _ in range(3 * n + 10):
+        best, pick = tolerance, -1
+        for i in range(n):
+            if not passive[i] and gradient[i] > best:
+                best, pick = gradient[i], i
+        if pick < 0:
+            break
+        passive[pick] = True
+        for _inner in range(3 * n + 10):
+            index, solution = _solve_passive(gram, rhs, passive)
+            if solution.min() > 0.0:
+                x[:] = 0.0
+                x[index] = solution
+                break
+            # Step back to the boundary and drop the variables that reach zero.
+            alpha = 1.0
+            for a in range(index.size):
+                if solution[a] <= 0.0:
+                    step = x[index[a]] / (x[index[a]] - solution[a])
+                    if step < alpha:
+                        alpha = step
+            for a in range(index.size):
+                i = index[a]
+                x[i] += alpha * (solution[a] - x[i])
+                if x[i] <= tolerance:
+                    x[i] = 0.0
+                    passive[i] = False
+            if not passive.any():
+                break
+        gradient = rhs - gram @ x
+    return x
+
+
+@numba.njit(cache=True)
+def _fnnls_batch(gram: np.ndarray, rhs: np.ndarray, start: np.ndarray) -> np.ndarray:
+    """:func:`_fnnls` for every frame: gram (F, n, n), rhs (F, n), start (F, n) bool."""
+    frames, n = rhs.shape
+    out = np.zeros((frames, n))
+    for f in range(frames):
+        scale = np.abs(rhs[f]).max()
+        if scale > 0.0:
+            out[f] = _fnnls(gram[f], rhs[f], 1e-12 * scale, start[f])
+    return out
+
+
 def pyramid_edges(mu: float, edges: int = 4) -> np.ndarray:
     """Unit edge directions of a friction pyramid about +Y, shape (edges, 3)."""
     angles = 2.0 * np.pi * np.arange(edges) / edges
@@ -297,9 +374,12 @@ def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndar
                          ) -> tuple[np.ndarray, np.ndarray]:
     """Contact forces inside friction pyramids that best supply a wrench, frame by frame.
 
-    Solves ``min ‖A λ − W‖, λ ≥ 0`` per frame, with one column ``[d; r × d]`` per pyramid
-    edge ``d`` of each active contact point at lever ``r``: a non-negative combination of
-    edges is exactly a force inside the pyramid.
+    Solves ``min ‖A λ − W‖² + ε‖λ‖², λ ≥ 0`` per frame, with one column ``[d; r × d]`` per
+    pyramid edge ``d`` of each active contact point at lever ``r``: a non-negative
+    combination of edges is exactly a force inside the pyramid. The matrices are built for
+    all frames at once; the unconstrained ridge solution ``Aᵀ(AAᵀ + εI)⁻¹W`` (batched 6 × 6
+    solves) is kept where it is non-negative, and the remaining frames are solved by a
+    compiled active-set method on the normal equations (Bro & de Jong's fast NNLS).
 
     Parameters
     ----------
@@ -325,22 +405,24 @@ def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndar
     """
     frames, points = active.shape
     d = pyramid_edges(mu, edges)                                         # (E, 3)
-    columns_count = points * edges
-    # A small ridge (min-norm among exact solutions) spreads the load over the points in
-    # contact instead of a vertex solution where feet push against each other sideways.
-    ridge = np.sqrt(regularisation) * np.eye(columns_count)
-    target = np.zeros(6 + columns_count)
     # Columns for every point and edge, batched over frames: (F, P, E, 6).
     moments = np.cross(levers[:, :, None, :], d[None, None, :, :])
     columns = np.concatenate([np.broadcast_to(d, moments.shape), moments], axis=3)
     columns = columns * active[:, :, None, None]
     matrix = columns.reshape(frames, points * edges, 6).transpose(0, 2, 1)   # (F, 6, P·E)
-    weights = np.zeros((frames, points * edges))
-    # One small NNLS per frame (6 rows): the matrices differ per frame, and scipy's
-    # active-set solver costs ~12 µs each; frames without contact are skipped.
-    for f in np.flatnonzero(active.any(axis=1)):
-        target[:6] = wrench[f]
-        weights[f] = nnls(np.vstack([matrix[f], ridge]), target, maxiter=50 * columns_count)[0]
+    # A small ridge (min-norm among exact solutions) spreads the load over the points in
+    # contact instead of a vertex solution where feet push against each other sideways.
+    # Fast path, all frames at once: the unconstrained ridge solution
+    # Aᵀ(AAᵀ + εI)⁻¹W (6 × 6 solves) is the answer wherever it is non-negative — the usual
+    # case for a load well inside the pyramids; the other frames go to the active-set solver.
+    small = np.einsum("fkn,fln->fkl", matrix, matrix) + regularisation * np.eye(6)
+    weights = np.einsum("fkn,fk->fn", matrix, np.linalg.solve(small, wrench[..., None])[..., 0])
+    busy = active.any(axis=1) & (weights.min(axis=1) < 0.0)
+    if busy.any():
+        gram = np.einsum("fkn,fkm->fnm", matrix[busy], matrix[busy])
+        gram += regularisation * np.eye(points * edges)
+        rhs = np.einsum("fkn,fk->fn", matrix[busy], wrench[busy])
+        weights[busy] = _fnnls_batch(gram, rhs, weights[busy] > 0.0)
     forces = np.einsum("fpe,ek->fpk", weights.reshape(frames, points, edges), d)
     supplied = np.einsum("fkn,fn->fk", matrix, weights)
     return forces, wrench - supplied

@@ -1,0 +1,154 @@
+"""Humanoid throughput: inverse dynamics, contact solve, whole check, cloth, physics.
+
+Prints, for the 15-segment body (free flyer + 14 spherical joints, nq 63, nv 48):
+
+* RNEA frames per second through ``pin.rneaInParallel`` on a whole batch (1 and 2
+  threads), beside a plain per-frame Python loop calling ``pin.rnea`` with row slicing;
+* manifold kinematics (q, v, a for every frame, vectorised) frames per second;
+* the friction-pyramid contact solve (one NNLS per frame with contact) frames per second;
+* the whole ``check_motion`` frames per second;
+* secondary cloth (cape 9 × 14 + rope 10, implicit Euler, 4 substeps a frame) frames/s;
+* physical animation (computed torques + ABA at 1 kHz) frames per second of a 100 Hz motion.
+
+Timings are noisy on a shared machine: compare ratios in the same run. Never asserts.
+
+    /tmp/venv/bin/python benchmarks/humanoid.py [--frames 20000]
+"""
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+
+def _walkish(frames: int, rate: float = 100.0):
+    from mocap.skeleton import Motion, default_skeleton
+
+    skeleton = default_skeleton(1.75)
+    t = np.arange(frames) / rate
+    rng = np.random.default_rng(0)
+    amplitude = rng.uniform(0.05, 0.4, (15, 3))
+    frequency = rng.uniform(0.5, 2.0, (15, 3))
+    rotvec = amplitude * np.sin(2 * np.pi * frequency * t[:, None, None])
+    rotations = Rotation.from_rotvec(rotvec.reshape(-1, 3)).as_matrix().reshape(frames, 15, 3, 3)
+    root = np.stack([np.zeros(frames), 0.02 * np.sin(2 * np.pi * t), 1.2 * t], axis=1)
+    return Motion(skeleton, root, rotations, rate)
+
+
+def _scipy_contact_reference(wrench: np.ndarray, levers: np.ndarray) -> np.ndarray:
+    """The plain way: build each frame's matrix in Python and call scipy's NNLS on the
+    ridge-augmented problem (the same objective as the batched solver)."""
+    from scipy.optimize import nnls
+
+    from dynamics.humanoid import pyramid_edges
+
+    edges = pyramid_edges(0.8)
+    out = []
+    for f in range(wrench.shape[0]):        # the reference loops over frames on purpose
+        columns = [np.concatenate([d, np.cross(r, d)]) for r in levers[f] for d in edges]
+        matrix = np.array(columns).T
+        ridge = 1e-3 * np.eye(matrix.shape[1])
+        out.append(nnls(np.vstack([matrix, ridge]),
+                        np.concatenate([wrench[f], np.zeros(matrix.shape[1])]))[0])
+    return np.array(out)
+
+
+def best_of(function, repeats: int = 3) -> float:
+    """Smallest wall time of a few runs (s)."""
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def main() -> None:
+    import pinocchio as pin
+
+    from dynamics.humanoid import (build_humanoid, check_motion, motion_kinematics,
+                                   rnea_batch, solve_contact_forces)
+    from dynamics.secondary import simulate_secondary
+    from dynamics.tracking import simulate_tracking
+
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--frames", type=int, default=20000, help="frames of the batch")
+    parser.add_argument("--reference-frames", type=int, default=2000,
+                        help="frames of the per-frame Python reference")
+    args = parser.parse_args()
+
+    motion = _walkish(args.frames)
+    body = build_humanoid(motion.skeleton, 75.0)
+    print(f"model: nq {body.nq}, nv {body.nv}, {len(body.skeleton.names)} segments, "
+          f"{len(body.contact_names)} contact points; pinocchio {pin.__version__}")
+
+    kin_time = best_of(lambda: motion_kinematics(motion))
+    kin = motion_kinematics(motion)
+    print(f"kinematics (q, v, a on the manifold): {args.frames / kin_time:12,.0f} frames/s")
+
+    rnea_batch(body, kin.q[:10], kin.v[:10], kin.a[:10])          # warm the model pool
+    batch1 = best_of(lambda: rnea_batch(body, kin.q, kin.v, kin.a, threads=1))
+    batch2 = best_of(lambda: rnea_batch(body, kin.q, kin.v, kin.a, threads=2))
+    data = body.model.createData()
+    n = min(args.reference_frames, args.frames)
+
+    def loop():
+        out = np.empty((n, body.nv))
+        for k in range(n):          # the plain reference: one call per frame
+            out[k] = pin.rnea(body.model, data, kin.q[k], kin.v[k], kin.a[k])
+        return out
+
+    reference = best_of(loop)
+    fps_loop = n / reference
+    print(f"RNEA rneaInParallel, 1 thread:        {args.frames / batch1:12,.0f} frames/s "
+          f"({batch1 / args.frames * 1e6:.2f} µs/frame, {args.frames / batch1 / fps_loop:.1f}× "
+          "the loop)")
+    print(f"RNEA rneaInParallel, 2 threads:       {args.frames / batch2:12,.0f} frames/s "
+          f"({args.frames / batch2 / fps_loop:.1f}× the loop)")
+    print(f"RNEA per-frame Python loop:           {fps_loop:12,.0f} frames/s "
+          f"({reference / n * 1e6:.2f} µs/frame)")
+
+    # Contact solve on a standing-like load: both feet down, weight plus a sway.
+    frames = min(args.frames, 5000)
+    rng = np.random.default_rng(1)
+    levers = np.broadcast_to(np.concatenate([body.contact_points + [0.09, -0.9, 0.0],
+                                             body.contact_points - [0.09, 0.9, 0.0]])[:12],
+                             (frames, 12, 3)).copy()
+    wrench = np.zeros((frames, 6))
+    wrench[:, 1] = 736.0
+    wrench[:, [0, 2]] = rng.normal(scale=40.0, size=(frames, 2))
+    wrench[:, 3:] = rng.normal(scale=10.0, size=(frames, 3))
+    active = np.ones((frames, 12), bool)
+    solve_contact_forces(wrench[:2], levers[:2], active[:2])       # compile (numba cache)
+    solve = best_of(lambda: solve_contact_forces(wrench, levers, active), repeats=2)
+    print(f"contact solve (batched ridge + fast NNLS, 12 points × 4 edges): "
+          f"{frames / solve:8,.0f} frames/s ({solve / frames * 1e6:.1f} µs/frame)")
+    few = min(frames, 500)
+    reference = best_of(lambda: _scipy_contact_reference(wrench[:few], levers[:few]), repeats=1)
+    print(f"contact solve, per-frame scipy.optimize.nnls reference: {few / reference:8,.0f} "
+          f"frames/s ({reference / few * 1e6:.1f} µs/frame; batched is "
+          f"{reference / few / (solve / frames):.1f}× faster)")
+
+    check_frames = min(args.frames, 2000)
+    small = motion.slice(0, check_frames)
+    check = best_of(lambda: check_motion(small, humanoid=body), repeats=2)
+    print(f"whole check (kinematics, RNEA, contacts, report): {check_frames / check:8,.0f} "
+          "frames/s")
+
+    cloth_frames = 100
+    cloth = best_of(lambda: simulate_secondary(motion.slice(0, cloth_frames), cape=True,
+                                               rope=True, settle=0.0), repeats=2)
+    print(f"secondary cloth (126-particle cape + 10-particle rope, implicit Euler, 4 "
+          f"substeps): {cloth_frames / cloth:8,.1f} frames/s")
+
+    physics_frames = 50
+    physics = best_of(lambda: simulate_tracking(motion.slice(0, physics_frames),
+                                                humanoid=body), repeats=1)
+    print(f"physical animation (1 kHz ABA, 100 Hz motion): {physics_frames / physics:8,.1f} "
+          "frames/s")
+
+
+if __name__ == "__main__":
+    main()
