@@ -178,6 +178,7 @@ def _linearised_step(system, dt: float, solver: str, tolerance: float) -> None:
         cached = system.cache.get("implicit_direct")
         if (cached is not None and cached[0].shape == matrix.shape
                 and cached[0].nnz == matrix.nnz
+                and np.array_equal(cached[0].indptr, matrix.indptr)
                 and np.array_equal(cached[0].indices, matrix.indices)
                 and np.array_equal(cached[0].data, matrix.data)):
             factor = cached[1]                           # A unchanged: reuse the factorisation
