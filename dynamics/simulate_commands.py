@@ -91,7 +91,8 @@ def simulate_command(args: argparse.Namespace) -> int:
     result.save(args.output)
     summary = (f"{scene_path}: {scene.steps} steps of {scene.dt:g} s ({scene.integrator}), "
                f"{result.positions.shape[1]} particles, {len(result.springs)} springs, "
-               f"{len(result.times)} frames -> {args.output}")
+               f"{len(result.times)} saved frame{'s' if len(result.times) != 1 else ''} "
+               f"-> {args.output}")
     for video in (args.gif, args.mp4):
         if video:
             from dynamics.render import render_animation

@@ -57,12 +57,16 @@ def test_cli_writes_the_npz_contract_and_a_gif(tmp_path, capsys):
 
 
 def test_cli_heat_scene_saves_temperature(tmp_path):
-    out = tmp_path / "melt.npz"
+    out, gif = tmp_path / "melt.npz", tmp_path / "melt.gif"
     assert main(["simulate", str(SCENES_DIR / "melting-block.toml"), "-o", str(out),
-                 "--steps", "20", "--save-every", "10", "--no-progress"]) == 0
-    with np.load(out) as data:
-        assert data["temperature"].shape == (3, 512)
-        assert data["temperature"].max() == pytest.approx(500.0)   # the hot plate
+                 "--steps", "20", "--save-every", "10", "--no-progress", "--gif", str(gif),
+                 "--max-frames", "2"]) == 0
+    from dynamics.scene import load_result
+    data = load_result(out)
+    assert data["temperature"].shape == (3, 512)
+    assert data["temperature"].max() == pytest.approx(500.0)       # the hot plate
+    assert data["boxes"].shape == (1, 6) and data["planes"].shape == (1, 6)
+    assert gif.stat().st_size > 0
 
 
 def write(tmp_path, text: str) -> Path:
