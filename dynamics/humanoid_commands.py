@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import re
 import sys
 from pathlib import Path
 
@@ -16,7 +15,6 @@ from mocap.errors import MocapError
 
 #: Formats of ``mocap export``.
 EXPORT_FORMATS = ("bvh", "csv", "c3d", "trc", "mot", "json")
-MARKER_SUFFIXES = (".c3d", ".trc", ".csv")
 
 
 def _motion_options(parser: argparse.ArgumentParser) -> None:
@@ -110,90 +108,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 # ----------------------------------------------------------------------------------------
-def _find_asf(amc: Path) -> Path:
-    candidates = [amc.with_suffix(".asf"), amc.with_suffix(".ASF")]
-    subject = amc.stem.split("_")[0]
-    candidates += [amc.with_name(subject + ".asf"), amc.with_name(subject + ".ASF")]
-    for candidate in candidates:
-        if candidate.exists():
-            return candidate
-    found = sorted(amc.parent.glob("*.[aA][sS][fF]"))
-    if len(found) == 1:
-        return found[0]
-    raise MocapError("no ASF skeleton found beside this AMC motion; give it with --asf", amc)
-
-
-def _is_angle_csv(path: Path) -> bool:
-    try:
-        with open(path, encoding="utf-8", errors="replace") as handle:
-            header = handle.readline().strip()
-    except OSError:
-        return False
-    columns = [c.strip() for c in header.split(",")]
-    return (len(columns) >= 4 and columns[0] == "time"
-            and all(re.fullmatch(r"[^.]+\.[XYZxyz]2?", c) for c in columns[1:]))
-
-
-def load_motion(path: str | Path, asf: str | None = None, markerset: str | None = None,
-                units: str | None = None, rate: float = 120.0):
-    """A :class:`~mocap.skeleton.Motion` from any motion file the commands accept.
-
-    Parameters
-    ----------
-    path : BVH, AMC, joint-angle CSV, or marker trial (C3D/TRC/CSV)
-    asf : ASF skeleton for an AMC (default: found beside it)
-    markerset : marker set for a marker trial
-    units : length unit of a BVH/ASF (default: detected)
-    rate : frame rate of an AMC, Hz
-
-    Raises
-    ------
-    MocapError
-        Missing or unreadable file, unknown suffix, a marker trial without a marker set.
-    """
-    path = Path(path)
-    if not path.exists():
-        raise MocapError("file not found", path)
-    if path.is_dir():
-        raise MocapError("is a directory, not a motion file", path)
-    suffix = path.suffix.lower()
-    if suffix == ".bvh":
-        from mocap.io.bvh import read_bvh
-        return read_bvh(path, units=units)
-    if suffix == ".amc":
-        from mocap.io.asfamc import read_asf_amc
-        skeleton = Path(asf) if asf else _find_asf(path)
-        if not skeleton.exists():
-            raise MocapError("ASF file not found", skeleton)
-        return read_asf_amc(skeleton, path, rate=rate, units=units)
-    if suffix == ".asf":
-        raise MocapError("an ASF file is the skeleton only: give the AMC motion (and this "
-                         "file with --asf)", path)
-    if suffix == ".csv" and _is_angle_csv(path):
-        from mocap.angles import read_angles_csv
-        from mocap.skeleton import motion_from_angles
-        from mocap.skeleton import BODY_SEGMENTS
-        angles = read_angles_csv(path)
-        foreign = [s for s in angles.segments if s not in BODY_SEGMENTS]
-        if foreign:
-            raise MocapError("a joint-angle CSV carries no skeleton, so it plays only on the "
-                             "15-segment body (pelvis, thorax, …); it has other segments: "
-                             + ", ".join(foreign[:6]) + (" …" if len(foreign) > 6 else "")
-                             + " (export with --body to get one)", path)
-        return motion_from_angles(angles)
-    if suffix in MARKER_SUFFIXES:
-        if not markerset:
-            raise MocapError("a marker trial needs --markerset (e.g. synthetic15) to build "
-                             "the skeleton", path)
-        from mocap.io import read
-        from mocap.markerset import load_markerset
-        from mocap.skeleton import motion_from_trial
-        return motion_from_trial(read(path), load_markerset(markerset))
-    raise MocapError("unknown motion file type: use .bvh, .amc, a joint-angle .csv, or a "
-                     ".c3d/.trc/.csv marker trial with --markerset", path)
-
-
 def _load(args: argparse.Namespace):
+    from mocap.skeleton import load_motion
+
     return load_motion(args.motion, asf=args.asf, markerset=args.markerset,
                        units=args.units, rate=args.rate)
 

@@ -21,8 +21,10 @@ Y up), :func:`motion_from_angles` (joint angles on a skeleton) and :func:`reduce
 """
 from __future__ import annotations
 
+import os
 import re
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 
 import numpy as np
 from scipy.spatial.transform import Rotation, Slerp
@@ -727,3 +729,117 @@ def reduce_to_segments(motion: Motion) -> Motion:
         reduced.skeleton.end_sites[BODY_SEGMENTS.index(leaf)] = mean[far]
     reduced.metadata["segment_map"] = {s: sk.names[found[s]] for s in BODY_SEGMENTS}
     return reduced
+
+
+# ----------------------------------------------------------------------------------------
+# Motion files of any kind
+# ----------------------------------------------------------------------------------------
+#: Marker-trial suffixes :func:`load_motion` turns into motions with a marker set.
+MARKER_SUFFIXES = (".c3d", ".trc", ".csv")
+#: Suffixes :func:`load_motion` reads directly as motions.
+MOTION_SUFFIXES = (".bvh", ".amc")
+
+
+def _find_asf(amc: Path) -> Path:
+    candidates = [amc.with_suffix(".asf"), amc.with_suffix(".ASF")]
+    subject = amc.stem.split("_")[0]
+    candidates += [amc.with_name(subject + ".asf"), amc.with_name(subject + ".ASF")]
+    for candidate in candidates:
+        if candidate.exists():
+            return candidate
+    found = sorted(amc.parent.glob("*.[aA][sS][fF]"))
+    if len(found) == 1:
+        return found[0]
+    raise MocapError("no ASF skeleton found beside this AMC motion; give it with --asf", amc)
+
+
+def _is_angle_csv(path: Path) -> bool:
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            header = handle.readline().strip()
+    except OSError:
+        return False
+    columns = [c.strip() for c in header.split(",")]
+    return (len(columns) >= 4 and columns[0] == "time"
+            and all(re.fullmatch(r"[^.]+\.[XYZxyz]2?", c) for c in columns[1:]))
+
+
+def load_motion(path: str | os.PathLike, asf: str | None = None,
+                markerset: str | None = None, units: str | None = None,
+                rate: float = 120.0) -> Motion:
+    """A :class:`Motion` from any motion file: BVH, ASF/AMC, joint angles or markers.
+
+    Parameters
+    ----------
+    path : BVH, AMC, joint-angle CSV, or marker trial (C3D/TRC/CSV)
+    asf : ASF skeleton for an AMC (default: found beside it)
+    markerset : marker set for a marker trial
+    units : length unit of a BVH/ASF (default: detected)
+    rate : frame rate of an AMC, Hz
+
+    Raises
+    ------
+    MocapError
+        Missing or unreadable file, unknown suffix, a marker trial without a marker set.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise MocapError("file not found", path)
+    if path.is_dir():
+        raise MocapError("is a directory, not a motion file", path)
+    suffix = path.suffix.lower()
+    if suffix == ".bvh":
+        from mocap.io.bvh import read_bvh
+        return read_bvh(path, units=units)
+    if suffix == ".amc":
+        from mocap.io.asfamc import read_asf_amc
+        skeleton = Path(asf) if asf else _find_asf(path)
+        if not skeleton.exists():
+            raise MocapError("ASF file not found", skeleton)
+        return read_asf_amc(skeleton, path, rate=rate, units=units)
+    if suffix == ".asf":
+        raise MocapError("an ASF file is the skeleton only: give the AMC motion (and this "
+                         "file with --asf)", path)
+    if suffix == ".csv" and _is_angle_csv(path):
+        from mocap.angles import read_angles_csv
+        angles = read_angles_csv(path)
+        foreign = [s for s in angles.segments if s not in BODY_SEGMENTS]
+        if foreign:
+            raise MocapError("a joint-angle CSV carries no skeleton, so it plays only on the "
+                             "15-segment body (pelvis, thorax, …); it has other segments: "
+                             + ", ".join(foreign[:6]) + (" …" if len(foreign) > 6 else "")
+                             + " (export with --body to get one)", path)
+        return motion_from_angles(angles)
+    if suffix in MARKER_SUFFIXES:
+        if not markerset:
+            raise MocapError("a marker trial needs --markerset (e.g. synthetic15) to build "
+                             "the skeleton", path)
+        from mocap.io import read
+        from mocap.markerset import load_markerset
+        return motion_from_trial(read(path), load_markerset(markerset))
+    raise MocapError("unknown motion file type: use .bvh, .amc, a joint-angle .csv, or a "
+                     ".c3d/.trc/.csv marker trial with --markerset", path)
+
+
+def motion_joint_angles(motion: Motion, sequence: str = "ZXY", body: bool = True):
+    """Joint angles of a motion as ``mocap.angles.JointAngles`` (DESIGN 3.2 convention).
+
+    Rotations are expressed in a Z-up lab (X anterior, Y left), like angles computed from
+    markers, so BVH and ASF/AMC trials can join a marker corpus (``mocap decompose``).
+
+    Parameters
+    ----------
+    motion : Motion
+    sequence : str
+        scipy Euler sequence.
+    body : bool
+        Map the skeleton onto the 15 body segments first (``reduce_to_segments``).
+    """
+    from mocap.angles import JointAngles, matrices_to_angles, unwrap_angles
+
+    if body:
+        motion = reduce_to_segments(motion)
+    rotations, _ = motion_to_lab(motion)
+    values = unwrap_angles(matrices_to_angles(rotations, sequence), sequence)
+    return JointAngles(motion.times, values, list(motion.names), sequence,
+                       list(motion.skeleton.parents))

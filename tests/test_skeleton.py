@@ -144,3 +144,24 @@ def test_frame_rate_snaps_rounded_frame_times():
     assert frame_rate(0.033333) == 30.0
     assert frame_rate(0.008333) == 120.0
     assert frame_rate(0.0417) == pytest.approx(23.98, abs=0.01)
+
+
+def test_load_motion_reads_every_kind_and_gives_corpus_angles(tmp_path):
+    from pathlib import Path
+
+    from mocap.skeleton import load_motion, motion_joint_angles
+
+    data = Path(__file__).parent / "data"
+    bvh = load_motion(data / "mocapbank_walk.bvh")
+    amc = load_motion(data / "cmu_lambada.amc")            # finds cmu_lambada.asf beside it
+    assert bvh.frames == 10 and amc.frames == 4
+    angles = motion_joint_angles(amc, "ZXY")
+    assert angles.segments == BODY_SEGMENTS and angles.values.shape == (4, 15, 3)
+    assert np.isfinite(angles.values).all()
+    lonely = tmp_path / "02_01.amc"
+    lonely.write_text((data / "cmu_lambada.amc").read_text())
+    with pytest.raises(MocapError, match="--asf"):
+        load_motion(lonely)
+    with pytest.raises(MocapError, match="markerset"):
+        (tmp_path / "trial.trc").write_text("x")
+        load_motion(tmp_path / "trial.trc")
