@@ -441,6 +441,9 @@ class Thresholds:
         RMS residual force, % body weight (a static 20° lean gives about 7 %).
     residual_peak_pct_bw : float
         Peak residual force, % body weight.
+    residual_torque_rms_nm : float
+        RMS residual torque about the centre of mass, N·m, for a 75 kg body (scaled in
+        proportion to body mass); OpenSim's guidance for captured data is below 50 N·m.
     penetration_mm : float
         Deepest point below the floor.
     skate_speed : float, m/s
@@ -452,6 +455,7 @@ class Thresholds:
 
     residual_rms_pct_bw: float = 5.0
     residual_peak_pct_bw: float = 25.0
+    residual_torque_rms_nm: float = 50.0
     penetration_mm: float = 20.0
     skate_speed: float = 0.1
     floating_fraction: float = 0.1
@@ -598,8 +602,14 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
     residual_pct = 100.0 * np.linalg.norm(residual[:, :3], axis=1) / humanoid.weight
     unsupported = above & (residual_pct > thresholds.floating_residual_pct_bw)
 
+    torque_rms = _rms(np.linalg.norm(residual_torque, axis=1))
+    torque_limit = thresholds.residual_torque_rms_nm * humanoid.mass / 75.0
     reasons = _reasons(residual_pct, penetration_mm, skate_mm * rate / 1000.0,
                        unsupported, floating_mm, thresholds)
+    if torque_rms > torque_limit:
+        after_force = sum(r.startswith("residual force") for r in reasons)
+        reasons.insert(after_force, f"residual torque RMS {torque_rms:.0f} N·m "
+                       f"(limit {torque_limit:.0f} N·m)")
     names = body.skeleton.names
     return CheckReport(
         mass_kg=float(humanoid.mass), frames=frames, rate=rate, times=body.times,
