@@ -91,7 +91,7 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
                 from dynamics.humanoid import check_motion
                 from mocap.skeleton import motion_from_trial
 
-                report = check_motion(motion_from_trial(trial, chosen), mass_kg=mass_kg)
+                report = check_motion(motion_from_trial(trial, chosen), body_mass=mass_kg).summary()
                 for key in CHECK_COLUMNS:
                     value = report[key]
                     row[key] = round(value, 3) if isinstance(value, float) else value

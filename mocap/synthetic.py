@@ -223,8 +223,6 @@ def _leg_curves(action: str, u: np.ndarray) -> dict[str, np.ndarray]:
             "hip_abd": -2 + 4 * _bump(u, 0.20, 0.10) - 3 * _bump(u, 0.70, 0.08),
             "hip_rot": 4 * _sin(u, 0.05),
             "knee_flex": 4 + 14 * _bump(u, 0.14, 0.06) + 56 * _bump(u, 0.71, 0.09),
-            "ankle_dorsi": 2 - 6 * _bump(u, 0.06, 0.04) + 12 * _bump(u, 0.42, 0.10)
-                           - 24 * _bump(u, 0.62, 0.05),
             "ankle_inv": 3 * _sin(u, 0.3),
         }
     if action == "run":
@@ -233,8 +231,6 @@ def _leg_curves(action: str, u: np.ndarray) -> dict[str, np.ndarray]:
             "hip_abd": -3 + 6 * _bump(u, 0.15, 0.08) - 4 * _bump(u, 0.65, 0.10),
             "hip_rot": 6 * _sin(u, 0.05),
             "knee_flex": 18 + 24 * _bump(u, 0.17, 0.06) + 82 * _bump(u, 0.68, 0.10),
-            "ankle_dorsi": 4 + 14 * _bump(u, 0.18, 0.07) - 26 * _bump(u, 0.42, 0.06)
-                           + 6 * _bump(u, 0.80, 0.10),
             "ankle_inv": 4 * _sin(u, 0.25),
         }
     if action == "ascend":
@@ -243,7 +239,6 @@ def _leg_curves(action: str, u: np.ndarray) -> dict[str, np.ndarray]:
             "hip_abd": -2 + 5 * _bump(u, 0.30, 0.10),
             "hip_rot": 5 * _sin(u, 0.1),
             "knee_flex": 12 + 48 * _bump(u, 0.0, 0.08) + 80 * _bump(u, 0.73, 0.09),
-            "ankle_dorsi": 6 + 10 * _bump(u, 0.10, 0.06) - 18 * _bump(u, 0.60, 0.07),
             "ankle_inv": 2 * _sin(u, 0.2),
         }
     if action == "descend":
@@ -252,11 +247,50 @@ def _leg_curves(action: str, u: np.ndarray) -> dict[str, np.ndarray]:
             "hip_abd": -1 + 4 * _bump(u, 0.35, 0.12),
             "hip_rot": 3 * _sin(u, 0.2),
             "knee_flex": 8 + 78 * _bump(u, 0.55, 0.13) + 22 * _bump(u, 0.86, 0.06),
-            "ankle_dorsi": -14 * _bump(u, 0.02, 0.05) + 20 * _bump(u, 0.45, 0.10)
-                           - 12 * _bump(u, 0.75, 0.08),
             "ankle_inv": 3 * _sin(u, 0.4),
         }
     raise MocapError(f"unknown action {action!r}; known: {', '.join(ACTIONS)}")
+
+
+#: Pitch of the foot in the lab over the cycle (degrees, toes up positive) at control
+#: phases: heel strike, foot flat, heel rise, toe-off, swing.  The ankle's flexion is
+#: derived from it (see :func:`_with_ankles`), so the stance foot lies flat on the floor.
+_FOOT_PITCH = {
+    "walk": [(0.0, 18), (0.06, 3), (0.10, 0), (0.38, 0), (0.50, -12), (0.62, -50), (0.72, -30),
+             (0.85, 5), (0.95, 16)],
+    "run": [(0.0, 10), (0.06, 0), (0.16, 0), (0.28, -20), (0.38, -45), (0.55, -20), (0.80, 10),
+            (0.93, 12)],
+    "ascend": [(0.0, 0), (0.10, 0), (0.45, 0), (0.60, -30), (0.70, -10), (0.85, 10), (0.95, 5)],
+    "descend": [(0.0, -20), (0.08, 0), (0.40, 0), (0.55, -15), (0.65, -30), (0.80, -10),
+                (0.93, -20)],
+}
+
+
+def _foot_pitch(action: str, u: np.ndarray) -> np.ndarray:
+    """Periodic cubic spline through ``_FOOT_PITCH[action]``, degrees, toes up positive."""
+    from scipy.interpolate import CubicSpline
+
+    phases, pitches = np.array(_FOOT_PITCH[action] + [(1.0, _FOOT_PITCH[action][0][1])]).T
+    return CubicSpline(phases, pitches, bc_type="periodic")(u % 1.0)
+
+
+def _with_ankles(angles: np.ndarray, action: str, u: np.ndarray) -> np.ndarray:
+    """Set each ankle's flexion so the foot follows the action's foot-pitch profile.
+
+    In the sagittal plane the foot's pitch is the sum of the pelvis, thigh, shank and
+    foot rotations about the left axis; the ankle takes whatever the person's own hip
+    and knee leave (to first order: abduction and axial rotation are small).
+    """
+    angles = angles.copy()
+    index = {name: i for i, name in enumerate(SEGMENT_NAMES)}
+    pelvis_pitch = angles[:, index["pelvis"], 0]
+    for side, phase in (("r", 0.0), ("l", 0.5)):
+        # rotation about +Y of each link, in the sign convention of _to_rotations
+        thigh = -angles[:, index[f"{side}_thigh"], 0]
+        shank = -angles[:, index[f"{side}_shank"], 0]
+        toes_up = _foot_pitch(action, u + phase)
+        angles[:, index[f"{side}_foot"], 0] = toes_up + pelvis_pitch + thigh + shank
+    return angles
 
 
 def _action_angles(action: str, u: np.ndarray) -> np.ndarray:
@@ -286,7 +320,7 @@ def _action_angles(action: str, u: np.ndarray) -> np.ndarray:
         leg = _leg_curves(action, v)
         put(f"{side}_thigh", leg["hip_flex"], leg["hip_abd"], leg["hip_rot"])
         put(f"{side}_shank", -leg["knee_flex"], 0.0, 2 * _sin(v, 0.1))
-        put(f"{side}_foot", leg["ankle_dorsi"], leg["ankle_inv"], 2 * _sin(v, 0.3))
+        put(f"{side}_foot", 0.0, leg["ankle_inv"], 2 * _sin(v, 0.3))   # flexion: see _with_ankles
         swing = 16 * intensity * _cos(v, 0.55)   # arm swings with the other leg
         put(f"{side}_upperarm", swing, 8 + 2 * _sin(v, 0.25), 3 * _sin(v))
         put(f"{side}_forearm", elbow + 0.5 * swing + 4 * _cos(v, 0.6, 2), 0.0, 4 * _sin(v, 0.2))
@@ -436,7 +470,7 @@ def person_angles(person: Person, action: str, phase: np.ndarray, seed: int = 0)
     template = _action_angles(action, warped)
     left = np.array([name.startswith("l_") for name in SEGMENT_NAMES])
     gain = gain * np.where(left, 1.0 + person.asymmetry, 1.0)[:, None]
-    return offset + gain * template
+    return _with_ankles(offset + gain * template, action, warped)
 
 
 def synthesize_trial(person: int | Person, action: str, seed: int = 0, people: int = 6,

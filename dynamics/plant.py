@@ -1,0 +1,47 @@
+"""Give a motion without a root path (joint angles only) the root path its feet imply."""
+from __future__ import annotations
+
+import numpy as np
+
+from dynamics.anthropometry import foot_points
+from mocap.planting import planted_translation
+from mocap.skeleton import Motion
+
+
+def foot_contact_positions(motion: Motion) -> np.ndarray:
+    """World positions of both feet's contact points (heel, toe, their sides).
+
+    Returns
+    -------
+    ndarray, shape (frames, points, 3), metres, Y up.
+    """
+    world_r, world_p = motion.forward_kinematics()
+    positions = []
+    for foot in ("l_foot", "r_foot"):
+        index = motion.skeleton.index(foot)
+        local = np.array(list(foot_points(motion.skeleton.end_sites[index]).values()))
+        positions.append(world_p[:, index, None] + np.einsum("fij,pj->fpi", world_r[:, index], local))
+    return np.concatenate(positions, axis=1)
+
+
+def plant_feet(motion: Motion) -> Motion:
+    """The motion with a root translation that keeps the supporting foot point still.
+
+    The joint rotations are kept; the root path is replaced by
+    :func:`mocap.planting.planted_translation` of the feet's contact points, so the
+    lowest point is on the floor (y = 0) and does not slide while it carries the body.
+
+    Parameters
+    ----------
+    motion : Motion
+        With ``l_foot`` and ``r_foot`` segments (the 15-segment body).
+
+    Returns
+    -------
+    Motion
+    """
+    still_root = Motion(motion.skeleton, np.zeros_like(motion.root_translation),
+                        motion.rotations, motion.rate, dict(motion.metadata))
+    translation = planted_translation(foot_contact_positions(still_root), up=1)
+    return Motion(motion.skeleton, translation, motion.rotations, motion.rate,
+                  dict(motion.metadata, root="planted feet"))
