@@ -1,25 +1,32 @@
-"""C3D marker files: read (checked, then ezc3d or our own decoder) and write (ezc3d).
+"""C3D marker files: read (structure check, then a vectorised decoder) and write (ezc3d).
 
-Reading goes in three steps:
+Reading goes in two steps:
 
 1. :func:`mocap.io.c3d_header.inspect_c3d` checks the header, walks the parameter
    section with bounds checks and matches the data size against the file size,
-   in pure Python. Damaged files stop here with a :class:`MocapError`; ezc3d never
-   sees them (it can crash the process or silently read a truncated file).
-2. ezc3d reads the file when it will lay the data out as the check did
-   (Intel/DEC processor, POINT:FRAMES and the analog rate consistent with the
-   file size). It would misread the others: BTS files without ANALOG:RATE
-   (it skips their analog words and scrambles the points), the KINARM sample it
-   only opens with ``ignore_bad_formatting`` (blank labels, wrong values), and
-   it refuses SGI/MIPS files.
-3. Those go to our vectorised decoder of the checked layout
-   (:func:`mocap.io.c3d_header.decode_c3d_data`). The pure-Python ``c3d``
-   package reads most of them too and the tests use it as the reference: it
-   agrees with our decoder on every real file both read, but decodes frame by
-   frame (26 s for the 5065-frame KINARM sample; ours takes 5 ms), so it is not
-   used at run time. A file whose parameter section shows oddities (a group
-   defined twice, a parameter of an undefined group, unprintable names) also
-   skips ezc3d: a bit flip of that kind crashed ezc3d in the damage tests.
+   in pure Python. Damaged files stop here with a :class:`MocapError`.
+2. :func:`mocap.io.c3d_header.decode_c3d_data` decodes the data section of the
+   checked layout with numpy (Intel, DEC and SGI/MIPS; integer and float).
+
+Why not ezc3d for reading (the design's first plan): measured on this
+project's real files and on seeded damage of them,
+
+- ezc3d misreads valid files silently: the three BTS files of c3d.org sample 28
+  (no ANALOG:RATE, so it skips the 6 analog words per frame and scrambles the
+  points: median frame-to-frame jump 57 cm instead of 1.6 mm) and the KINARM
+  sample (it opens it only with ``ignore_bad_formatting``, then with blank
+  labels and constant values);
+- it refuses SGI/MIPS files and stalls 30-55 s on the KINARM sample before
+  raising; one flipped bit in a description length stalled it 20-35 s, and
+  one flipped bit in a group id crashed the process (segmentation fault),
+  both in files our structure check had accepted;
+- it is 5-10× slower (80 ms against 10 ms for a 556-frame, 290-point Vicon file).
+
+Our decoder gives the same points and validity as ezc3d on the files ezc3d
+reads correctly, and the same as the pure-Python ``c3d`` package on the files
+ezc3d cannot read (tests/test_io_realdata.py checks both). ezc3d writes C3D
+files here, and ``read_c3d(path, engine="ezc3d")`` still reads with it, for
+files :func:`ezc3d_refusal` finds safe for it.
 
 Every reading ends in the same :class:`~mocap.trial.Trial`: points in metres,
 NaN where the residual is negative, the coordinates are not finite, or the
@@ -151,33 +158,45 @@ def unique_labels(labels: list[str], prefix: str = "M") -> tuple[list[str], list
     return result, notes
 
 
-def _ezc3d_layout_matches(layout: C3DLayout) -> bool:
-    """True when ezc3d will lay the data out as the check did (so it reads it right)."""
-    if layout.processor == "mips" or layout.warnings or layout.anomalies:
-        return False
+def ezc3d_refusal(layout: C3DLayout) -> str:
+    """Why ezc3d must not read this checked file ('' when it may).
+
+    ezc3d trusts POINT:FRAMES, POINT:USED and ANALOG:RATE / POINT:RATE over the
+    header; where those disagree with the layout the file size confirms, it
+    misreads the data. It refuses SGI/MIPS files, and a parameter section with
+    oddities (a group defined twice, a parameter of an undefined group, a
+    description overrunning its entry, unprintable names) has crashed it or
+    kept it busy for tens of seconds in the damage tests.
+    """
+    if layout.processor == "mips":
+        return "ezc3d does not read SGI/MIPS files"
+    if layout.warnings:
+        return "; ".join(layout.warnings)
+    if layout.anomalies:
+        return "parameter section: " + "; ".join(layout.anomalies[:3])
     parameters = layout.parameters
-    if "POINT" not in parameters or "USED" not in parameters["POINT"]:
-        return False
-    point = parameters["POINT"]
+    point = parameters.get("POINT", {})
+    if "USED" not in point:
+        return "no POINT:USED parameter"
     frames = point.get("FRAMES")
     if not isinstance(frames, np.ndarray) or frames.size == 0 \
             or (int(frames.reshape(-1)[0]) & 0xFFFF) != layout.frames:
-        return False
+        return "POINT:FRAMES does not give the frame count the file holds"
     if len(_string_list(point.get("LABELS"))) < min(layout.point_count, 255):
-        return False
+        return "fewer POINT:LABELS than points"
     analog = parameters.get("ANALOG", {})
     if layout.analog_channels:
         rate = analog.get("RATE")
         if not isinstance(rate, np.ndarray) or rate.size == 0 or layout.rate <= 0:
-            return False
+            return "no ANALOG:RATE: ezc3d would skip the analog words and shift the points"
         if int(float(rate.reshape(-1)[0]) / layout.rate) != layout.analog_samples_per_frame:
-            return False
+            return "ANALOG:RATE / POINT:RATE disagrees with the stored analog samples"
         for name in ("SCALE", "OFFSET", "LABELS"):
             value = analog.get(name)
             size = len(value) if isinstance(value, list) else getattr(value, "size", 0)
             if size < min(layout.analog_channels, 255):
-                return False
-    return True
+                return f"fewer ANALOG:{name} entries than channels"
+    return ""
 
 
 def _read_ezc3d(layout: C3DLayout):
@@ -229,20 +248,24 @@ def _shape_ok(layout: C3DLayout, points: np.ndarray, residuals: np.ndarray) -> b
             and residuals.shape == (layout.frames, layout.point_count))
 
 
-def read_c3d(path: str | os.PathLike) -> Trial:
+def read_c3d(path: str | os.PathLike, engine: str = "mocap") -> Trial:
     """Read a C3D file into a :class:`Trial` (metres, NaN for missing samples).
 
     Parameters
     ----------
     path : str or PathLike
+    engine : {"mocap", "ezc3d"}
+        Who decodes the data section once the file has passed the structure
+        check: our vectorised decoder (default), or ezc3d, which is refused
+        (MocapError) for files it would misread or stall on.
 
     Returns
     -------
     Trial
         ``points`` (frames, markers, 3) in metres; ``units`` as stored in the
-        file (``""`` when absent); ``metadata`` holds ``reader`` (``"ezc3d"``,
-        ``"c3d"`` or ``"mocap"``), ``processor``, ``first_frame``, ``warnings``
-        (list of str) and ``modelled`` (computed points, see module docstring).
+        file (``""`` when absent); ``metadata`` holds ``reader`` (``"mocap"`` or
+        ``"ezc3d"``), ``processor``, ``first_frame``, ``warnings`` (list of str)
+        and ``modelled`` (computed points, see the module docstring).
 
     Raises
     ------
@@ -257,32 +280,26 @@ def read_c3d(path: str | os.PathLike) -> Trial:
     """
     layout = inspect_c3d(path)
     notes = list(layout.warnings)
-    attempts = []
-    if _ezc3d_layout_matches(layout):
-        attempts.append(("ezc3d", _read_ezc3d))
-    # Everything else (and a file ezc3d raised on) goes to our decoder of the
-    # checked layout. The ``c3d`` package is not a runtime fallback: it gives
-    # the same points on every real file ezc3d cannot read (tests/test_io_c3d.py
-    # checks it) but decodes frame by frame in Python, 26 s for the 5065-frame
-    # KINARM sample against 5 ms.
-    attempts.append(("mocap", _read_own))
-    failures = []
-    for name, reader in attempts:
-        try:
-            points, residuals, analogs = reader(layout)
-        except MemoryError:
-            raise MocapError("file too large to read into memory", layout.path) from None
-        except Exception as error:   # a library's refusal: try the next reader
-            failures.append(f"{name}: {type(error).__name__}: {error}")
-            continue
-        if _shape_ok(layout, points, residuals):
-            break
-        failures.append(f"{name}: read {points.shape[:2]} instead of "
-                        f"{(layout.frames, layout.point_count)}")
+    if engine == "ezc3d":
+        problem = ezc3d_refusal(layout)
+        if problem:
+            raise MocapError(f"not read with ezc3d: {problem}", layout.path)
+        reader = _read_ezc3d
+    elif engine == "mocap":
+        reader = _read_own
     else:
-        raise MocapError("no reader could decode the data section (" + "; ".join(failures)
-                         + ")", layout.path)
-    return _to_trial(layout, name, points, residuals, analogs, notes)
+        raise ValueError(f"unknown C3D engine {engine!r}")
+    try:
+        points, residuals, analogs = reader(layout)
+    except MemoryError:
+        raise MocapError("file too large to read into memory", layout.path) from None
+    except (RuntimeError, OSError, ValueError, IndexError) as error:   # ezc3d refusals
+        raise MocapError(f"{engine} could not decode the data: {error}", layout.path) \
+            from None
+    if not _shape_ok(layout, points, residuals):
+        raise MocapError(f"{engine} read {points.shape[:2]} frames × points instead of "
+                         f"{(layout.frames, layout.point_count)}", layout.path)
+    return _to_trial(layout, engine, points, residuals, analogs, notes)
 
 
 def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.ndarray,

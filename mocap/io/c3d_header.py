@@ -229,6 +229,8 @@ def _walk_parameters(data: bytes, start: int, end: int, processor: str,
         if group_id < 0:
             if body + 1 > body_end:
                 raise _fail(path, f"group {name!r} at byte {position} is cut short")
+            if body + 1 + data[body] > body_end:
+                anomalies.append(f"description of group {name!r} overruns its entry")
             if -group_id in groups_by_id or name in groups_by_id.values():
                 anomalies.append(f"group {name!r} (id {-group_id}) defined twice")
             groups_by_id[-group_id] = name
@@ -249,6 +251,10 @@ def _walk_parameters(data: bytes, start: int, end: int, processor: str,
                                   f"{max(body_end - value_start, 0)}")
             value = _decode_parameter(data[value_start:value_start + size], data_type,
                                       dims, processor)
+            description_at = value_start + size
+            if description_at >= body_end or \
+                    description_at + 1 + data[description_at] > body_end:
+                anomalies.append(f"description of parameter {name!r} overruns its entry")
             pending.append((group_id, name, value))
         if next_position is None:
             break
