@@ -101,8 +101,6 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
 
     out = Path(out_dir)
     figures = out / "figures"
-    for folder in (out, figures, out / "angles", out / "synthesis"):
-        folder.mkdir(parents=True, exist_ok=True)
     steps = _Steps(9 if animation else 8, echo)
     summary: dict = {"output": str(out)}
 
@@ -113,22 +111,24 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
         else:
             corpus_dir = Path(data)
         trials = find_trials(corpus_dir)
+        cells = {parse_trial_name(path): path for path in trials}
+        person = hold_out or sorted(p for p, _ in cells)[0]
+        if (person, ACTION) not in cells:
+            raise MocapError(f"the corpus has no {ACTION} of {person!r} to hold out "
+                             f"(trials must be named <person>_<action>.c3d)", corpus_dir)
         summary["corpus"] = str(corpus_dir)
         summary["trials"] = len(trials)
 
     chosen = load_markerset(markerset)
+    for folder in (out, figures, out / "angles", out / "synthesis"):
+        folder.mkdir(parents=True, exist_ok=True)
     with steps(f"extracting joint angles from {len(trials)} trials"):
         names = {}
-        for path in progress(trials, "joint angles"):
-            person, action = parse_trial_name(path)
+        for cell, path in progress(cells.items(), "joint angles"):
             angles = joint_angles(io.read(path), chosen)
             write_angles_csv(angles, out / "angles" / f"{path.stem}_angles.csv")
-            names[(person, action)] = (path, angles)
-    people_names = sorted({p for p, _ in names})
-    person = hold_out or people_names[0]
-    if (person, ACTION) not in names:
-        raise MocapError(f"the corpus has no {ACTION} of {person!r} to hold out", corpus_dir)
-    captured_path, captured = names[(person, ACTION)]
+            names[cell] = (path, angles)
+    captured = names[(person, ACTION)][1]
     plot_angles(captured, figures / "captured_angles.png",
                 title=f"{person} {ACTION}: joint angles from marker planes")
 
