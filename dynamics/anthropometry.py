@@ -21,7 +21,8 @@ Y up, Z anterior, X left; a segment's origin is its proximal joint):
 * pelvis (lower trunk): midpoint of the hip joints → thorax origin, COM 0.3885 L above the
   hips (de Leva: 0.6115 from the upper end);
 * foot: heel → toe tip; the toe is the end site, the heel is under the ankle at sole level,
-  0.3 of the horizontal ankle-to-toe distance behind the ankle.
+  0.2 of the horizontal ankle-to-toe distance behind the ankle (the calcaneus contact, a
+  few centimetres ahead of the back of the heel).
 
 The female radii of gyration are transcribed from de Leva's table 4 but were not
 cross-checked against the project's reference notes (which list male radii only); masses
@@ -155,7 +156,7 @@ def foot_points(end_site: np.ndarray, half_width: tuple[float, float] = (0.025, 
     """
     toe = np.asarray(end_site, float)
     horizontal = toe * np.array([1.0, 0.0, 1.0])
-    heel = np.array([0.0, toe[1], 0.0]) - 0.3 * horizontal
+    heel = np.array([0.0, toe[1], 0.0]) - 0.2 * horizontal
     forward = horizontal / max(np.linalg.norm(horizontal), 1e-9)
     side = np.cross(np.array([0.0, 1.0, 0.0]), forward)       # +X when facing +Z
     # Ball of the foot (metatarsal heads) at 80 % of heel→toe, where the width is.
@@ -211,6 +212,67 @@ def segment_inertias(skeleton, body_mass: float, sex: str = "male") -> list[Segm
     return result
 
 
+def _leg_length(skeleton) -> float:
+    """Mean thigh + shank length (hip to ankle) of a body skeleton, metres."""
+    names = skeleton.names
+    total = []
+    for side in ("l_", "r_"):
+        shank, foot = names.index(side + "shank"), names.index(side + "foot")
+        total.append(np.linalg.norm(skeleton.offsets[shank])
+                     + np.linalg.norm(skeleton.offsets[foot]))
+    return float(np.mean(total))
+
+
+def lumped_segments(skeleton, body_mass: float, sex: str = "male"
+                    ) -> list[tuple[str, int, SegmentInertia]]:
+    """Segments missing from a partial body, as rigid inertias of a present ancestor.
+
+    A lower-body skeleton (pelvis and legs) still carries the head, arms and trunk: they
+    are placed as in the neutral standing pose of :func:`mocap.skeleton.default_skeleton`,
+    scaled to the skeleton's leg length (hip to ankle), and added to the nearest present
+    ancestor (the pelvis, aligned at the hip-joint midpoint) with their de Leva masses and
+    inertias — the "HAT" of lower-limb models, rigid with the pelvis.
+
+    Returns
+    -------
+    list of (missing segment name, index of the ancestor it is lumped into,
+    SegmentInertia expressed in that ancestor's frame)
+    """
+    from mocap.skeleton import BODY_PARENTS, BODY_SEGMENTS, Motion, default_skeleton
+
+    missing = [n for n in BODY_SEGMENTS if n not in skeleton.names]
+    if not missing:
+        return []
+    reference = default_skeleton(1.75)
+    scale = _leg_length(skeleton) / _leg_length(reference)
+    reference = default_skeleton(1.75 * scale)
+    parts = segment_inertias(reference, body_mass, sex)
+    rest = Motion.still(reference, 1, 1.0).forward_kinematics()[1][0]
+    actual_rest = Motion.still(skeleton, 1, 1.0).forward_kinematics()[1][0]
+
+    def anchor(name: str, rest_points: np.ndarray, names: list[str]) -> np.ndarray:
+        """Where a segment is aligned: the hip midpoint for the pelvis, else its origin."""
+        if name == "pelvis":
+            return rest_points[[names.index("l_thigh"), names.index("r_thigh")]].mean(axis=0)
+        return rest_points[names.index(name)]
+
+    result = []
+    for name in missing:
+        ancestor = BODY_PARENTS[BODY_SEGMENTS.index(name)]
+        while BODY_SEGMENTS[ancestor] not in skeleton.names:
+            ancestor = BODY_PARENTS[BODY_SEGMENTS.index(BODY_SEGMENTS[ancestor])]
+        host = BODY_SEGMENTS[ancestor]
+        host_index = skeleton.names.index(host)
+        shift = (anchor(host, actual_rest, skeleton.names) - actual_rest[host_index]
+                 - anchor(host, rest, reference.names) + rest[reference.names.index(host)])
+        own = parts[reference.names.index(name)]
+        origin = rest[reference.names.index(name)] - rest[reference.names.index(host)] + shift
+        result.append((name, host_index, SegmentInertia(
+            own.mass, origin + own.com, own.inertia, origin + own.proximal,
+            origin + own.distal)))
+    return result
+
+
 def _end_points(skeleton, index: int, kind: str) -> tuple[np.ndarray, np.ndarray]:
     names = skeleton.names
     children = skeleton.children(index)
@@ -219,9 +281,15 @@ def _end_points(skeleton, index: int, kind: str) -> tuple[np.ndarray, np.ndarray
     if kind == "pelvis":
         hips = [c for c in children if segment_kind(names[c]) == "thigh"]
         trunk = [c for c in children if segment_kind(names[c]) == "thorax"]
-        if not hips or not trunk:
-            raise ValueError("the pelvis needs two thighs and a thorax as children")
-        return skeleton.offsets[hips].mean(axis=0), skeleton.offsets[trunk[0]]
+        if not hips:
+            raise ValueError("the pelvis needs two thighs as children")
+        middle = skeleton.offsets[hips].mean(axis=0)
+        if trunk:
+            return middle, skeleton.offsets[trunk[0]]
+        # No trunk (a lower-body marker set): de Leva's lower trunk is 0.0837 of the
+        # standing height, about 0.2 of the thigh + shank length, straight up.
+        leg = _leg_length(skeleton)
+        return middle, middle + np.array([0.0, 0.2 * leg, 0.0])
     if kind == "thorax":
         head = [c for c in children if segment_kind(names[c]) == "head"]
         return origin, skeleton.offsets[head[0] if head else children[0]]

@@ -54,6 +54,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                        help="which de Leva table of segment parameters (default male)")
     check.add_argument("--mu", type=float, default=0.8,
                        help="floor friction coefficient (default 0.8)")
+    check.add_argument("--max-residual", type=float, default=5.0, metavar="PCT",
+                       help="RMS residual force above which the motion is implausible, in %% "
+                            "of body weight (default 5; captured walking on a lower-body "
+                            "marker set scores about 2.5-7)")
+    check.add_argument("--max-penetration", type=float, default=20.0, metavar="MM",
+                       help="deepest floor penetration allowed, mm (default 20)")
     check.add_argument("--json", action="store_true",
                        help="print one JSON object (keys of DESIGN 3.5) instead of text")
     check.add_argument("--plot", metavar="OUT.png",
@@ -117,14 +123,19 @@ def _load(args: argparse.Namespace):
 
 def run_check(args: argparse.Namespace) -> int:
     """Handler of ``mocap check``."""
-    from dynamics.humanoid import check_motion
+    from dynamics.humanoid import Thresholds, check_motion
 
     if not args.mass > 0:
         raise MocapError(f"--mass must be positive, got {args.mass}")
+    if not (args.max_residual > 0 and args.max_penetration >= 0):
+        raise MocapError("--max-residual must be positive and --max-penetration not negative")
     if args.plot and Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg"):
         raise MocapError("the plot must be a .png, .pdf or .svg file", args.plot)
     motion = _load(args)
-    report = check_motion(motion, body_mass=args.mass, sex=args.sex, mu=args.mu)
+    limits = Thresholds(residual_rms_pct_bw=args.max_residual,
+                        penetration_mm=args.max_penetration)
+    report = check_motion(motion, body_mass=args.mass, sex=args.sex, mu=args.mu,
+                          thresholds=limits)
     summary = {"path": str(args.motion), **report.summary()}
     if args.plot:
         from dynamics.animate import plot_check
@@ -145,6 +156,9 @@ def run_check(args: argparse.Namespace) -> int:
           f"{summary['floating_mm']:.1f} mm ({summary['floating_frames']} frames unsupported)")
     print("  peak joint torques (N·m): " + ", ".join(
         f"{name} {value:.0f}" for name, value in summary["peak_joint_torque_Nm"].items()))
+    if summary["lumped_segments"]:
+        print("  (no markers for " + ", ".join(summary["lumped_segments"]) + ": carried "
+              "rigidly by the pelvis)")
     for reason in summary["reasons"]:
         print(f"  - {reason}")
     return 0

@@ -120,7 +120,7 @@ def simulate_secondary(motion: Motion, cape: bool = True, rope: bool = False,
 
     if not (cape or rope):
         raise MocapError("nothing to simulate: ask for the cape, the rope or both")
-    body = reduce_to_segments(motion)
+    body = reduce_to_segments(motion)          # the whole body: the cape needs shoulders
     world_r, world_p = body.forward_kinematics()
     names = body.skeleton.names
     index = {n: i for i, n in enumerate(names)}

@@ -87,7 +87,7 @@ def simulate_tracking(motion: Motion, body_mass: float = 75.0, sex: str = "male"
     """
     import pinocchio as pin
 
-    body = reduce_to_segments(motion)
+    body = reduce_to_segments(motion, partial=True)
     if humanoid is None:
         humanoid = build_humanoid(body.skeleton, body_mass, sex)
     model = humanoid.model

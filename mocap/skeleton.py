@@ -480,8 +480,74 @@ def motion_from_trial(trial, markerset, up: str = "z") -> Motion:
     motion = motion_from_frames(rotations, origins, list(markerset.segment_names),
                                 list(markerset.parent_index), trial.rate, up=up,
                                 metadata={"source": trial.path, "format": trial.format})
+    turn = _up_matrix(up)
+    for index, segment in enumerate(markerset.segments):
+        labels = [m for m in dict.fromkeys(list(segment.markers) + [segment.origin])
+                  if m and m in trial.labels]
+        if not labels or motion.skeleton.children(index):
+            continue
+        # Mean marker positions in the segment's frame (the frame turned to Y up).
+        world = np.stack([trial.marker(m) for m in labels], axis=1) @ turn.T   # (F, k, 3)
+        frame_r = np.einsum("ij,fjk,lk->fil", turn, rotations[:, index], turn)
+        local = np.einsum("fji,fkj->fki", frame_r, world - (origins[:, index] @ turn.T)[:, None])
+        local = np.nanmean(np.where(np.isfinite(local), local, np.nan), axis=0) \
+            if np.isfinite(local).any() else None
+        if local is not None and np.isfinite(local).all():
+            _end_site_from_markers(motion.skeleton, index, local)
     _default_end_sites(motion.skeleton)
+    _calibrate_soles(motion)
     return motion
+
+
+def _calibrate_soles(motion: Motion, still_speed: float = 0.15) -> None:
+    """Put each foot's sole on the floor while the foot stands still (in place).
+
+    Markers do not show where the sole is (they sit on the skin, at heights that vary by
+    subject and protocol). In the frames where an ankle moves slower than ``still_speed``
+    (m/s) in all three directions — the foot is planted — the sole (the end site's level,
+    at the toe tip and under the ankle) must touch the floor: the end site's height in the
+    foot frame is shifted by the median height found there. A trial with fewer than 5 %
+    such frames keeps its estimate (``metadata["sole_calibration_m"]`` lists the shifts).
+    """
+    sk = motion.skeleton
+    world_r, world_p = motion.forward_kinematics()
+    shifts = {}
+    for index, name in enumerate(sk.names):
+        end = sk.end_sites[index]
+        if not (canonical_segment(name) or name).endswith("foot") or not np.isfinite(end).all():
+            continue
+        speed = np.linalg.norm(np.gradient(world_p[:, index], 1.0 / motion.rate, axis=0), axis=1)
+        still = speed < still_speed
+        if still.mean() < 0.05:
+            continue
+        sole = np.stack([end, np.array([0.0, end[1], 0.0])])           # toe tip, below ankle
+        height = (world_p[still, index, None] + np.einsum(
+            "fij,kj->fki", world_r[still, index], sole))[..., 1].mean(axis=1)
+        shift = float(np.median(height))
+        # Moving the sole by d along the foot's y lowers it by about d (a planted foot is
+        # roughly level), so subtract the height found.
+        sk.end_sites[index, 1] -= shift
+        shifts[name] = shift
+    motion.metadata["sole_calibration_m"] = shifts
+
+
+def _end_site_from_markers(skeleton: Skeleton, index: int, local: np.ndarray) -> None:
+    """A foot's toe tip from its markers (in place), when they reach below the ankle.
+
+    ``local`` (markers, 3) are the segment's markers in its own Y-up frame. Foot markers
+    on the skin (heel, toe as in Plug-in Gait) sit about 12 mm above the sole (marker
+    radius and skin); the toe tip is a quarter of the heel-to-toe-marker length beyond the
+    toe marker. Marker sets whose foot markers are not below the ankle (synthetic ones)
+    keep the proportional default of :func:`_default_end_sites`.
+    """
+    name = canonical_segment(skeleton.names[index]) or skeleton.names[index]
+    if not name.endswith("foot") or local[:, 1].min() > -0.02:
+        return
+    toe = local[np.argmax(local[:, 2])]
+    heel = local[np.argmin(local[:, 2])]
+    sole = local[:, 1].min() - 0.012
+    tip = toe[2] + 0.25 * (toe[2] - heel[2])
+    skeleton.end_sites[index] = np.array([toe[0], sole, tip])
 
 
 def _default_end_sites(skeleton: Skeleton) -> None:
@@ -682,7 +748,23 @@ def _common_ancestor(parents: list[int], a: int, b: int) -> int:
     return b
 
 
-def reduce_to_segments(motion: Motion) -> Motion:
+#: The segments every body needs: pelvis and both legs (the rest may be lumped).
+LOWER_BODY = ["pelvis", "l_thigh", "l_shank", "l_foot", "r_thigh", "r_shank", "r_foot"]
+
+
+def body_parents(names: list[str]) -> list[int]:
+    """Parent indices of a subset of BODY_SEGMENTS (in body order): the nearest present
+    ancestor of each segment in the full body, -1 for the root."""
+    result = []
+    for name in names:
+        parent = BODY_PARENTS[BODY_SEGMENTS.index(name)]
+        while parent >= 0 and BODY_SEGMENTS[parent] not in names:
+            parent = BODY_PARENTS[parent]
+        result.append(names.index(BODY_SEGMENTS[parent]) if parent >= 0 else -1)
+    return result
+
+
+def reduce_to_segments(motion: Motion, partial: bool = False) -> Motion:
     """The motion of a foreign skeleton (BVH, ASF) on our 15-segment body.
 
     Each body segment follows the joint :func:`map_segments` chose for it: its world
@@ -692,25 +774,38 @@ def reduce_to_segments(motion: Motion) -> Motion:
     head, hands and feet are the furthest end site of the skipped subtree (head top,
     finger tip, toe tip) in the segment's frame, averaged over frames.
 
+    Parameters
+    ----------
+    motion : Motion
+    partial : bool
+        Accept a body with pelvis and legs only (a lower-body marker set): the segments
+        found, in body order; the dynamics lumps the missing ones into the pelvis.
+
     Raises
     ------
     MocapError
-        When a body segment has no joint in the skeleton (names listed).
+        When a needed body segment has no joint in the skeleton (names listed).
     """
     sk = motion.skeleton
     if sk.names == BODY_SEGMENTS:
         return motion
+    if partial and set(LOWER_BODY) <= set(sk.names) <= set(BODY_SEGMENTS) \
+            and sk.names == [n for n in BODY_SEGMENTS if n in sk.names] \
+            and sk.parents == body_parents(sk.names):
+        return motion
     found = map_segments(sk.names, sk.parents)
-    missing = [s for s in BODY_SEGMENTS if s not in found]
+    needed = LOWER_BODY if partial else BODY_SEGMENTS
+    missing = [s for s in needed if s not in found]
     if missing:
         raise MocapError("cannot map the skeleton onto the body model: no joint for "
                          + ", ".join(missing) + f" (joints: {', '.join(sk.names)})",
                          motion.metadata.get("source"))
+    names = [s for s in BODY_SEGMENTS if s in found]
     world_r, world_p = motion.forward_kinematics()
-    chosen = [found[s] for s in BODY_SEGMENTS]
+    chosen = [found[s] for s in names]
     rotations = world_r[:, chosen]
     origins = world_p[:, chosen]
-    reduced = motion_from_frames(rotations, origins, list(BODY_SEGMENTS), list(BODY_PARENTS),
+    reduced = motion_from_frames(rotations, origins, names, body_parents(names),
                                  motion.rate, up="y", metadata=dict(motion.metadata))
     reduced.root_translation = world_p[:, chosen[0]] - reduced.skeleton.offsets[0]
     # End sites of the leaves: the furthest point of the original subtree.
@@ -718,6 +813,8 @@ def reduce_to_segments(motion: Motion) -> Motion:
     everything = np.concatenate([world_p, ends], axis=1)
     owners = list(range(sk.count)) + ends_index
     for leaf in ("head", "l_hand", "r_hand", "l_foot", "r_foot"):
+        if leaf not in found:
+            continue
         j = found[leaf]
         sub = set(sk.subtree(j))
         cols = [k for k, owner in enumerate(owners) if owner in sub and (k >= sk.count or k != j)]
@@ -726,8 +823,8 @@ def reduce_to_segments(motion: Motion) -> Motion:
         local = np.einsum("fji,fkj->fki", world_r[:, j], everything[:, cols] - world_p[:, j, None])
         mean = local.mean(axis=0)
         far = np.argmax(np.linalg.norm(mean, axis=1))
-        reduced.skeleton.end_sites[BODY_SEGMENTS.index(leaf)] = mean[far]
-    reduced.metadata["segment_map"] = {s: sk.names[found[s]] for s in BODY_SEGMENTS}
+        reduced.skeleton.end_sites[names.index(leaf)] = mean[far]
+    reduced.metadata["segment_map"] = {s: sk.names[found[s]] for s in names}
     return reduced
 
 

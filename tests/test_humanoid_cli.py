@@ -105,3 +105,20 @@ def test_bad_input_is_one_line_exit_2_and_no_output(argv, message, tmp_path, cap
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and message in err[0]
     assert not any(p.suffix in (".mp4", ".png") for p in tmp_path.iterdir())
+
+
+def test_check_real_captured_walk_with_a_lower_body_marker_set(capsys):
+    """Vicon Plug-in Gait walk (real data): pelvis and legs only, upper body lumped."""
+    from tests.conftest import realdata_path
+
+    trial = realdata_path("biomechzoo_sample_study", "HC030A", "Straight", "HC030A05.c3d")
+    assert main(["check", str(trial), "--markerset", "plugingait-lower", "--mass", "70",
+                 "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert "thorax" in summary["lumped_segments"]
+    assert set(summary["peak_joint_torque_Nm"]) == {"l_thigh", "l_shank", "l_foot",
+                                                    "r_thigh", "r_shank", "r_foot"}
+    # A real walk: small residuals, feet planted in stance, plausible knee and hip torques.
+    assert summary["residual_force_rms_pct_bw"] < 8.0
+    assert summary["skating_ratio"] < 0.1
+    assert 20.0 < summary["peak_joint_torque_Nm"]["l_thigh"] < 250.0
