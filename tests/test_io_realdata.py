@@ -195,7 +195,7 @@ EZC3D_READABLE = [
     "ezc3d_testFiles/Vicon.c3d", "ezc3d_testFiles/BTS.c3d", "ezc3d_testFiles/FP_Type1.c3d",
     "c3dorg_via_c3dio/sample_02/dec_real.c3d", "c3dorg_via_c3dio/sample_02/pc_int.c3d",
     "c3dorg_via_c3dio/sample_04/sub_labels.c3d", "c3dorg_via_c3dio/sample_26/Capture0002.c3d",
-    "c3dorg_via_c3dio/sample_24/MotionMonitorC3D.c3d",
+    "c3dorg_via_c3dio/sample_30/admarche2.c3d",
     "c3dorg_via_c3dio/sample_00/Codamotion/codamotion_gaitwands_19970212.c3d",
     "kineticstoolkit/kinematics/walkingOptiTrack.c3d", "pycgm/ROM/Sample_Static.c3d",
     "biomechzoo_sample_study/HC002D/Static/HC002D02.c3d",

@@ -377,6 +377,19 @@ def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
     layout = _choose_layout(path, size, processor, parameter_block, data_block,
                             point_count, analog_per_frame, analog_samples_per_frame,
                             first_frame, last_frame, scale, rate, parameters, warnings)
+    header_frames = last_frame - first_frame + 1
+    disagreements = []
+    if layout.point_count != point_count:
+        disagreements.append(f"{point_count} points")
+    if layout.analog_per_frame != analog_per_frame:
+        disagreements.append(f"{analog_per_frame} analog samples per frame")
+    if layout.frames != header_frames and not any("truncated" in w for w in warnings):
+        disagreements.append(f"{header_frames} frames")
+    if disagreements:
+        warnings.append(f"the header says {', '.join(disagreements)}; the parameters and "
+                        f"the file size say {layout.point_count} points, "
+                        f"{layout.analog_per_frame} analog samples per frame and "
+                        f"{layout.frames} frames, which were used")
     layout.warnings = warnings
     layout.anomalies = anomalies
     return layout
