@@ -164,3 +164,29 @@ def test_model_needs_the_body_segments():
 
     with pytest.raises(MocapError, match="15 body segments"):
         build_humanoid(Skeleton(["a", "b"], [-1, 0], np.eye(2, 3)))
+
+
+def test_vertical_ground_reaction_matches_force_plates():
+    """Real walk (Vicon Plug-in Gait, two force plates): the ground reaction the check
+    finds from the markers alone follows the plates' vertical force while the feet are on
+    them, with the body mass the plates give."""
+    from mocap.io import read
+    from mocap.markerset import load_markerset
+    from mocap.skeleton import motion_from_trial
+    from tests.conftest import realdata_path
+
+    trial = read(realdata_path("biomechzoo_sample_study", "HC002D", "Straight",
+                               "HC002D06.c3d"))
+    labels = trial.analog_labels
+    per_frame = int(round(trial.analog_rate / trial.rate))
+    plates = -trial.analogs[:, [labels.index("Fz1"), labels.index("Fz2")]]
+    measured = plates[: trial.frames * per_frame].reshape(trial.frames, per_frame, 2) \
+        .mean(axis=1).sum(axis=1)
+    on_plates = np.flatnonzero(measured > 20.0)[5:-5]         # feet on the plates
+    mass = measured[on_plates].mean() / 9.81
+    report = check_motion(motion_from_trial(trial, load_markerset("plugingait-lower")), mass)
+    estimated = report.contact_forces[:, :, 1].sum(axis=1)
+    correlation = np.corrcoef(estimated[on_plates], measured[on_plates])[0, 1]
+    error = np.sqrt(np.mean((estimated - measured)[on_plates] ** 2)) / measured[on_plates].mean()
+    assert correlation > 0.8
+    assert error < 0.15
