@@ -89,7 +89,8 @@ def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float |
             cloth_lines = _grid_lines(secondary.cape_shape)
         rope = secondary.rope
 
-    # Fixed view box around everything drawn.
+    # View box: a cube that follows the figure across the floor (so a walk across a lab
+    # stays large in the picture), tall enough for the highest point drawn.
     parts = [points[chosen].reshape(-1, 3)]
     if cape is not None:
         parts.append(cape[chosen].reshape(-1, 3))
@@ -97,29 +98,35 @@ def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float |
         parts.append(rope[chosen].reshape(-1, 3))
     every = np.concatenate(parts)
     every = every[np.isfinite(every).all(axis=1)]
-    low, high = every.min(axis=0), every.max(axis=0)
-    centre = (low + high) / 2
-    half = max(float((high - low).max()) / 2, 0.5) * 1.1
+    top = max(float(every[:, 1].max()) * 1.05, 1.0)
+    per_frame = points[chosen]
+    reach = np.nanmax(np.ptp(per_frame[..., [0, 2]], axis=1)) if per_frame.size else 1.0
+    half = max(top / 2, float(reach) / 2 * 1.2, 0.5)
+    root_path = points[:, 0, :]
+    spacing = 0.25
 
     figure = plt.figure(figsize=size, dpi=dpi)
     axes = figure.add_subplot(projection="3d")
-    axes.set_xlim(centre[0] - half, centre[0] + half)
-    axes.set_ylim(centre[2] - half, centre[2] + half)
-    axes.set_zlim(0.0, max(2 * half, high[1] * 1.05))
     axes.set_xlabel("x (m)")
     axes.set_ylabel("z (m)")
     axes.set_zlabel("y up (m)")
+    axes.set_zlim(0.0, 2 * half)
     try:
-        axes.set_box_aspect((1, 1, max(2 * half, high[1] * 1.05) / (2 * half)))
+        axes.set_box_aspect((1, 1, 1))
     except AttributeError:          # matplotlib < 3.3
         pass
-    # Floor grid.
-    ticks = np.linspace(-half, half, 9)
-    floor = [[(centre[0] + t, centre[2] - half, 0), (centre[0] + t, centre[2] + half, 0)]
-             for t in ticks]
-    floor += [[(centre[0] - half, centre[2] + t, 0), (centre[0] + half, centre[2] + t, 0)]
-              for t in ticks]
-    axes.add_collection3d(Line3DCollection(floor, colors="0.85", linewidths=0.5), autolim=False)
+    axes.view_init(elev=15, azim=-60)
+    floor_artist = Line3DCollection([], colors="0.55", linewidths=0.5)
+    axes.add_collection3d(floor_artist, autolim=False)
+
+    def floor_lines(cx: float, cz: float) -> list:
+        """World-fixed grid lines (every 25 cm) inside the current view square."""
+        xs = np.arange(np.ceil((cx - half) / spacing), np.floor((cx + half) / spacing) + 1)
+        zs = np.arange(np.ceil((cz - half) / spacing), np.floor((cz + half) / spacing) + 1)
+        lines = [[(x * spacing, cz - half, 0), (x * spacing, cz + half, 0)] for x in xs]
+        lines += [[(cx - half, z * spacing, 0), (cx + half, z * spacing, 0)] for z in zs]
+        return lines
+
     skeleton_lines = Line3DCollection([], colors="tab:blue", linewidths=2.0)
     axes.add_collection3d(skeleton_lines, autolim=False)
     cloth_artist = Line3DCollection([], colors="tab:red", linewidths=0.6)
@@ -129,6 +136,10 @@ def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float |
     label = axes.set_title(title)
 
     def draw(frame: int):
+        cx, cz = root_path[frame, 0], root_path[frame, 2]
+        axes.set_xlim(cx - half, cx + half)
+        axes.set_ylim(cz - half, cz + half)
+        floor_artist.set_segments(floor_lines(cx, cz))
         p = _plot_axes(points[frame])
         skeleton_lines.set_segments(p[bones])
         joint_artist.set_data_3d(p[: sk.count, 0], p[: sk.count, 1], p[: sk.count, 2])
@@ -138,7 +149,7 @@ def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float |
             r = _plot_axes(rope[frame])
             rope_artist.set_data_3d(r[:, 0], r[:, 1], r[:, 2])
         label.set_text(f"{title}  t = {frame / motion.rate:.2f} s".strip())
-        return skeleton_lines, joint_artist, cloth_artist, rope_artist
+        return skeleton_lines, joint_artist, cloth_artist, rope_artist, floor_artist
 
     movie = animation.FuncAnimation(figure, draw, frames=chosen, blit=False)
     writer = animation.PillowWriter(fps=fps) if suffix == ".gif" else \

@@ -10,7 +10,8 @@ torques and forces advances the state (it reproduces the accelerations: the serv
 physics moves). A foot that lands earlier, later or elsewhere than the motion says thus
 changes the body's motion instead of getting torques meant for another contact state. The root is
 not actuated — the body stays up only through its feet on the floor — except for an
-optional "root assist" (a helping hand, the root's own servo scaled by ``root_assist``,
+optional "root assist" (a helping hand, the root's own servo scaled by ``root_assist``, with
+no vertical force — it keeps the body upright and on its path but never holds it up — and
 whose force is reported so a user sees how much outside help the motion needs). The floor is a
 penalty contact at the foot points (spring-damper along y; tangential spring-damper to the
 touch-down point for static friction, capped by the Coulomb cone so the foot slides when
@@ -72,8 +73,9 @@ def simulate_tracking(motion: Motion, body_mass: float = 75.0, sex: str = "male"
         Natural frequency of the joint servos.
     damping_ratio : float
     root_assist : float
-        Fraction of the root's own servo applied as an outside helping wrench (0: none, the
-        body may fall when the motion does not balance; 1: the root follows the motion).
+        Fraction of the root's own servo applied as an outside helping wrench, horizontal
+        force and torque only (0: none, the body may topple when the motion does not
+        balance; 1: the root follows the motion's path and orientation).
     ground_stiffness : float, N/m per contact point (6 points per foot)
     ground_damping : float, N·s/m per contact point (the defaults damp the body's bounce on
         its feet at about 0.7 of critical)
@@ -155,7 +157,12 @@ def simulate_tracking(motion: Motion, body_mass: float = 75.0, sex: str = "male"
             mass_matrix = pin.crba(model, data, q)
             root_block = np.triu(mass_matrix[:6, :6]) + np.triu(mass_matrix[:6, :6], 1).T
             bias = pin.rnea(model, data, q, v, np.zeros(model.nv), fext)      # h − Jᵀf
-            wrench = root_assist * (root_block @ desired[:6])                 # helping hand
+            # The helping hand keeps the body upright and on its path, but never holds it
+            # up: no vertical force (support must come from the floor).
+            wrench = root_assist * (root_block @ desired[:6])
+            rotation = data.oMi[1].rotation
+            upward = rotation.T @ np.array([0.0, 1.0, 0.0])             # world up, root frame
+            wrench[:3] -= (wrench[:3] @ upward) * upward
             desired[:6] = np.linalg.solve(
                 root_block, wrench - bias[:6] - mass_matrix[:6, 6:] @ desired[6:])
             tau = pin.rnea(model, data, q, v, desired, fext)
