@@ -165,10 +165,23 @@ def build_humanoid(skeleton: Skeleton, body_mass: float = 75.0, sex: str = "male
 # Kinematics on the manifold
 # ----------------------------------------------------------------------------------------
 def _quat_conj_product_vector(q: np.ndarray, d: np.ndarray) -> np.ndarray:
-    """Vector part of conj(q) ⊗ d for quaternions (…, 4) stored x, y, z, w."""
-    v, w = q[..., :3], q[..., 3:]
-    dv, dw = d[..., :3], d[..., 3:]
-    return w * dv - dw * v - np.cross(v, dv)
+    """Vector part of conj(q) ⊗ d for quaternions (…, 4) stored x, y, z, w:
+    ``w·d_v − d_w·q_v − q_v × d_v`` (written out: np.cross is slow on small last axes)."""
+    x, y, z, w = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    a, b, c, e = d[..., 0], d[..., 1], d[..., 2], d[..., 3]
+    return np.stack([w * a - e * x - (y * c - z * b),
+                     w * b - e * y - (z * a - x * c),
+                     w * c - e * z - (x * b - y * a)], axis=-1)
+
+
+def _quaternion_matrices(q: np.ndarray) -> np.ndarray:
+    """Rotation matrices (…, 3, 3) of unit quaternions (…, 4) stored x, y, z, w."""
+    x, y, z, w = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.stack([
+        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
+        np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
+        np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1),
+    ], axis=-2)
 
 
 def _continuous_quaternions(rotations: np.ndarray) -> np.ndarray:
@@ -240,14 +253,14 @@ def motion_kinematics(motion: Motion, smoothing: float = 0.1) -> Kinematics:
     alpha = 2.0 * _quat_conj_product_vector(q0, q2) / norm2
     q0 = q0 / np.sqrt(norm2)
     p0, p1, p2 = (smooth(root, d) for d in (0, 1, 2))
-    root_r = Rotation.from_quat(q0[:, 0]).as_matrix()                   # (F, 3, 3)
+    rotations = _quaternion_matrices(q0)                                # (F, J, 3, 3)
+    root_r = rotations[:, 0]
     v_lin = np.einsum("fji,fj->fi", root_r, p1)                         # Rᵀ ṗ
     a_lin = np.einsum("fji,fj->fi", root_r, p2) - np.cross(omega[:, 0], v_lin)
     frames = motion.frames
     q = np.concatenate([p0, q0.reshape(frames, -1)], axis=1)
     v = np.concatenate([v_lin, omega.reshape(frames, -1)], axis=1)
     a = np.concatenate([a_lin, alpha.reshape(frames, -1)], axis=1)
-    rotations = Rotation.from_quat(q0.reshape(-1, 4)).as_matrix().reshape(motion.rotations.shape)
     return Kinematics(q, v, a, rotations, p0)
 
 
@@ -282,17 +295,16 @@ def rnea_batch(humanoid: Humanoid, q: np.ndarray, v: np.ndarray, a: np.ndarray,
     return np.asarray(tau).T.reshape(frames, humanoid.nv)
 
 
-_POOLS: dict[tuple[int, int], object] = {}
+_POOL: list = []        # [(model, size, ModelPool)]: the last pool, with its model kept alive
 
 
 def _pool(humanoid: Humanoid, size: int):
+    """A Pinocchio ModelPool for this model (reused while the same model is asked for)."""
     import pinocchio as pin
 
-    key = (id(humanoid.model), size)
-    if key not in _POOLS:
-        _POOLS.clear()
-        _POOLS[key] = pin.ModelPool(humanoid.model, size)
-    return _POOLS[key]
+    if not _POOL or _POOL[0][0] is not humanoid.model or _POOL[0][1] != size:
+        _POOL[:] = [(humanoid.model, size, pin.ModelPool(humanoid.model, size))]
+    return _POOL[0][2]
 
 
 # ----------------------------------------------------------------------------------------

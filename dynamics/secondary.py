@@ -120,7 +120,12 @@ def simulate_secondary(motion: Motion, cape: bool = True, rope: bool = False,
 
     if not (cape or rope):
         raise MocapError("nothing to simulate: ask for the cape, the rope or both")
-    body = reduce_to_segments(motion)          # the whole body: the cape needs shoulders
+    try:
+        body = reduce_to_segments(motion)      # the whole body: the cape needs shoulders
+    except MocapError as error:
+        raise MocapError("the cape and rope need a whole body (trunk, head and arms to "
+                         f"hang from and fall against): {error.problem}",
+                         error.path) from None
     world_r, world_p = body.forward_kinematics()
     names = body.skeleton.names
     index = {n: i for i, n in enumerate(names)}
