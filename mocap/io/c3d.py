@@ -8,25 +8,29 @@ Reading goes in two steps:
 2. :func:`mocap.io.c3d_header.decode_c3d_data` decodes the data section of the
    checked layout with numpy (Intel, DEC and SGI/MIPS; integer and float).
 
-Why not ezc3d for reading (the design's first plan): measured on this
-project's real files and on seeded damage of them,
+Why our own decoder rather than ezc3d or the ``c3d`` package (the design's first
+plan was ezc3d, with the ``c3d`` package as fallback), measured on this project's
+real files and on seeded damage of them:
 
 - ezc3d misreads valid files silently: the three BTS files of c3d.org sample 28
   (no ANALOG:RATE, so it skips the 6 analog words per frame and scrambles the
-  points: median frame-to-frame jump 57 cm instead of 1.6 mm) and the KINARM
-  sample (it opens it only with ``ignore_bad_formatting``, then with blank
-  labels and constant values);
-- it refuses SGI/MIPS files and stalls 30-55 s on the KINARM sample before
+  points: median change per axis between frames 575 mm instead of 1.6 mm) and
+  the KINARM sample (it opens it only with ``ignore_bad_formatting``, then with
+  blank labels and constant values);
+- ezc3d refuses SGI/MIPS files and stalls 30-55 s on the KINARM sample before
   raising; one flipped bit in a description length stalled it 20-35 s, and
   one flipped bit in a group id crashed the process (segmentation fault),
   both in files our structure check had accepted;
-- it is 5-10× slower (80 ms against 10 ms for a 556-frame, 290-point Vicon file).
+- ezc3d is 4-14× slower in process (benchmarks/io.py) and a child-process guard
+  against its crashes would cost 20-60× (Python and ezc3d start-up per file);
+- the ``c3d`` package refuses 13 of the 100 valid real C3D files with assertion
+  errors (scale-factor and analog-count consistency checks, parameter types).
 
 Our decoder gives the same points and validity as ezc3d on the files ezc3d
-reads correctly, and the same as the pure-Python ``c3d`` package on the files
-ezc3d cannot read (tests/test_io_realdata.py checks both). ezc3d writes C3D
-files here, and ``read_c3d(path, engine="ezc3d")`` still reads with it, for
-files :func:`ezc3d_refusal` finds safe for it.
+reads correctly, and the same as the ``c3d`` package on the files ezc3d cannot
+read (tests/test_io_realdata.py checks both). ezc3d writes C3D files here, and
+``read_c3d(path, engine="ezc3d")`` still reads with it, for files
+:func:`ezc3d_refusal` finds safe for it.
 
 Every reading ends in the same :class:`~mocap.trial.Trial`: points in metres,
 NaN where the residual is negative, the coordinates are not finite, or the
@@ -129,32 +133,39 @@ def unique_labels(labels: list[str], prefix: str = "M") -> tuple[list[str], list
     """Make labels non-empty and unique, saying what was changed.
 
     Blank labels become ``M001``… (1-based column); the second and later
-    copies of a repeated label get ``_2``, ``_3``… appended.
+    copies of a repeated label get ``_2``, ``_3``… appended (``RKNE``,
+    ``RKNE_2``), so every marker stays addressable by name.
 
     Returns
     -------
-    (labels, notes) : the new labels and one note per change kind.
+    (labels, notes) : the new labels and at most one note per kind of change.
     """
-    notes = []
     result = []
     seen: dict[str, int] = {}
+    renamed = []
     blank = 0
+    taken = set(labels)
     for i, label in enumerate(labels):
         if not label:
             label = f"{prefix}{i + 1:03d}"
             blank += 1
         if label in seen:
-            seen[label] += 1
-            candidate = f"{label}_{seen[label]}"
-            while candidate in seen:
-                seen[label] += 1
-                candidate = f"{label}_{seen[label]}"
-            notes.append(f"repeated label {label!r} renamed {candidate!r}")
+            count = seen[label] + 1
+            while f"{label}_{count}" in taken or f"{label}_{count}" in seen:
+                count += 1
+            seen[label] = count
+            candidate = f"{label}_{count}"
+            renamed.append(candidate)
             label = candidate
         seen.setdefault(label, 1)
         result.append(label)
+    notes = []
     if blank:
-        notes.insert(0, f"{blank} blank label(s) named after their column")
+        notes.append(f"{blank} blank label(s) named after their column ({prefix}001…)")
+    if renamed:
+        shown = ", ".join(renamed[:6]) + (", …" if len(renamed) > 6 else "")
+        notes.append(f"{len(renamed)} repeated label(s) renamed with a numbered suffix: "
+                     f"{shown}")
     return result, notes
 
 

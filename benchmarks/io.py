@@ -1,0 +1,127 @@
+"""Marker-file reading speed: our checked C3D reader against ezc3d and the ``c3d`` package.
+
+Prints, for a few real files (../shared/realdata) and a large synthetic one,
+the time per read of
+
+- ``mocap.io.read`` (structure check + our vectorised decoder, the default),
+- the structure check alone (``inspect_c3d``),
+- ezc3d in the same process (no check),
+- ezc3d in a child process, which is what a guard against ezc3d crashes would cost,
+- the pure-Python ``c3d`` package (first 300 frames, scaled to the file),
+
+and the same for TRC and CSV. Ratios are against ``mocap.io.read`` in the same run.
+Never asserts; run ``python benchmarks/io.py``.
+"""
+from __future__ import annotations
+
+import subprocess
+import sys
+import tempfile
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from mocap.io import read, write                      # noqa: E402
+from mocap.io.c3d_header import inspect_c3d           # noqa: E402
+from mocap.trial import Trial                         # noqa: E402
+
+REALDATA = ROOT.parent / "shared" / "realdata"
+FILES = [
+    "biomechzoo_sample_study/HC030A/Turn/HC030A22.c3d",      # Vicon PiG, 556 × 290 points
+    "c3dorg_via_c3dio/sample_34/AlbertoINT.c3d",             # Xsens, 4921 frames, integers
+    "ezc3d_testFiles/Vicon.c3d",                             # 580 frames + 38 analog channels
+    "c3dorg_via_c3dio/sample_22/BKINtechnologies.c3d",       # KINARM, 5065 frames
+]
+
+
+def best_of(function, repeats: int = 5) -> float:
+    """Shortest wall time of ``repeats`` calls, seconds."""
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        function()
+        times.append(time.perf_counter() - start)
+    return min(times)
+
+
+def ezc3d_in_process(path: Path) -> None:
+    import ezc3d
+
+    ezc3d.c3d(str(path), extract_forceplat_data=False)
+
+
+def ezc3d_in_child(path: Path) -> None:
+    code = ("import sys, ezc3d, numpy; c = ezc3d.c3d(sys.argv[1]); "
+            "sys.stdout.buffer.write(numpy.ascontiguousarray(c['data']['points']).tobytes()[:16])")
+    subprocess.run([sys.executable, "-c", code, str(path)], check=True, capture_output=True,
+                   timeout=600)
+
+
+def c3d_package(path: Path, frames: int = 300) -> float:
+    """Seconds for the whole file, extrapolated from the first ``frames`` frames."""
+    import c3d
+
+    with open(path, "rb") as handle, warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        reader = c3d.Reader(handle)
+        total = reader.frame_count
+        start = time.perf_counter()
+        count = 0
+        for _ in reader.read_frames():
+            count += 1
+            if count == frames:
+                break
+        return (time.perf_counter() - start) * total / max(count, 1)
+
+
+def report(name: str, path: Path, slow_ezc3d: bool = False) -> None:
+    ours = best_of(lambda: read(path))
+    check = best_of(lambda: inspect_c3d(path))
+    print(f"{name:58s} mocap.io.read {1e3 * ours:8.1f} ms   check alone {1e3 * check:6.1f} ms")
+    if slow_ezc3d:
+        print(f"{'':58s} ezc3d: skipped (stalls ~30 s before raising on this file)")
+    else:
+        inside = best_of(lambda: ezc3d_in_process(path), 3)
+        child = best_of(lambda: ezc3d_in_child(path), 2)
+        print(f"{'':58s} ezc3d in process {1e3 * inside:8.1f} ms ({inside / ours:5.1f}×)   "
+              f"in a child {1e3 * child:8.1f} ms ({child / ours:5.1f}×)")
+    try:
+        package = c3d_package(path)
+    except Exception as error:      # the package refuses some valid files
+        print(f"{'':58s} c3d package refuses the file: {type(error).__name__}")
+        return
+    print(f"{'':58s} c3d package {1e3 * package:10.1f} ms ({package / ours:7.1f}×)")
+
+
+def main() -> None:
+    print(f"python {sys.version.split()[0]}, numpy {np.__version__}")
+    with tempfile.TemporaryDirectory() as folder:
+        rng = np.random.default_rng(0)
+        frames, markers = 20000, 60
+        points = rng.normal(0.0, 1.0, (frames, markers, 3))
+        points[rng.random((frames, markers)) < 0.02] = np.nan
+        trial = Trial([f"M{i:02d}" for i in range(markers)], points, 200.0)
+        big = Path(folder) / "big.c3d"
+        write(trial, big)
+        report(f"synthetic {frames} frames × {markers} markers (float)", big)
+        for relative in FILES:
+            path = REALDATA / relative
+            if path.exists():
+                report(relative, path, slow_ezc3d="BKIN" in relative)
+        for suffix in (".trc", ".csv"):
+            target = Path(folder) / f"big{suffix}"
+            start = time.perf_counter()
+            write(trial, target)
+            written = time.perf_counter() - start
+            seconds = best_of(lambda: read(target), 2)
+            print(f"synthetic {frames} × {markers} {suffix}: write {written:6.2f} s, read "
+                  f"{seconds:6.2f} s ({frames * markers / seconds / 1e6:5.2f} M marker-frames/s)")
+
+
+if __name__ == "__main__":
+    main()
