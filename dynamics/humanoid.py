@@ -37,6 +37,10 @@ from dynamics.anthropometry import (SegmentInertia, foot_points, lumped_segments
                                     segment_inertias)
 
 GRAVITY = 9.81
+#: The joint at the proximal end of each body segment (joint torques are named by segment).
+JOINT_OF_SEGMENT = {"thorax": "lumbar", "head": "neck", "upperarm": "shoulder",
+                    "forearm": "elbow", "hand": "wrist", "thigh": "hip", "shank": "knee",
+                    "foot": "ankle"}
 #: Floor tolerance (m) for penetration and floating, as in the motion-synthesis literature.
 FLOOR_TOLERANCE = 0.005
 
@@ -504,7 +508,7 @@ class CheckReport:
     contact_active: np.ndarray           # (F, P) bool
     contact_names: list[str]
     joint_torques: np.ndarray            # (F, J-1, 3) in each joint's frame
-    joint_names: list[str]
+    joint_names: list[str]               # the segment each joint moves (l_thigh = left hip)
     lowest_point_mm: np.ndarray          # (F,) height of the lowest body point
     foot_skate_mm: float
     skating_ratio: float

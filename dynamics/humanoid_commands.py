@@ -43,7 +43,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "inertias scaled to the skeleton and --mass): residual force and torque "
                     "at the root that ground reactions inside friction cones cannot supply, "
                     "foot skating, floor penetration, floating, peak joint torques, and a "
-                    "verdict with reasons (DESIGN 3.5). The floor is y = 0, Y up.",
+                    "verdict with reasons (DESIGN 3.5). The floor is y = 0, Y up (z = 0 of a "
+                    "Z-up marker lab). A lower-body marker set is enough: the trunk, head "
+                    "and arms are then carried rigidly by the pelvis. In --json, joint "
+                    "torques are named by the segment the joint moves (l_thigh: left hip, "
+                    "l_shank: left knee, l_foot: left ankle).",
         epilog="Examples: mocap check walk.bvh --mass 70 --json;  "
                "mocap check 01_01.amc --plot check.png;  "
                "mocap check walk.c3d --markerset synthetic15")
@@ -154,8 +158,15 @@ def run_check(args: argparse.Namespace) -> int:
           f"(skating ratio {summary['skating_ratio']:.2f})")
     print(f"  penetration      {summary['penetration_mm']:.1f} mm   floating "
           f"{summary['floating_mm']:.1f} mm ({summary['floating_frames']} frames unsupported)")
+    from dynamics.anthropometry import segment_kind
+    from dynamics.humanoid import JOINT_OF_SEGMENT
+
+    def joint(segment: str) -> str:
+        side = segment[:2] if segment[:2] in ("l_", "r_") else ""
+        return side + JOINT_OF_SEGMENT.get(segment_kind(segment), segment)
+
     print("  peak joint torques (N·m): " + ", ".join(
-        f"{name} {value:.0f}" for name, value in summary["peak_joint_torque_Nm"].items()))
+        f"{joint(name)} {value:.0f}" for name, value in summary["peak_joint_torque_Nm"].items()))
     if summary["lumped_segments"]:
         print("  (no markers for " + ", ".join(summary["lumped_segments"]) + ": carried "
               "rigidly by the pelvis)")
