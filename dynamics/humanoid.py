@@ -519,6 +519,7 @@ class CheckReport:
     reasons: list[str]
     thresholds: Thresholds = field(default_factory=Thresholds)
     lumped_segments: list[str] = field(default_factory=list)
+    floor_m: float = 0.0
 
     @property
     def weight(self) -> float:
@@ -548,6 +549,7 @@ class CheckReport:
             "verdict": self.verdict,
             "reasons": list(self.reasons),
             "lumped_segments": list(self.lumped_segments),
+            "floor_m": _r(self.floor_m),
         }
 
 
@@ -563,7 +565,7 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
                  mu: float = 0.8, contact_height: float = 0.03,
                  contact_speed: float = 1.0, smoothing: float = 0.1,
                  thresholds: Thresholds | None = None, threads: int = 1,
-                 humanoid: Humanoid | None = None) -> CheckReport:
+                 humanoid: Humanoid | None = None, floor: float | str = 0.0) -> CheckReport:
     """Check a motion for physical plausibility (DESIGN 3.5).
 
     Parameters
@@ -586,6 +588,10 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
         Threads of ``pin.rneaInParallel``.
     humanoid : Humanoid, optional
         A model built before (its skeleton must be the motion's reduced skeleton).
+    floor : float or "auto"
+        Height of the floor in the motion (m, Y up); "auto" takes the median height of the
+        lowest foot point over the frames where a foot stands still (for files whose floor
+        is not at y = 0). The check then works with the floor at 0.
 
     Returns
     -------
@@ -595,6 +601,10 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
     body = reduce_to_segments(motion, partial=True)
     if humanoid is None:
         humanoid = build_humanoid(body.skeleton, body_mass, sex)
+    floor_height = estimate_floor(body, humanoid) if floor == "auto" else float(floor)
+    if floor_height:
+        body = Motion(body.skeleton, body.root_translation - [0.0, floor_height, 0.0],
+                      body.rotations, body.rate, dict(body.metadata))
     frames, rate = body.frames, body.rate
     kin = motion_kinematics(body, smoothing)
     tau = rnea_batch(humanoid, kin.q, kin.v, kin.a, threads)
@@ -652,7 +662,24 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
         penetration_mm=penetration_mm, floating_mm=floating_mm,
         floating_frames=int(unsupported.sum()),
         verdict="implausible" if reasons else "plausible", reasons=reasons,
-        thresholds=thresholds, lumped_segments=[name for name, _, _ in humanoid.lumped])
+        thresholds=thresholds, lumped_segments=[name for name, _, _ in humanoid.lumped],
+        floor_m=floor_height)
+
+
+def estimate_floor(body: Motion, humanoid: Humanoid, still_speed: float = 0.15) -> float:
+    """Floor height (m) of a motion: the median height of each foot's lowest contact point
+    over the frames where that foot stands still (all its points slower than
+    ``still_speed`` m/s); 0 when a foot never stands still."""
+    world_r, world_p = body.forward_kinematics()
+    contacts = _contact_positions(humanoid, world_r, world_p)
+    speed = np.linalg.norm(np.gradient(contacts, 1.0 / body.rate, axis=0), axis=2)
+    heights = []
+    for foot in sorted(set(humanoid.contact_segments)):
+        points = [k for k, s in enumerate(humanoid.contact_segments) if s == foot]
+        still = (speed[:, points] < still_speed).all(axis=1)
+        heights.append(contacts[still][:, points, 1].min(axis=1))
+    found = np.concatenate(heights) if heights else np.zeros(0)
+    return float(np.median(found)) if found.size else 0.0
 
 
 def _contact_positions(humanoid: Humanoid, world_r: np.ndarray, world_p: np.ndarray

@@ -64,6 +64,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                             "marker set scores about 2.5-7)")
     check.add_argument("--max-penetration", type=float, default=20.0, metavar="MM",
                        help="deepest floor penetration allowed, mm (default 20)")
+    check.add_argument("--floor", default="0", metavar="Y|auto",
+                       help="height of the floor in the motion file, metres along the up "
+                            "axis (default 0), or 'auto': where the feet stand still")
     check.add_argument("--json", action="store_true",
                        help="print one JSON object (keys of DESIGN 3.5) instead of text")
     check.add_argument("--plot", metavar="OUT.png",
@@ -136,10 +139,18 @@ def run_check(args: argparse.Namespace) -> int:
     if args.plot and Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg"):
         raise MocapError("the plot must be a .png, .pdf or .svg file", args.plot)
     motion = _load(args)
+    if args.floor == "auto":
+        floor: float | str = "auto"
+    else:
+        try:
+            floor = float(args.floor)
+        except ValueError:
+            raise MocapError(f"--floor must be a height in metres or 'auto', got "
+                             f"{args.floor!r}") from None
     limits = Thresholds(residual_rms_pct_bw=args.max_residual,
                         penetration_mm=args.max_penetration)
     report = check_motion(motion, body_mass=args.mass, sex=args.sex, mu=args.mu,
-                          thresholds=limits)
+                          thresholds=limits, floor=floor)
     summary = {"path": str(args.motion), **report.summary()}
     if args.plot:
         from dynamics.animate import plot_check
@@ -167,6 +178,8 @@ def run_check(args: argparse.Namespace) -> int:
 
     print("  peak joint torques (N·m): " + ", ".join(
         f"{joint(name)} {value:.0f}" for name, value in summary["peak_joint_torque_Nm"].items()))
+    if summary["floor_m"]:
+        print(f"  (floor taken at {summary['floor_m'] * 1000:.0f} mm)")
     if summary["lumped_segments"]:
         print("  (no markers for " + ", ".join(summary["lumped_segments"]) + ": carried "
               "rigidly by the pelvis)")

@@ -190,3 +190,13 @@ def test_vertical_ground_reaction_matches_force_plates():
     error = np.sqrt(np.mean((estimated - measured)[on_plates] ** 2)) / measured[on_plates].mean()
     assert correlation > 0.8
     assert error < 0.15
+
+
+def test_floor_can_be_found_where_the_feet_stand_still(skeleton):
+    raised = Motion.still(skeleton, 40, 100.0, root_translation=[0.0, 0.3, 0.0])
+    report = check_motion(raised, body_mass=MASS, floor="auto")
+    assert report.floor_m == pytest.approx(0.3, abs=1e-9)
+    assert report.summary()["residual_force_rms_pct_bw"] < 1.0
+    assert report.verdict == "plausible"
+    stated = check_motion(raised, body_mass=MASS, floor=0.3)
+    assert stated.summary()["floating_mm"] == 0.0
