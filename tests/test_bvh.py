@@ -92,7 +92,7 @@ def test_bvh_write_read_is_exact_to_file_precision(tmp_path):
 
 def test_bvh_units_are_detected_or_stated(tmp_path):
     motion = _random_motion(5)
-    for unit in ("m", "cm", "mm"):
+    for unit in ("m", "cm", "mm", "in", "cmu"):
         path = tmp_path / f"{unit}.bvh"
         write_bvh(motion, path, units=unit, precision=7)
         again = read_bvh(path)
