@@ -49,7 +49,7 @@ class SecondaryMotion:
     steps: int
 
 
-def _body_colliders(names: list[str], positions: np.ndarray, parents: list[int], scale: float):
+def _body_colliders(names: list[str], positions: np.ndarray, scale: float):
     """Capsules (trunk, arms, legs) and a head sphere at one frame's joint positions."""
     from dynamics.collisions import Capsule, Sphere
 
@@ -149,7 +149,7 @@ def simulate_secondary(motion: Motion, cape: bool = True, rope: bool = False,
     system.add_force(Gravity([0.0, -9.81, 0.0]))
     system.add_force(Drag(0.02))
     system.add_collider(Plane(point=(0, 0, 0), normal=(0, 1, 0), friction=0.5, margin=0.005))
-    colliders = _body_colliders(names, world_p[0], body.skeleton.parents, scale)
+    colliders = _body_colliders(names, world_p[0], scale)
     for collider in colliders.values():
         system.add_collider(collider)
     ends = _segment_ends(names)

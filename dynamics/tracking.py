@@ -95,7 +95,6 @@ def simulate_tracking(motion: Motion, body_mass: float = 75.0, sex: str = "male"
     model = humanoid.model
     data = model.createData()
     kin = motion_kinematics(body)
-    frames = body.frames
 
     omega = 2.0 * np.pi * frequency
     kp, kd = omega ** 2, 2.0 * damping_ratio * omega        # acceleration-level servo gains

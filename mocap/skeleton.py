@@ -416,7 +416,7 @@ def motion_from_frames(rotations: np.ndarray, origins: np.ndarray, names: list[s
     turn = _up_matrix(up)
     rotations = np.asarray(rotations, float)
     origins = np.asarray(origins, float)
-    frames, count = origins.shape[:2]
+    count = origins.shape[1]
     world_r = np.einsum("ij,fsjk,lk->fsil", turn, rotations, turn)   # C R Cᵀ
     world_p = origins @ turn.T
     offsets = np.zeros((count, 3))
