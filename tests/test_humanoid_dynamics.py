@@ -200,3 +200,26 @@ def test_floor_can_be_found_where_the_feet_stand_still(skeleton):
     assert report.verdict == "plausible"
     stated = check_motion(raised, body_mass=MASS, floor=0.3)
     assert stated.summary()["floating_mm"] == 0.0
+
+
+def test_shoulder_holds_a_horizontal_arm_with_its_gravity_moment(skeleton, body):
+    """Arm abducted 90° and held still: the shoulder torque is Σ m_i g d_i (d_i the
+    horizontal distance of each arm segment's centre of mass from the shoulder)."""
+    motion = Motion.still(skeleton, 30, 100.0)
+    arm = BODY_SEGMENTS.index("l_upperarm")
+    motion.rotations[:, arm] = Rotation.from_euler("z", 90, degrees=True).as_matrix()
+    report = check_motion(motion, body_mass=MASS, humanoid=body)
+    _, positions = motion.forward_kinematics()
+    world_r = motion.forward_kinematics()[0]
+    shoulder = positions[0, arm]
+    moment = 0.0
+    for name in ("l_upperarm", "l_forearm", "l_hand"):
+        k = BODY_SEGMENTS.index(name)
+        com = positions[0, k] + world_r[0, k] @ body.inertias[k].com
+        moment += body.inertias[k].mass * 9.81 * np.hypot(*(com - shoulder)[[0, 2]])
+    torque = report.joint_torques[:, report.joint_names.index("l_upperarm")]
+    np.testing.assert_allclose(np.linalg.norm(torque, axis=1), moment, rtol=1e-6)
+    # About the anterior axis (z): the arm hangs out to the left (+x) and gravity pulls down.
+    local = world_r[0, arm].T @ np.array([0.0, 0.0, 1.0])
+    assert torque[0] @ local == pytest.approx(moment, rel=1e-6)
+    assert report.summary()["residual_force_rms_pct_bw"] < 1.0
