@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from mocap.errors import MocapError
+from mocap.trial import Trial
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -144,7 +145,7 @@ def format_summary(summary: dict, list_markers: bool = False) -> str:
 def _expand(paths: list[str]) -> list[Path]:
     from mocap.io import formats
 
-    known = set(formats())
+    known = {suffix for suffix, f in formats().items() if f.kind == "markers"}
     files: list[Path] = []
     for name in paths:
         path = Path(name)
@@ -156,10 +157,22 @@ def _expand(paths: list[str]) -> list[Path]:
     return files
 
 
+def read_marker_file(path) -> Trial:
+    """A marker trial from ``path``; MocapError for motion formats such as BVH."""
+    from mocap.io import format_of, read
+
+    file_format = format_of(path)
+    if file_format.kind != "markers":
+        raise MocapError(f"a {file_format.description} file holds joint motion, not "
+                         f"markers (use .c3d, .csv or .trc)", path)
+    return read(path)
+
+
 def run_info(args: argparse.Namespace) -> int:
     """Handler of ``mocap info``."""
-    from mocap.io import read
     from mocap.progress import progress
+
+    read = read_marker_file
 
     files = _expand(args.files)
     if not files:
@@ -199,13 +212,16 @@ def _json_default(value):
 
 def run_convert(args: argparse.Namespace) -> int:
     """Handler of ``mocap convert``."""
-    from mocap.io import format_of, read, write
+    from mocap.io import format_of, write
 
     source, target = Path(args.input), Path(args.output)
     target_format = format_of(target, for_writing=True)     # fail before reading
+    if target_format.kind != "markers":
+        raise MocapError(f"convert writes marker files (.c3d, .csv, .trc), not "
+                         f"{target_format.description}", target)
     if source.exists() and target.exists() and source.resolve() == target.resolve():
         raise MocapError("output is the input file; choose another name", target)
-    trial = read(source)
+    trial = read_marker_file(source)
     options = {"units": args.units} if target_format.name in ("c3d", "trc") else {}
     write(trial, target, **options)
     print(f"wrote {target} ({trial.frames} frames, {len(trial.labels)} markers, "

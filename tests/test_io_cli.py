@@ -114,3 +114,14 @@ def test_console_script_exit_status(tmp_path):
                                cwd=ROOT, capture_output=True, text=True, timeout=60)
     assert completed.returncode == 2
     assert completed.stderr.count("\n") == 1 and "Traceback" not in completed.stderr
+
+
+def test_info_and_convert_refuse_motion_formats(tmp_path, capsys):
+    (tmp_path / "walk.bvh").write_text("HIERARCHY\n")
+    status, out, err = run(["info", str(tmp_path / "walk.bvh")], capsys)
+    assert status == 2 and "joint motion, not markers" in err and out == ""
+    source = tmp_path / "a.csv"
+    write(synthetic_trial(), source)
+    status, _, err = run(["convert", str(source), str(tmp_path / "a.bvh")], capsys)
+    assert status == 2 and "convert writes marker files" in err
+    assert not (tmp_path / "a.bvh").exists()

@@ -159,3 +159,30 @@ def test_other_formats_can_register(tmp_path):
     write("obj", tmp_path / "b.Fake", scale=2)
     assert seen["write"] == ("obj", {"scale": 2})
     assert format_of("x.FAKE").name == "fake"
+
+
+def test_trc_with_empty_cells_short_rows_and_padded_header(tmp_path):
+    path = tmp_path / "odd.trc"
+    path.write_text(
+        "PathFileType\t4\t(X/Y/Z)\todd.trc\n"
+        "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\n"
+        "  50.0\t\t  50.0\t\t    3\t\t     2\t\t cm\n"          # padded like OpenSim's Rajagopal data
+        "Frame#\tTime\tA\t\t\tB\t\t\n"
+        "\t\tX1\tY1\tZ1\tX2\tY2\tZ2\n"
+        "\n"
+        "1\t0.00\t1\t2\t3\t4\t5\t6\n"
+        "2\t0.02\t1\t2\t3\t\t\t\n"                               # B missing
+        "3\t0.04\t1\t2\n")                                       # short row: A.z and B missing
+    trial = read(path)
+    assert trial.rate == 50.0 and trial.units == "cm" and trial.labels == ["A", "B"]
+    np.testing.assert_allclose(trial.points[0], [[0.01, 0.02, 0.03], [0.04, 0.05, 0.06]])
+    assert np.isnan(trial.points[1, 1]).all() and not np.isnan(trial.points[1, 0]).any()
+    assert np.isnan(trial.points[2]).any(axis=1).all()
+    assert trial.metadata["warnings"] == []
+
+
+def test_trc_without_rate_is_a_clear_error(tmp_path):
+    path = tmp_path / "bad.trc"
+    path.write_text("PathFileType\t4\n Foo\tBar\n1\t2\nFrame#\tTime\tA\n\t\tX1\tY1\tZ1\n")
+    with pytest.raises(MocapError, match="no DataRate"):
+        read(path)

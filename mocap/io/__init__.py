@@ -41,6 +41,8 @@ class FileFormat:
     reader, writer : str or callable or None
         ``"module:function"`` (imported on first use) or the function itself.
     description : str
+    kind : str
+        ``"markers"`` (reads to a Trial) or ``"motion"`` (a skeleton's joint motion).
     """
 
     suffix: str
@@ -48,6 +50,7 @@ class FileFormat:
     reader: str | Callable | None
     writer: str | Callable | None
     description: str = ""
+    kind: str = "markers"
 
 
 _FORMATS: dict[str, FileFormat] = {}
@@ -55,7 +58,7 @@ _FORMATS: dict[str, FileFormat] = {}
 
 def register_format(suffix: str, reader: str | Callable | None = None,
                     writer: str | Callable | None = None, name: str | None = None,
-                    description: str = "") -> None:
+                    description: str = "", kind: str = "markers") -> None:
     """Make ``read``/``write`` handle files ending in ``suffix``.
 
     Parameters
@@ -68,11 +71,13 @@ def register_format(suffix: str, reader: str | Callable | None = None,
         Format name; defaults to the suffix without the dot.
     description : str, optional
         Shown in error messages and ``--help`` texts.
+    kind : {"markers", "motion"}, optional
+        What the reader returns: a marker Trial or a skeleton Motion.
     """
     suffix = suffix.lower()
     if not suffix.startswith("."):
         suffix = "." + suffix
-    _FORMATS[suffix] = FileFormat(suffix, name or suffix[1:], reader, writer, description)
+    _FORMATS[suffix] = FileFormat(suffix, name or suffix[1:], reader, writer, description, kind)
 
 
 register_format(".c3d", "mocap.io.c3d:read_c3d", "mocap.io.c3d:write_c3d",
@@ -81,6 +86,10 @@ register_format(".csv", "mocap.io.csv:read_csv", "mocap.io.csv:write_csv",
                 description="marker CSV (time,<label>_x,<label>_y,<label>_z… in metres)")
 register_format(".trc", "mocap.io.trc:read_trc", "mocap.io.trc:write_trc",
                 description="OpenSim / Motion Analysis TRC")
+register_format(".bvh", "mocap.io.bvh:read_bvh", "mocap.io.bvh:write_bvh",
+                description="BVH skeleton motion", kind="motion")
+register_format(".mot", None, "mocap.io.mot:write_motion_mot",
+                description="OpenSim motion (joint angles)", kind="motion")
 
 
 def formats() -> dict[str, FileFormat]:

@@ -31,6 +31,8 @@ PROCESSORS = {84: "intel", 85: "dec", 86: "mips"}
 _TYPE_SIZES = {-1: 1, 1: 1, 2: 2, 4: 4}
 #: No real C3D file has more groups+parameters than this; it bounds the walk.
 _MAX_ENTRIES = 20000
+#: The C3D format allows parameters of at most 7 dimensions.
+MAX_DIMENSIONS = 7
 #: Upper bounds that no capture reaches; beyond them a header field is damage.
 MAX_POINTS = 65535
 MAX_RATE_HZ = 1.0e6
@@ -124,13 +126,14 @@ def decode_floats(raw: bytes | np.ndarray, processor: str) -> np.ndarray:
     exponent is biased by one more than IEEE's, so the IEEE reading of the
     swapped word is four times the value.
     """
-    if processor == "mips":
-        return np.frombuffer(raw, dtype=">f4").astype(float)
-    if processor == "dec":
-        words = np.frombuffer(raw, dtype="<u4")
-        swapped = ((words >> 16) | (words << 16)).astype("<u4")
-        return swapped.view("<f4").astype(float) / 4.0
-    return np.frombuffer(raw, dtype="<f4").astype(float)
+    with np.errstate(invalid="ignore", over="ignore"):   # damaged bits may be NaN
+        if processor == "mips":
+            return np.frombuffer(raw, dtype=">f4").astype(float)
+        if processor == "dec":
+            words = np.frombuffer(raw, dtype="<u4")
+            swapped = ((words >> 16) | (words << 16)).astype("<u4")
+            return swapped.view("<f4").astype(float) / 4.0
+        return np.frombuffer(raw, dtype="<f4").astype(float)
 
 
 def _signed_byte(value: int) -> int:
@@ -157,7 +160,7 @@ def _entry_end(data: bytes, body: int, is_group: bool, end: int) -> int | None:
         if body + 2 + ndims > end:
             return None
         dims = data[body + 2:body + 2 + ndims]
-        value_end = body + 2 + ndims + _TYPE_SIZES[data_type] * int(np.prod(list(dims), dtype=np.int64))
+        value_end = body + 2 + ndims + _TYPE_SIZES[data_type] * math.prod(dims)
         if value_end + 1 > end:
             return None
         stop = value_end + 1 + data[value_end]
@@ -171,7 +174,7 @@ def _decode_parameter(raw: bytes, data_type: int, dims: tuple[int, ...], process
         if len(dims) <= 1:
             return text.rstrip(" \x00")
         width = dims[0]
-        count = int(np.prod(dims[1:]))
+        count = math.prod(dims[1:]) if width else 0    # no text: no strings
         return [text[i * width:(i + 1) * width].rstrip(" \x00") for i in range(count)]
     if data_type == 1:
         values = np.frombuffer(raw, dtype=np.int8).astype(np.int64)
@@ -242,9 +245,12 @@ def _walk_parameters(data: bytes, start: int, end: int, processor: str,
                 raise _fail(path, f"parameter {name!r} at byte {position} has unknown "
                                   f"data type {data_type}")
             ndims = data[body + 1]
+            if ndims > MAX_DIMENSIONS:
+                raise _fail(path, f"parameter {name!r} at byte {position} has {ndims} "
+                                  f"dimensions (C3D allows {MAX_DIMENSIONS})")
             dims = tuple(data[body + 2:body + 2 + ndims])
             value_start = body + 2 + ndims
-            size = _TYPE_SIZES[data_type] * int(np.prod(dims, dtype=np.int64))
+            size = _TYPE_SIZES[data_type] * math.prod(dims)
             if value_start + size > body_end:
                 raise _fail(path, f"parameter {name!r} at byte {position} holds "
                                   f"{size} bytes but its entry has room for "
@@ -280,6 +286,23 @@ def _scalar(parameters: dict, group: str, name: str):
     if isinstance(value, np.ndarray) and value.size >= 1:
         return value.reshape(-1)[0]
     return None
+
+
+def count_parameter(parameters: dict, group: str, name: str) -> int | None:
+    """A count parameter (USED, FRAMES) as a non-negative int, None if absent or not a number.
+
+    Integer parameters are 16-bit signed in the file but counts are unsigned
+    (a capture of 40 000 frames stores -25 536).
+    """
+    value = _scalar(parameters, group, name)
+    if value is None:
+        return None
+    if isinstance(value, (np.integer, int)):
+        return int(value) & 0xFFFF
+    value = float(value)
+    if not math.isfinite(value) or value < 0 or value > 2 ** 31:
+        return None
+    return int(round(value))
 
 
 def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
@@ -398,14 +421,9 @@ def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
 def _frame_candidates(parameters: dict, first_frame: int, last_frame: int) -> list[int]:
     """Frame counts the file announces, most trusted first (as ezc3d trusts them)."""
     candidates = []
-    frames_parameter = _scalar(parameters, "POINT", "FRAMES")
-    if frames_parameter is not None:
-        value = int(frames_parameter)
-        if isinstance(parameters["POINT"]["FRAMES"], np.ndarray) and \
-                parameters["POINT"]["FRAMES"].dtype.kind == "i":
-            value &= 0xFFFF       # 16-bit signed in the file, used as unsigned
-        if value > 0:
-            candidates.append(value)
+    value = count_parameter(parameters, "POINT", "FRAMES")
+    if value:
+        candidates.append(value)
     # TRIAL:ACTUAL_*_FIELD hold 32-bit frame numbers (two 16-bit words) for long captures.
     start_field = parameters.get("TRIAL", {}).get("ACTUAL_START_FIELD")
     end_field = parameters.get("TRIAL", {}).get("ACTUAL_END_FIELD")
@@ -437,11 +455,10 @@ def _choose_layout(path, size, processor, parameter_block, data_block, header_po
     frame_candidates = _frame_candidates(parameters, first_frame, last_frame)
     if not frame_candidates:
         raise _fail(path, f"last frame {last_frame} comes before first frame {first_frame}")
-    used = _scalar(parameters, "POINT", "USED")
+    used = count_parameter(parameters, "POINT", "USED")
     point_candidates = list(dict.fromkeys(
-        ([int(used) & 0xFFFF] if used is not None else []) + [header_points]))
-    channels = _scalar(parameters, "ANALOG", "USED")
-    channels = int(channels) & 0xFFFF if channels is not None else 0
+        ([used] if used is not None else []) + [header_points]))
+    channels = count_parameter(parameters, "ANALOG", "USED") or 0
     analog_rate = _scalar(parameters, "ANALOG", "RATE")
     analog_candidates: list[tuple[int, int]] = []       # (channels, samples per frame)
     if channels and analog_rate is not None and rate > 0 and math.isfinite(analog_rate):
