@@ -224,6 +224,15 @@ def run_convert(args: argparse.Namespace) -> int:
     trial = read_marker_file(source)
     options = {"units": args.units} if target_format.name in ("c3d", "trc") else {}
     write(trial, target, **options)
+    dropped = []
+    if trial.analog_labels and target_format.name != "c3d":
+        dropped.append(f"{len(trial.analog_labels)} analog channels")
+    if "modelled" in trial.metadata:
+        dropped.append(f"{len(trial.metadata['modelled']['labels'])} modelled points "
+                       f"(angles, forces …)")
+    if dropped:
+        print(f"note: {' and '.join(dropped)} not written; {target.suffix} holds markers",
+              file=sys.stderr)
     print(f"wrote {target} ({trial.frames} frames, {len(trial.labels)} markers, "
           f"{trial.rate:g} Hz)", file=sys.stderr)
     return 0

@@ -60,7 +60,10 @@ def test_units_are_stored_as_asked_and_read_back_in_metres(tmp_path, suffix, uni
         residuals = raw["data"]["meta_points"]["residuals"][0]
         assert residuals[1, 12] == -1 and residuals[1, 20] >= 0   # NaN → residual -1
     else:
-        row = path.read_text().splitlines()[6 + 3].split("\t")
+        lines = path.read_text().splitlines()
+        assert lines[2].split("\t")[:5] == ["100.0", "100.0", "120", "5", units]
+        assert lines[6].split("\t")[:2] == ["1", "0.0"]
+        row = lines[6 + 3].split("\t")
         assert float(row[2 + 3 * 2]) == pytest.approx(trial.points[3, 2, 0] * factor)
 
 

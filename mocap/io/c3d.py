@@ -305,8 +305,10 @@ def read_c3d(path: str | os.PathLike, engine: str = "mocap") -> Trial:
         points, residuals, analogs = reader(layout)
     except MemoryError:
         raise MocapError("file too large to read into memory", layout.path) from None
-    except (RuntimeError, OSError, ValueError, IndexError) as error:   # ezc3d refusals
-        raise MocapError(f"{engine} could not decode the data: {error}", layout.path) \
+    except (RuntimeError, OSError, ValueError, IndexError) as error:
+        if engine != "ezc3d":
+            raise           # our decoder failing on a checked layout is our bug
+        raise MocapError(f"ezc3d could not decode the data: {error}", layout.path) \
             from None
     if not _shape_ok(layout, points, residuals):
         raise MocapError(f"{engine} read {points.shape[:2]} frames × points instead of "
@@ -317,7 +319,7 @@ def read_c3d(path: str | os.PathLike, engine: str = "mocap") -> Trial:
 def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.ndarray,
               analogs: np.ndarray, notes: list[str]) -> Trial:
     points = np.array(points, dtype=float)
-    invalid = ~(residuals >= 0) | ~np.isfinite(points).all(axis=2) | (points == 0).all(axis=2)
+    invalid = ~(residuals >= 0) | ~np.isfinite(points).all(axis=2)
     points[invalid] = np.nan
 
     raw_labels = _point_labels(layout)
@@ -338,6 +340,7 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
     units = units.strip() if isinstance(units, str) else ""
     factor = unit_factor(units) if units else None
     markers = points[:, marker_columns, :]
+    markers[(markers == 0).all(axis=2)] = np.nan      # a gap coded as (0, 0, 0)
     if factor is None and not np.isfinite(markers).any():
         factor = 1.0            # nothing to convert: no valid coordinate
     elif factor is None:

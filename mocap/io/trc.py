@@ -162,17 +162,15 @@ def write_trc(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:
     table[:, 0] = np.arange(1, frames + 1)
     table[:, 1] = trial.times
     table[:, 2:] = (trial.points / factor).reshape(frames, 3 * markers)
-    text = "\n".join(lines) + "\n" + format_rows(table, "\t")
+    text = "\n".join(lines) + "\n" + _integer_frames(format_rows(table, "\t"))
     with atomic_path(path) as tmp:
-        tmp.write_text(_integer_frames(text), encoding="utf-8")
+        tmp.write_text(text, encoding="utf-8")
 
 
-def _integer_frames(text: str) -> str:
-    """Frame numbers written as ``1`` rather than ``1.0`` (first cell of data rows)."""
+def _integer_frames(rows: str) -> str:
+    """Data rows with frame numbers written as ``1`` rather than ``1.0``."""
     out = []
-    for line in text.split("\n"):
+    for line in rows.split("\n"):
         head, sep, rest = line.partition("\t")
-        if head.endswith(".0") and head[:-2].isdigit():
-            line = head[:-2] + sep + rest
-        out.append(line)
+        out.append(head.removesuffix(".0") + sep + rest)
     return "\n".join(out)
