@@ -224,3 +224,20 @@ def test_ezc3d_engine_refuses_files_it_would_misread(local):
 
     with pytest.raises(MocapError, match="not read with ezc3d"):
         read_c3d(realdata_path(local), engine="ezc3d")
+
+
+def test_the_six_processor_and_number_formats_of_one_capture_agree():
+    """c3d.org sample 02: one capture stored as Intel, DEC and SGI, integer and float."""
+    folder = "c3dorg_via_c3dio/sample_02/"
+    trials = {name: read(realdata_path(folder + name + ".c3d"))
+              for name in ("pc_real", "pc_int", "dec_real", "dec_int", "sgi_real", "sgi_int")}
+    reference = trials["pc_real"]
+    scale = 0.28118187189102173e-3            # POINT:SCALE of the integer files, metres
+    for name, trial in trials.items():
+        assert trial.labels == reference.labels, name
+        np.testing.assert_array_equal(np.isnan(trial.points), np.isnan(reference.points))
+        tolerance = scale * 1.0001 if name.endswith("int") else 1e-6
+        np.testing.assert_allclose(trial.points, reference.points, atol=tolerance,
+                                   equal_nan=True, err_msg=name)
+        assert trial.analog_labels == reference.analog_labels
+        np.testing.assert_array_equal(trial.analogs, reference.analogs)

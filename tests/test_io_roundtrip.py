@@ -189,3 +189,14 @@ def test_trc_without_rate_is_a_clear_error(tmp_path):
     path.write_text("PathFileType\t4\n Foo\tBar\n1\t2\nFrame#\tTime\tA\n\t\tX1\tY1\tZ1\n")
     with pytest.raises(MocapError, match="no DataRate"):
         read(path)
+
+
+def test_c3d_with_more_than_255_markers_round_trips(tmp_path):
+    """Labels beyond 255 go to POINT:LABELS2 (C3D strings are 255 per parameter)."""
+    trial = synthetic_trial(frames=20, markers=5)
+    points = np.repeat(trial.points, 62, axis=1)[:, :300]
+    big = Trial([f"M{i:03d}" for i in range(300)], points, 120.0)
+    write(big, tmp_path / "big.c3d")
+    back = read(tmp_path / "big.c3d")
+    assert back.labels == big.labels
+    np.testing.assert_allclose(back.points, big.points, atol=2e-6, equal_nan=True)
