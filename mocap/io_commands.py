@@ -103,6 +103,8 @@ def summarise(trial) -> dict:
         summary["reader"] = trial.metadata["reader"]
     if "modelled" in trial.metadata:
         summary["modelled_points"] = list(trial.metadata["modelled"]["labels"])
+    if "events" in trial.metadata:
+        summary["events"] = trial.metadata["events"]
     return summary
 
 
@@ -129,6 +131,11 @@ def format_summary(summary: dict, list_markers: bool = False) -> str:
     if summary.get("modelled_points"):
         lines.append(f"modelled:  {len(summary['modelled_points'])} computed points "
                      f"(angles, forces …) kept apart from the markers")
+    if summary.get("events"):
+        shown = ", ".join(f"{e['context']} {e['label']} {e['time']:.2f} s".strip()
+                          for e in summary["events"][:6])
+        more = f" … ({len(summary['events'])} in all)" if len(summary["events"]) > 6 else ""
+        lines.append(f"events:    {shown}{more}")
     for warning in summary["warnings"]:
         lines.append(f"warning:   {warning}")
     shown = markers if list_markers else with_gaps

@@ -241,3 +241,13 @@ def test_the_six_processor_and_number_formats_of_one_capture_agree():
                                    equal_nan=True, err_msg=name)
         assert trial.analog_labels == reference.analog_labels
         np.testing.assert_array_equal(trial.analogs, reference.analogs)
+
+
+def test_gait_events_are_indexed_from_the_trial_start():
+    trial = read(realdata_path("biomechzoo_sample_study/HC002D/Straight/HC002D06.c3d"))
+    events = trial.metadata["events"]
+    # EVENT:TIMES 2.28 s (Left Foot Strike) at 100 Hz is capture frame 229; the
+    # trial starts at capture frame 125, so it is points[104], 1.04 s in.
+    strike = next(e for e in events if e["context"] == "Left" and e["label"] == "Foot Strike")
+    assert strike["frame"] == 104 and strike["time"] == pytest.approx(1.04)
+    assert [e["frame"] for e in events] == sorted(e["frame"] for e in events)

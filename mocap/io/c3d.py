@@ -362,6 +362,9 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
             "kinds": [modelled_names[raw_labels[i]] for i in columns],
             "values": points[:, columns, :],
         }
+    events = _events(layout)
+    if events:
+        metadata["events"] = events
     for group, key in (("MANUFACTURER", "COMPANY"), ("MANUFACTURER", "SOFTWARE"),
                        ("SUBJECTS", "NAMES")):
         value = layout.parameters.get(group, {}).get(key)
@@ -376,6 +379,35 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
         analog_rate = None
     return Trial(labels, markers, layout.rate, units, layout.path, "c3d",
                  analogs if analog_labels else None, analog_labels, analog_rate, metadata)
+
+
+def _events(layout: C3DLayout) -> list[dict]:
+    """EVENT group as a list of ``{"label", "context", "time", "frame"}``, by time.
+
+    ``time`` is in seconds from the trial's first frame and ``frame`` the 0-based
+    index into ``points``; the file stores times from the start of the capture
+    (frame 1 at 0 s), as minutes and seconds. Events outside the trial are dropped.
+    """
+    group = layout.parameters.get("EVENT", {})
+    times = group.get("TIMES")
+    if not isinstance(times, np.ndarray) or times.ndim != 2 or times.shape[0] != 2 \
+            or layout.rate <= 0:
+        return []
+    used = count_parameter(layout.parameters, "EVENT", "USED")
+    count = min(times.shape[1], used if used is not None else times.shape[1])
+    labels = _string_list(group.get("LABELS"))
+    contexts = _string_list(group.get("CONTEXTS"))
+    events = []
+    for i in range(count):
+        absolute = 60.0 * float(times[0, i]) + float(times[1, i])
+        if not np.isfinite(absolute):
+            continue
+        frame = int(round(absolute * layout.rate)) + 1 - layout.first_frame
+        if 0 <= frame < layout.frames:
+            events.append({"label": labels[i] if i < len(labels) else "",
+                           "context": contexts[i] if i < len(contexts) else "",
+                           "time": frame / layout.rate, "frame": frame})
+    return sorted(events, key=lambda event: event["frame"])
 
 
 def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:

@@ -326,12 +326,25 @@ def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
     path = os.fspath(path)
     try:
         with open(path, "rb") as handle:
-            data = handle.read()
+            size = os.fstat(handle.fileno()).st_size
+            # Only the header and parameter section are read here (at most 255
+            # blocks to the parameters, 65535 blocks to the data): the data
+            # section of a large capture is not loaded twice.
+            data = handle.read(255 * BLOCK)
+            if len(data) >= 2 * BLOCK and data[1] == 0x50:
+                start = (max(data[0], 1) - 1) * BLOCK
+                if start + 4 <= len(data) and data[start + 3] in PROCESSORS:
+                    order = ">" if data[start + 3] == 86 else "<"
+                    data_block = int.from_bytes(data[16:18], "big" if order == ">" else "little")
+                    wanted = min(max(data_block - 1, 0) * BLOCK, size)
+                    if wanted > len(data):
+                        data += handle.read(wanted - len(data))
     except FileNotFoundError:
         raise MocapError("no such file", path) from None
+    except IsADirectoryError:
+        raise MocapError("is a directory, not a C3D file", path) from None
     except OSError as error:
         raise MocapError(f"cannot read file: {error.strerror or error}", path) from None
-    size = len(data)
     if size < 2 * BLOCK:
         raise _fail(path, f"only {size} bytes, shorter than a header and a parameter block")
     if data[1] != 0x50:
