@@ -181,8 +181,9 @@ def plot_check(report, path: str | os.PathLike, dpi: int = 100) -> None:
                  label="residual torque about the COM (N·m)")
     axes[0].axhline(report.thresholds.residual_rms_pct_bw, color="0.6", linestyle=":",
                     label="RMS limit (% BW)")
-    axes[0].set_title(f"{report.verdict}: " + ("; ".join(report.reasons) or "no problems"),
-                      fontsize=8)
+    import textwrap
+    verdict = f"{report.verdict}: " + ("; ".join(report.reasons) or "no problems")
+    axes[0].set_title(textwrap.fill(verdict, 110), fontsize=8)
     axes[0].legend(fontsize=7)
     feet = {}
     for k, name in enumerate(report.contact_names):

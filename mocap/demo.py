@@ -28,6 +28,8 @@ import numpy as np
 from mocap.errors import MocapError
 
 ACTION = "walk"
+#: Zero-lag low-pass of the markers before the angles, Hz (the usual gait-lab choice).
+LOWPASS_HZ = 6.0
 
 
 class _Steps:
@@ -92,6 +94,7 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
     from mocap import io
     from mocap.angles import joint_angles, write_angles_csv
     from mocap.batch import find_trials
+    from mocap.clean import lowpass
     from mocap.commands import plot_angles
     from mocap.markerset import load_markerset
     from mocap.progress import progress
@@ -122,10 +125,11 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
     chosen = load_markerset(markerset)
     for folder in (out, figures, out / "angles", out / "synthesis"):
         folder.mkdir(parents=True, exist_ok=True)
-    with steps(f"extracting joint angles from {len(trials)} trials"):
+    with steps(f"extracting joint angles from {len(trials)} trials "
+               f"(markers low-passed at {LOWPASS_HZ:g} Hz)"):
         names = {}
         for cell, path in progress(cells.items(), "joint angles"):
-            angles = joint_angles(io.read(path), chosen)
+            angles = joint_angles(lowpass(io.read(path), LOWPASS_HZ, short_runs="keep"), chosen)
             write_angles_csv(angles, out / "angles" / f"{path.stem}_angles.csv")
             names[cell] = (path, angles)
     captured = names[(person, ACTION)][1]
