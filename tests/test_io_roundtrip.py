@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from mocap.errors import MocapError
 from mocap.io import format_of, read, register_format, write
@@ -200,3 +202,28 @@ def test_c3d_with_more_than_255_markers_round_trips(tmp_path):
     back = read(tmp_path / "big.c3d")
     assert back.labels == big.labels
     np.testing.assert_allclose(back.points, big.points, atol=2e-6, equal_nan=True)
+
+
+label_text = st.text(alphabet=st.characters(whitelist_categories=("Lu", "Ll", "Nd"),
+                                            whitelist_characters="_.:-"),
+                     min_size=1, max_size=12)
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(labels=st.lists(label_text, min_size=1, max_size=6, unique=True),
+       frames=st.integers(1, 30), rate=st.floats(1.0, 2000.0),
+       seed=st.integers(0, 2 ** 31), suffix=st.sampled_from([".c3d", ".trc", ".csv"]))
+def test_round_trip_property(tmp_path, labels, frames, rate, seed, suffix):
+    rng = np.random.default_rng(seed)
+    points = rng.uniform(-3.0, 3.0, (frames, len(labels), 3))
+    points[rng.random((frames, len(labels))) < 0.2] = np.nan
+    trial = Trial(labels, points, rate)
+    path = tmp_path / f"p{seed}{suffix}"
+    write(trial, path)
+    back = read(path)
+    assert back.labels == labels and back.frames == frames
+    np.testing.assert_array_equal(np.isnan(back.points), np.isnan(points))
+    np.testing.assert_allclose(back.points, points, atol=2e-6 if suffix == ".c3d" else 1e-12,
+                               equal_nan=True)
+    if frames > 1 or suffix != ".csv":           # one CSV row has no time step
+        assert back.rate == pytest.approx(rate, rel=1e-6 if suffix == ".c3d" else 1e-12)

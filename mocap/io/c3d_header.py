@@ -167,15 +167,23 @@ def _entry_end(data: bytes, body: int, is_group: bool, end: int) -> int | None:
     return stop if stop <= end else None
 
 
+def _decode_text(raw: bytes) -> str:
+    """C3D text: ASCII by the standard; UTF-8 (ezc3d, recent Vicon) or Latin-1 in practice."""
+    raw = raw.rstrip(b" \x00")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError:
+        return raw.decode("latin-1")
+
+
 def _decode_parameter(raw: bytes, data_type: int, dims: tuple[int, ...], processor: str):
     """Value of one parameter from its raw data bytes."""
     if data_type == -1:
-        text = raw.decode("latin-1")
         if len(dims) <= 1:
-            return text.rstrip(" \x00")
+            return _decode_text(raw)
         width = dims[0]
         count = math.prod(dims[1:]) if width else 0    # no text: no strings
-        return [text[i * width:(i + 1) * width].rstrip(" \x00") for i in range(count)]
+        return [_decode_text(raw[i * width:(i + 1) * width]) for i in range(count)]
     if data_type == 1:
         values = np.frombuffer(raw, dtype=np.int8).astype(np.int64)
     elif data_type == 2:
