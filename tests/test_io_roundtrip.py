@@ -145,6 +145,10 @@ def test_writers_refuse_bad_trials_without_leaving_files(tmp_path):
         write(trial, tmp_path / "dup.c3d")
     with pytest.raises(MocapError, match="units"):
         write(synthetic_trial(), tmp_path / "x.trc", units="furlong")
+    long_label = synthetic_trial(markers=2)
+    long_label.labels[0] = "a" * 300
+    with pytest.raises(MocapError, match="at most 255 bytes"):
+        write(long_label, tmp_path / "long.c3d")
     assert list(tmp_path.iterdir()) == []
 
 
@@ -227,3 +231,13 @@ def test_round_trip_property(tmp_path, labels, frames, rate, seed, suffix):
                                equal_nan=True)
     if frames > 1 or suffix != ".csv":           # one CSV row has no time step
         assert back.rate == pytest.approx(rate, rel=1e-6 if suffix == ".c3d" else 1e-12)
+
+
+def test_c3d_longer_than_the_16_bit_frame_count(tmp_path):
+    """70 000 frames: header and POINT:FRAMES saturate, TRIAL:ACTUAL_*_FIELD carry the count."""
+    rng = np.random.default_rng(1)
+    trial = Trial(["a", "b"], rng.normal(size=(70000, 2, 3)), 1000.0)
+    write(trial, tmp_path / "long.c3d")
+    back = read(tmp_path / "long.c3d")
+    assert back.frames == 70000 and back.metadata["warnings"] == []
+    np.testing.assert_allclose(back.points, trial.points, atol=1e-6)

@@ -433,6 +433,10 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:
     labels = list(trial.labels)
     if len(set(labels)) != len(labels) or any(len(label) == 0 for label in labels):
         raise MocapError("marker labels must be unique and non-empty to write C3D", path)
+    too_long = [label for label in labels if len(label.encode("utf-8")) > 255]
+    if too_long:
+        raise MocapError(f"C3D labels hold at most 255 bytes; {too_long[0][:40]!r}… is "
+                         f"longer", path)
     if not (np.isfinite(trial.rate) and trial.rate > 0):
         raise MocapError(f"cannot write C3D with rate {trial.rate} Hz", path)
     frames, markers = trial.frames, len(labels)
@@ -446,6 +450,18 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:
     coordinates = trial.points.transpose(2, 1, 0) / factor
     missing = ~np.isfinite(coordinates).all(axis=0)
     values[:3] = np.where(missing[None], 0.0, coordinates)
+    if frames > 65535:
+        # The header and POINT:FRAMES are 16-bit; TRIAL:ACTUAL_*_FIELD carry the
+        # frame range as two 16-bit words (low, high), as Vicon writes them.
+        def words(value: int) -> list[int]:
+            return [int(np.int16(np.uint16(value & 0xFFFF))),
+                    int(np.int16(np.uint16(value >> 16)))]
+
+        for name, frame in (("ACTUAL_START_FIELD", 1), ("ACTUAL_END_FIELD", frames)):
+            c3d.add_parameter("TRIAL", name, words(frame))
+            # ezc3d stores Python integers as floats; these are 16-bit integers.
+            c3d["parameters"]["TRIAL"][name]["type"] = ezc3d.ezc3d.INT
+            c3d["parameters"]["TRIAL"][name]["value"] = np.array(words(frame))
     c3d["data"]["points"] = values
     residuals = np.where(missing, -1.0, 0.0)[None]
     c3d["data"]["meta_points"]["residuals"] = residuals

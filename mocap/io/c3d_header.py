@@ -427,7 +427,9 @@ def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
         disagreements.append(f"{point_count} points")
     if layout.analog_per_frame != analog_per_frame:
         disagreements.append(f"{analog_per_frame} analog samples per frame")
-    if layout.frames != header_frames and not any("truncated" in w for w in warnings):
+    saturated = last_frame == 65535 and layout.frames > header_frames   # 16-bit limit
+    if layout.frames != header_frames and not saturated \
+            and not any("truncated" in w for w in warnings):
         disagreements.append(f"{header_frames} frames")
     if disagreements:
         warnings.append(f"the header says {', '.join(disagreements)}; the parameters and "
@@ -449,9 +451,11 @@ def _frame_candidates(parameters: dict, first_frame: int, last_frame: int) -> li
     start_field = parameters.get("TRIAL", {}).get("ACTUAL_START_FIELD")
     end_field = parameters.get("TRIAL", {}).get("ACTUAL_END_FIELD")
     if (isinstance(start_field, np.ndarray) and isinstance(end_field, np.ndarray)
-            and start_field.size == 2 and end_field.size == 2):
-        s = start_field.reshape(-1) & 0xFFFF
-        e = end_field.reshape(-1) & 0xFFFF
+            and start_field.size == 2 and end_field.size == 2
+            and np.isfinite(start_field).all() and np.isfinite(end_field).all()
+            and np.abs(start_field).max() < 2 ** 16 and np.abs(end_field).max() < 2 ** 16):
+        s = start_field.reshape(-1).astype(np.int64) & 0xFFFF
+        e = end_field.reshape(-1).astype(np.int64) & 0xFFFF
         long_frames = int(e[0] + (e[1] << 16)) - int(s[0] + (s[1] << 16)) + 1
         if long_frames > 0:
             candidates.append(long_frames)
@@ -508,13 +512,24 @@ def _choose_layout(path, size, processor, parameter_block, data_block, header_po
     offset = (data_block - 1) * BLOCK
     for layout in layouts:
         end = offset + layout.frames * layout.frame_bytes
-        if end <= size and size - end < BLOCK:
+        if end <= size and size - end <= BLOCK:    # padding, up to a whole block
             return layout
     best = layouts[0]
     consistent = len(layouts) == 1
     fitting = [layout for layout in layouts if offset + layout.frames * layout.frame_bytes <= size]
     if consistent and fitting:
-        # The file holds more than the points and analogs (e.g. ROTATION data).
+        stored = (size - offset) // best.frame_bytes if best.frame_bytes else 0
+        if best.frames in (32767, 65535) and stored > best.frames:
+            # A 16-bit frame count saturated (ezc3d writes 65535 for longer
+            # captures and no TRIAL fields): the file size tells the real count.
+            warnings.append(f"the frame count is stored as {best.frames}, the 16-bit "
+                            f"limit; the file holds {stored} frames, which were loaded")
+            return make(stored, best.point_count,
+                        (best.analog_channels, best.analog_samples_per_frame))
+        if "ROTATION" not in parameters and stored > best.frames:
+            warnings.append(f"the file holds {size - offset - best.frames * best.frame_bytes} "
+                            f"bytes after the {best.frames} frames it announces; they were "
+                            f"not read")
         return best
     if fitting and not consistent:
         # Header and parameters disagree and no reading fills the file: the most
