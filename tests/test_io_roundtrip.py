@@ -241,3 +241,18 @@ def test_c3d_longer_than_the_16_bit_frame_count(tmp_path):
     back = read(tmp_path / "long.c3d")
     assert back.frames == 70000 and back.metadata["warnings"] == []
     np.testing.assert_allclose(back.points, trial.points, atol=1e-6)
+
+
+def test_vicon_nexus_csv_with_devices_before_and_model_outputs_after(tmp_path):
+    path = tmp_path / "nexus.csv"
+    path.write_text(
+        "Devices\n1000\n,,Force Plate:Force,,\nFrame,Sub Frame,Fx,Fy,Fz\n,,N,N,N\n"
+        "1,0,0.1,0.2,0.3\n\n"
+        "Trajectories\n100\n,,S:LASI,,,S:RASI,,\nFrame,Sub Frame,X,Y,Z,X,Y,Z\n"
+        ",,mm,mm,mm,mm,mm,mm\n"
+        "1,0,10,20,30,40,50,60\n2,0,11,21,31,,,\n\n"
+        "Model Outputs\n100\n,,S:LKneeAngles,,\nFrame,Sub Frame,X,Y,Z\n,,deg,deg,deg\n1,0,5,6,7\n")
+    trial = read(path)
+    assert trial.labels == ["S:LASI", "S:RASI"] and trial.rate == 100.0 and trial.frames == 2
+    np.testing.assert_allclose(trial.points[0], [[0.01, 0.02, 0.03], [0.04, 0.05, 0.06]])
+    assert np.isnan(trial.points[1, 1]).all()
