@@ -24,7 +24,8 @@ DEVIATIONS = {
                        "(the c3d package reads the same)"),
     "ezc3d_testFiles/Kistler.c3d": (
         3969, 0, 60.0, "analog-only file without POINT:RATE: the header's 60 Hz frame rate "
-                       "(600 Hz analog / 10 samples per frame) instead of 0"),
+                       "(600 Hz analog / 10 samples per frame) instead of 0; the c3d "
+                       "package says 60 Hz too"),
     "c3dorg_via_c3dio/sample_02/sgi_int.c3d": (
         89, 36, 50.0, "ezc3d cannot read SGI/MIPS files; same capture as pc_int.c3d"),
     "c3dorg_via_c3dio/sample_02/sgi_real.c3d": (
