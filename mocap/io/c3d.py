@@ -37,7 +37,11 @@ NaN where the residual is negative, the coordinates are not finite, or the
 point sits exactly at (0, 0, 0) (how some Qualisys files mark gaps). Points that
 a modelling package computed (POINT:ANGLES, FORCES, MOMENTS, POWERS, SCALARS,
 REACTIONS, such as Plug-in Gait's ``LKneeAngles``) are not markers: they are
-kept in ``trial.metadata["modelled"]`` instead.
+kept in ``trial.metadata["modelled"]`` instead (``labels``, ``kinds`` and
+``values`` of shape (frames, n, 3) in the file's units for each kind, e.g.
+degrees for angles, NaN where invalid). ``metadata["parameters"]`` holds every
+C3D parameter (``{group: {name: value}}``, e.g. FORCE_PLATFORM for the analogs),
+``metadata["events"]`` the EVENT group (label, context, time, frame).
 
 Units: POINT:UNITS ``mm``/``cm``/``m`` (and their long spellings) are honoured.
 When the file has no usable unit, the unit is inferred from the magnitude of
@@ -354,6 +358,7 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
         "processor": layout.processor,
         "first_frame": layout.first_frame,
         "warnings": notes,
+        "parameters": layout.parameters,
     }
     if is_modelled.any():
         columns = np.flatnonzero(is_modelled)
