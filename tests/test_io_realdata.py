@@ -250,3 +250,19 @@ def test_gait_events_are_indexed_from_the_trial_start():
     strike = next(e for e in events if e["context"] == "Left" and e["label"] == "Foot Strike")
     assert strike["frame"] == 104 and strike["time"] == pytest.approx(1.04)
     assert [e["frame"] for e in events] == sorted(e["frame"] for e in events)
+
+
+@pytest.mark.parametrize("local", ["c3dorg_via_c3dio/sample_06/MACsample.c3d",
+                                   "c3dorg_via_c3dio/sample_28/type1.C3D",
+                                   "c3dorg_via_c3dio/sample_02/sgi_int.c3d",
+                                   "ezc3d_testFiles/Vicon.c3d"])
+def test_odd_real_files_rewritten_as_c3d_read_back_the_same(tmp_path, local):
+    from mocap.io import write
+
+    trial = read(realdata_path(local))
+    write(trial, tmp_path / "copy.c3d")
+    copy = read(tmp_path / "copy.c3d")
+    assert copy.labels == trial.labels and copy.analog_labels == trial.analog_labels
+    assert copy.metadata["warnings"] == []
+    np.testing.assert_allclose(copy.points, trial.points, atol=1e-6, equal_nan=True)
+    np.testing.assert_allclose(copy.analogs, trial.analogs, rtol=1e-6, atol=1e-6)

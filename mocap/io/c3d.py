@@ -21,8 +21,8 @@ real files and on seeded damage of them:
   raising; one flipped bit in a description length stalled it 20-35 s, and
   one flipped bit in a group id crashed the process (segmentation fault),
   both in files our structure check had accepted;
-- ezc3d is 4-14× slower in process (benchmarks/io.py) and a child-process guard
-  against its crashes would cost 20-60× (Python and ezc3d start-up per file);
+- ezc3d is 5-11× slower in process (benchmarks/io.py) and a child-process guard
+  against its crashes would cost 7-58× (Python and ezc3d start-up per file);
 - the ``c3d`` package refuses 13 of the 100 valid real C3D files with assertion
   errors (scale-factor and analog-count consistency checks, parameter types).
 
@@ -130,7 +130,7 @@ def _analog_labels(layout: C3DLayout) -> list[str]:
         index += 1
     labels = [label.strip() for label in labels[:layout.analog_channels]]
     labels += [""] * (layout.analog_channels - len(labels))
-    return [label or f"A{i + 1:03d}" for i, label in enumerate(labels)]
+    return unique_labels(labels, prefix="A")[0]      # blank → A001…, repeats → _2
 
 
 def unique_labels(labels: list[str], prefix: str = "M") -> tuple[list[str], list[str]]:
