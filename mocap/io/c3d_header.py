@@ -1,15 +1,17 @@
-"""Pure-Python C3D structure check: header, parameter section and data size.
+"""Pure-Python C3D structure check and data decoder.
 
 A C3D file is a sequence of 512-byte blocks: a header block, a parameter section
-and a data section. ``inspect_c3d`` reads the header and walks every group and
-parameter with bounds checks, then checks that the data section the header
-announces really is in the file. Only a file that passes is handed to ezc3d,
-which can crash the process (segmentation fault), hang, or silently accept a
-truncated file when its input is damaged.
+and a data section. :func:`inspect_c3d` reads the header, walks every group and
+parameter with bounds checks (no count is trusted before it is checked against
+the bytes that hold it), and settles the data layout that the header, the
+parameters and the file size agree on. A damaged file (truncated, bit-flipped,
+absurd counts) ends here in a :class:`MocapError` naming the first problem.
 
-The layout it returns is also enough to decode the data section directly
-(:func:`decode_c3d_data`), which is the last fallback for valid files that
-neither ezc3d nor the ``c3d`` package reads.
+:func:`decode_c3d_data` then decodes the data section of the checked layout with
+numpy, vectorised over frames, for the Intel, DEC and SGI/MIPS processor
+formats in integer and float storage. It is the reader behind
+:func:`mocap.io.c3d.read_c3d`; see that module for why it replaced ezc3d and the
+``c3d`` package at run time.
 
 References: the C3D User Guide (c3d.org), chapters 2 (header), 3 (parameters)
 and 4 (data).
