@@ -177,23 +177,24 @@ def read_marker_file(path) -> Trial:
 
 def run_info(args: argparse.Namespace) -> int:
     """Handler of ``mocap info``."""
-    from mocap.progress import progress
+    from tqdm.auto import tqdm
 
-    read = read_marker_file
+    from mocap.progress import progress
 
     files = _expand(args.files)
     if not files:
         raise MocapError("no marker files found in " + ", ".join(args.files))
     if len(files) == 1:
-        trial = read(files[0])          # a MocapError becomes the CLI's one line
+        trial = read_marker_file(files[0])    # a MocapError becomes the CLI's one line
         _print_summary(summarise(trial), args)
         return 0
     status = 0
     for path in progress(files, "reading marker files"):
         try:
-            trial = read(path)
+            trial = read_marker_file(path)
         except MocapError as error:
-            print(f"mocap info: error: {error}", file=sys.stderr)
+            # One line per bad file, printed above the progress bar, and go on.
+            tqdm.write(f"mocap info: error: {error}", file=sys.stderr)
             status = 2
             continue
         _print_summary(summarise(trial), args)
