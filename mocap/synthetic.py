@@ -31,7 +31,6 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from mocap.errors import MocapError
-from mocap.planting import planted_translation
 from mocap.trial import Trial
 
 #: Actions the generator knows, with their nominal cycle duration in seconds.
@@ -66,7 +65,7 @@ _NOMINAL = {
     "hip_width": 0.18, "hip_drop": 0.07, "trunk_base": 0.10, "neck": 0.46,
     "shoulder_width": 0.38, "shoulder_height": 0.42, "head": 0.24,
     "upperarm": 0.29, "forearm": 0.27, "hand": 0.09,
-    "thigh": 0.43, "shank": 0.43, "ankle_height": 0.08, "foot": 0.22,
+    "thigh": 0.43, "shank": 0.43, "ankle_height": 0.0817, "foot": 0.2293,
 }
 
 
@@ -169,7 +168,7 @@ def make_people(count: int, seed: int = 0) -> list[Person]:
         leg, arm, trunk = 1.0 + rng.normal(0.0, 0.03, size=3)
         lengths = {}
         for key, value in _NOMINAL.items():
-            factor = scale * (leg if key in ("thigh", "shank", "foot") else
+            factor = scale * (leg if key in ("thigh", "shank", "foot", "ankle_height") else
                               arm if key in ("upperarm", "forearm", "hand") else
                               trunk if key in ("neck", "shoulder_height") else 1.0)
             lengths[key] = value * factor
@@ -200,7 +199,7 @@ def _style_effects(seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return gains, offsets, action_weights
 
 
-# --------------------------------------------------------------------------- action templates
+# --------------------------------------------------------------------------- templates
 
 def _bump(u: np.ndarray, centre: float, width: float) -> np.ndarray:
     """Periodic bump on the unit cycle: 1 at ``centre``, about Gaussian with std ``width``."""
@@ -215,82 +214,16 @@ def _sin(u: np.ndarray, shift: float = 0.0, harmonic: int = 1) -> np.ndarray:
     return np.sin(2 * np.pi * harmonic * (u - shift))
 
 
-def _leg_curves(action: str, u: np.ndarray) -> dict[str, np.ndarray]:
-    """Clinical leg angles (degrees) of one side over phase ``u`` (0 = that side's heel strike)."""
-    if action == "walk":
-        return {
-            "hip_flex": 12 + 20 * _cos(u, 0.02) + 2 * _cos(u, 0.1, 2),
-            "hip_abd": -2 + 4 * _bump(u, 0.20, 0.10) - 3 * _bump(u, 0.70, 0.08),
-            "hip_rot": 4 * _sin(u, 0.05),
-            "knee_flex": 4 + 14 * _bump(u, 0.14, 0.06) + 56 * _bump(u, 0.71, 0.09),
-            "ankle_inv": 3 * _sin(u, 0.3),
-        }
+def _stance_knee(action: str, u: np.ndarray) -> np.ndarray:
+    """Knee flexion (degrees) the supporting leg aims for over its phase ``u`` (0 = its
+    landing); it sets the pelvis height while that leg leads the support."""
+    if action == "walk":      # loading response peak, nearly straight in mid-stance
+        return 4 + 14 * _bump(u, 0.14, 0.06) + 56 * _bump(u, 0.71, 0.09)
     if action == "run":
-        return {
-            "hip_flex": 18 + 28 * _cos(u, 0.02) + 4 * _cos(u, 0.15, 2),
-            "hip_abd": -3 + 6 * _bump(u, 0.15, 0.08) - 4 * _bump(u, 0.65, 0.10),
-            "hip_rot": 6 * _sin(u, 0.05),
-            "knee_flex": 18 + 24 * _bump(u, 0.17, 0.06) + 82 * _bump(u, 0.68, 0.10),
-            "ankle_inv": 4 * _sin(u, 0.25),
-        }
-    if action == "ascend":
-        return {
-            "hip_flex": 32 + 30 * _cos(u, 0.05),
-            "hip_abd": -2 + 5 * _bump(u, 0.30, 0.10),
-            "hip_rot": 5 * _sin(u, 0.1),
-            "knee_flex": 12 + 48 * _bump(u, 0.0, 0.08) + 80 * _bump(u, 0.73, 0.09),
-            "ankle_inv": 2 * _sin(u, 0.2),
-        }
-    if action == "descend":
-        return {
-            "hip_flex": 18 + 12 * _cos(u, 0.80) + 4 * _cos(u, 0.3, 2),
-            "hip_abd": -1 + 4 * _bump(u, 0.35, 0.12),
-            "hip_rot": 3 * _sin(u, 0.2),
-            "knee_flex": 8 + 78 * _bump(u, 0.55, 0.13) + 22 * _bump(u, 0.86, 0.06),
-            "ankle_inv": 3 * _sin(u, 0.4),
-        }
-    raise MocapError(f"unknown action {action!r}; known: {', '.join(ACTIONS)}")
-
-
-#: Pitch of the foot in the lab over the cycle (degrees, toes up positive) at control
-#: phases: heel strike, foot flat, heel rise, toe-off, swing.  The ankle's flexion is
-#: derived from it (see :func:`_with_ankles`), so the stance foot lies flat on the floor.
-_FOOT_PITCH = {
-    "walk": [(0.0, 18), (0.06, 3), (0.10, 0), (0.38, 0), (0.50, -12), (0.62, -50), (0.72, -30),
-             (0.85, 5), (0.95, 16)],
-    "run": [(0.0, 10), (0.06, 0), (0.16, 0), (0.28, -20), (0.38, -45), (0.55, -20), (0.80, 10),
-            (0.93, 12)],
-    "ascend": [(0.0, 0), (0.10, 0), (0.45, 0), (0.60, -30), (0.70, -10), (0.85, 10), (0.95, 5)],
-    "descend": [(0.0, -20), (0.08, 0), (0.40, 0), (0.55, -15), (0.65, -30), (0.80, -10),
-                (0.93, -20)],
-}
-
-
-def _foot_pitch(action: str, u: np.ndarray) -> np.ndarray:
-    """Periodic cubic spline through ``_FOOT_PITCH[action]``, degrees, toes up positive."""
-    from scipy.interpolate import CubicSpline
-
-    phases, pitches = np.array(_FOOT_PITCH[action] + [(1.0, _FOOT_PITCH[action][0][1])]).T
-    return CubicSpline(phases, pitches, bc_type="periodic")(u % 1.0)
-
-
-def _with_ankles(angles: np.ndarray, action: str, u: np.ndarray) -> np.ndarray:
-    """Set each ankle's flexion so the foot follows the action's foot-pitch profile.
-
-    In the sagittal plane the foot's pitch is the sum of the pelvis, thigh, shank and
-    foot rotations about the left axis; the ankle takes whatever the person's own hip
-    and knee leave (to first order: abduction and axial rotation are small).
-    """
-    angles = angles.copy()
-    index = {name: i for i, name in enumerate(SEGMENT_NAMES)}
-    pelvis_pitch = angles[:, index["pelvis"], 0]
-    for side, phase in (("r", 0.0), ("l", 0.5)):
-        # rotation about +Y of each link, in the sign convention of _to_rotations
-        thigh = -angles[:, index[f"{side}_thigh"], 0]
-        shank = -angles[:, index[f"{side}_shank"], 0]
-        toes_up = _foot_pitch(action, u + phase)
-        angles[:, index[f"{side}_foot"], 0] = toes_up + pelvis_pitch + thigh + shank
-    return angles
+        return 18 + 24 * _bump(u, 0.17, 0.06)
+    if action == "ascend":    # lands bent on the higher step, then straightens
+        return 12 + 48 * _bump(u, 0.0, 0.08) + 80 * _bump(u, 0.73, 0.09)
+    return 8 + 78 * _bump(u, 0.55, 0.13) + 22 * _bump(u, 0.86, 0.06)    # descend: lowers
 
 
 def _action_angles(action: str, u: np.ndarray) -> np.ndarray:
@@ -298,7 +231,11 @@ def _action_angles(action: str, u: np.ndarray) -> np.ndarray:
 
     Flexion is about the segment's left axis (e2), abduction about its anterior
     axis (e1), axial rotation about its up axis (e3), in clinical sign
-    (flexion, abduction and internal rotation positive on both sides).
+    (flexion, abduction and internal rotation positive on both sides).  Hip, knee
+    and ankle flexion and abduction are zero here: they follow from the feet by
+    inverse kinematics (:func:`_leg_rotations`); the knee and ankle axial rotations
+    are targets for it.  Phase 0 is the right foot's landing: the pelvis is turned
+    with the right hip forward and the right arm back.
     """
     intensity = {"walk": 1.0, "run": 1.8, "ascend": 1.2, "descend": 1.0}[action]
     lean = {"walk": 3.0, "run": 10.0, "ascend": 9.0, "descend": 2.0}[action]
@@ -309,18 +246,17 @@ def _action_angles(action: str, u: np.ndarray) -> np.ndarray:
     def put(segment: str, flex=0.0, abd=0.0, rot=0.0) -> None:
         angles[:, index[segment]] = np.stack(np.broadcast_arrays(flex, abd, rot, u)[:3], axis=-1)
 
-    # root: pelvis tilt (flex), obliquity (abd), rotation (yaw, rot)
-    put("pelvis", flex=2 + 2 * intensity * _cos(u, 0.1, 2), abd=4 * intensity * _sin(u, 0.05),
-        rot=5 * intensity * _sin(u))
-    put("thorax", flex=lean + 1.5 * _cos(u, 0.1, 2), abd=-2 * intensity * _sin(u, 0.05),
-        rot=-8 * intensity * _sin(u))
-    put("head", flex=-lean + 2 * _cos(u, 0.2, 2), abd=1.5 * _sin(u, 0.1), rot=5 * intensity * _sin(u))
+    # root: pelvis tilt (flex), obliquity (abd: the swing side drops), rotation (yaw)
+    put("pelvis", flex=2 + 2 * intensity * _cos(u, 0.1, 2), abd=-4 * intensity * _sin(u, 0.05),
+        rot=5 * intensity * _cos(u))
+    put("thorax", flex=lean + 1.5 * _cos(u, 0.1, 2), abd=2 * intensity * _sin(u, 0.05),
+        rot=-8 * intensity * _cos(u))          # counter-rotates the pelvis
+    put("head", flex=-lean + 2 * _cos(u, 0.2, 2), abd=1.5 * _sin(u, 0.1),
+        rot=3 * intensity * _cos(u))           # keeps the gaze forward
     for side, phase in (("r", 0.0), ("l", 0.5)):
         v = (u + phase) % 1.0
-        leg = _leg_curves(action, v)
-        put(f"{side}_thigh", leg["hip_flex"], leg["hip_abd"], leg["hip_rot"])
-        put(f"{side}_shank", -leg["knee_flex"], 0.0, 2 * _sin(v, 0.1))
-        put(f"{side}_foot", 0.0, leg["ankle_inv"], 2 * _sin(v, 0.3))   # flexion: see _with_ankles
+        put(f"{side}_shank", 0.0, 0.0, 2 * _sin(v, 0.1))
+        put(f"{side}_foot", 0.0, 0.0, 2 * _sin(v, 0.3))
         swing = 16 * intensity * _cos(v, 0.55)   # arm swings with the other leg
         put(f"{side}_upperarm", swing, 8 + 2 * _sin(v, 0.25), 3 * _sin(v))
         put(f"{side}_forearm", elbow + 0.5 * swing + 4 * _cos(v, 0.6, 2), 0.0, 4 * _sin(v, 0.2))
@@ -328,29 +264,31 @@ def _action_angles(action: str, u: np.ndarray) -> np.ndarray:
     return angles
 
 
+#: Sign of (about +Y, about +X, about +Z) per segment for clinical (flex, abd, rot): limb
+#: flexion swings the distal end forward (negative about +Y), trunk and head flexion lean
+#: forward (positive about +Y), right abduction moves the limb to −Y, left internal
+#: rotation turns it to −Y.
+_CLINICAL_SIGNS = np.array([
+    (1.0, 1.0, 1.0) if name in ("pelvis", "thorax", "head") else
+    (-1.0, -1.0, 1.0) if name.startswith("r_") else (-1.0, 1.0, -1.0)
+    for name in SEGMENT_NAMES])
+
+
 def _to_rotations(clinical: np.ndarray) -> np.ndarray:
     """Clinical (flex, abd, rot) degrees → joint rotation matrices, (frames, segments, 3, 3).
 
-    Applied as intrinsic Y-X-Z (flexion first).  Signs: thigh/upper-arm/forearm
-    flexion swings the distal end forward (negative about +Y), trunk and head
-    flexion lean forward (positive about +Y), the knee's negative flexion above
-    swings the shank back, ankle dorsiflexion lifts the toes (negative about +Y);
-    left-side abduction and rotation are mirrored.
+    Applied as intrinsic Y-X-Z (flexion first), signs per ``_CLINICAL_SIGNS``: the knee's
+    negative flexion swings the shank back, ankle dorsiflexion lifts the toes.
     """
-    about_y = clinical[..., 0].copy()
-    about_x = clinical[..., 1].copy()
-    about_z = clinical[..., 2].copy()
-    for i, name in enumerate(SEGMENT_NAMES):
-        if name in ("pelvis", "thorax", "head"):
-            continue
-        about_y[:, i] = -about_y[:, i]
-        if name.startswith("r_"):           # right abduction moves the limb to −Y
-            about_x[:, i] = -about_x[:, i]
-        else:                               # left internal rotation turns it to −Y
-            about_z[:, i] = -about_z[:, i]
-    euler = np.stack([about_y, about_x, about_z], axis=-1).reshape(-1, 3)
+    euler = (clinical * _CLINICAL_SIGNS).reshape(-1, 3)
     matrices = Rotation.from_euler("YXZ", euler, degrees=True).as_matrix()
     return matrices.reshape(clinical.shape[:-1] + (3, 3))
+
+
+def _to_clinical(rotations: np.ndarray, segment: int) -> np.ndarray:
+    """Inverse of :func:`_to_rotations` for one segment: (frames, 3, 3) → (frames, 3) degrees."""
+    euler = Rotation.from_matrix(rotations).as_euler("YXZ", degrees=True)
+    return euler * _CLINICAL_SIGNS[segment]
 
 
 # --------------------------------------------------------------------------- kinematics
@@ -419,29 +357,588 @@ def _contact_points(rotations: np.ndarray, origins: np.ndarray,
     return points
 
 
-def _planted_root(joint_rotations: np.ndarray, offsets: np.ndarray, person: Person,
-                  action: str, times: np.ndarray, cycle_seconds: float) -> np.ndarray:
-    """Root translation that keeps the stance foot's lowest point planted, (frames, 3) metres.
-
-    See :func:`mocap.planting.planted_translation`; stair trials then rise or fall
-    by two steps per cycle.
-    """
-    zero = np.zeros((len(times), 3))
-    rotations, origins = forward_kinematics(joint_rotations, offsets, zero)
-    points = _contact_points(rotations, origins, person)
-    root = planted_translation(np.stack(list(points.values()), axis=1), up=2)
-    if action in ("ascend", "descend"):
-        rise = 2 * STEP_RISE * person.height / 1.75 * (1 if action == "ascend" else -1)
-        root[:, 2] += rise * times / cycle_seconds
-    return root
-
-
 def _marker_positions(rotations: np.ndarray, origins: np.ndarray) -> np.ndarray:
     """(frames, segments * 3, 3) marker positions: origin, anterior, left of each segment."""
     anterior = origins + MARKER_SPACING * rotations[..., :, 0]
     left = origins + MARKER_SPACING * rotations[..., :, 1]
     markers = np.stack([origins, anterior, left], axis=2)        # (frames, segments, 3, 3)
     return markers.reshape(origins.shape[0], -1, 3)
+
+
+#: Segment mass fractions and centres of mass (fraction of the segment's length along its
+#: long axis from the proximal joint), after de Leva (1996, male); the trunk is split into
+#: the pelvis (lower trunk) and the thorax (middle and upper trunk).
+_MASS = {"pelvis": (0.1117, 0.0), "thorax": (0.3229, 0.5), "head": (0.0694, 0.5),
+         "upperarm": (0.0271, 0.577), "forearm": (0.0162, 0.457), "hand": (0.0061, 0.4),
+         "thigh": (0.1416, 0.41), "shank": (0.0433, 0.446), "foot": (0.0137, 0.44)}
+
+
+def _mass_model(person: Person) -> tuple[np.ndarray, np.ndarray]:
+    """Mass fractions (segments,) summing to 1 and centres of mass in the segment frames
+    (segments, 3), metres."""
+    L = person.lengths
+    down = {"upperarm": L["upperarm"], "forearm": L["forearm"], "hand": L["hand"],
+            "thigh": L["thigh"], "shank": L["shank"]}
+    fractions, centres = [], []
+    for name in SEGMENT_NAMES:
+        kind = name.split("_")[-1]
+        fraction, along = _MASS[kind]
+        if kind == "thorax":
+            centre = (0.0, 0.0, along * L["neck"])
+        elif kind == "head":
+            centre = (0.0, 0.0, along * L["head"])
+        elif kind == "pelvis":
+            centre = (0.0, 0.0, -0.3 * L["hip_drop"])
+        elif kind == "foot":
+            centre = ((along - 0.25) * L["foot"], 0.0, -0.5 * L["ankle_height"])
+        else:
+            centre = (0.0, 0.0, -along * down[kind])
+        fractions.append(fraction)
+        centres.append(centre)
+    fractions = np.array(fractions)
+    return fractions / fractions.sum(), np.array(centres)
+
+
+def _centre_of_mass(rotations: np.ndarray, origins: np.ndarray, person: Person) -> np.ndarray:
+    """Whole-body centre of mass, (frames, 3) metres, from segment poses in the lab."""
+    fractions, centres = _mass_model(person)
+    points = origins + np.einsum("fsij,sj->fsi", rotations, centres)
+    return np.einsum("s,fsi->fi", fractions, points)
+
+
+# --------------------------------------------------------------------------- gait
+
+#: Depth of one stair tread, metres (the right foot lands on even steps, the left on odd).
+STEP_GOING = 0.28
+
+#: Nominal gait of each action.  ``stride`` is per leg length (thigh + shank + ankle
+#: height) on the flat; phases are fractions of the cycle from the foot's landing:
+#: ``landed`` foot flat, ``heel_rise``, ``toe_off``; pitches are of the foot in the lab,
+#: degrees, toes up positive; ``clearance`` of the swinging foot over the floor (or the
+#: nosing of the step it passes), metres; ``width`` between the feet's long axes, metres;
+#: ``toe_out`` degrees; ``knee_min`` the least knee flexion of a supporting leg, degrees.
+_GAITS = {
+    "walk": dict(stride=1.50, landed=0.08, heel_rise=0.30, toe_off=0.62, land_pitch=17.0,
+                 off_pitch=-42.0, clearance=0.015, width=0.10, toe_out=6.0, knee_min=3.0),
+    "run": dict(stride=2.45, landed=0.07, heel_rise=0.15, toe_off=0.36, land_pitch=8.0,
+                off_pitch=-38.0, clearance=0.05, width=0.05, toe_out=5.0, knee_min=16.0),
+    "ascend": dict(stride=0.0, landed=0.05, heel_rise=0.42, toe_off=0.64, land_pitch=3.0,
+                   off_pitch=-25.0, clearance=0.03, width=0.12, toe_out=8.0, knee_min=4.0),
+    "descend": dict(stride=0.0, landed=0.10, heel_rise=0.40, toe_off=0.62, land_pitch=-18.0,
+                    off_pitch=-22.0, clearance=0.03, width=0.12, toe_out=8.0, knee_min=4.0),
+}
+
+#: How much one unit of (action-weighted) style moves each gait parameter: relative
+#: change for lengths, gains and pitches; degrees for ``toe_out``; cycles for ``heel_rise``.
+_GAIT_STYLE_SCALE = {"stride": 0.05, "width": 0.15, "toe_out": 2.5, "land_pitch": 0.12,
+                     "off_pitch": 0.10, "clearance": 0.20, "knee": 0.08, "heel_rise": 0.02}
+
+
+@dataclass(frozen=True)
+class _Gait:
+    """Gait of one person doing one action: what the feet do, and how.
+
+    Lengths in metres, angles in degrees, phases in cycles from the right foot's landing;
+    pairs are (right, left).
+    """
+
+    action: str
+    period: float
+    advance: np.ndarray        # (3,) displacement of each foot per cycle
+    placement: tuple           # heel position of each foot at its landing in cycle 0
+    phase: tuple               # landing phase of each foot
+    yaw: tuple                 # foot heading, degrees (toe out)
+    landed: float
+    heel_rise: float
+    toe_off: float
+    land_pitch: tuple
+    off_pitch: tuple
+    clearance: tuple
+    land_on_toe: bool
+    knee_gain: float
+    knee_min: float
+    tread: float               # stair tread depth (0 on the flat)
+    step_rise: float           # signed rise of one step (0 on the flat)
+
+
+def _gait_style_effects(seed: int) -> np.ndarray:
+    """Per-style effect on each gait parameter, (styles, parameters) in the units of
+    ``_GAIT_STYLE_SCALE``."""
+    rng = np.random.default_rng([seed, 5])
+    scale = np.array(list(_GAIT_STYLE_SCALE.values()))
+    return rng.normal(0.0, 1.0, size=(_STYLES, len(scale))) * scale
+
+
+def _gait(person: Person, action: str, seed: int = 0) -> _Gait:
+    """The gait parameters of ``person`` doing ``action``."""
+    nominal = _GAITS[action]
+    _, _, action_weights = _style_effects(seed)
+    weights = person.style * action_weights[ACTIONS.index(action)]
+    scale = np.array(list(_GAIT_STYLE_SCALE.values()))
+    # linear for usual styles, saturating at two scales for extreme ones
+    raw = weights @ _gait_style_effects(seed)
+    effect = dict(zip(_GAIT_STYLE_SCALE, 2 * scale * np.tanh(raw / (2 * scale))))
+    L = person.lengths
+    leg = L["thigh"] + L["shank"] + L["ankle_height"]
+    left = 1.0 + person.asymmetry
+    heel_rise = nominal["heel_rise"] + 0.08 * person.timing + effect["heel_rise"]
+    toe_off = nominal["toe_off"] + 0.08 * person.timing
+    width = nominal["width"] * (1 + effect["width"]) * person.height / 1.75
+    toe_out = nominal["toe_out"] + effect["toe_out"]
+    if action in ("ascend", "descend"):
+        sign = 1.0 if action == "ascend" else -1.0
+        tread, step_rise = STEP_GOING, sign * STEP_RISE
+        # the foot in the middle of the tread, or back from the riser when going up
+        margin = (0.25 if action == "ascend" else 0.5) * (tread - L["foot"])
+        advance = np.array([2 * tread, 0.0, 2 * step_rise])
+        placements = ((margin, -width / 2, 0.0), (margin + tread, width / 2, step_rise))
+    else:
+        tread, step_rise = 0.0, 0.0
+        stride = nominal["stride"] * leg * (1 + effect["stride"])
+        advance = np.array([stride, 0.0, 0.0])
+        placements = ((0.0, -width / 2, 0.0), ((0.5 + 0.1 * person.asymmetry) * stride,
+                                                width / 2, 0.0))
+    land = nominal["land_pitch"] * (1 + effect["land_pitch"])
+    push = nominal["off_pitch"] * (1 + effect["off_pitch"])
+    clear = nominal["clearance"] * (1 + effect["clearance"])
+    return _Gait(
+        action=action, period=cycle_seconds(person, action, seed), advance=advance,
+        placement=tuple(np.array(p) for p in placements), phase=(0.0, 0.5),
+        yaw=(-toe_out, toe_out), landed=nominal["landed"],
+        heel_rise=float(np.clip(heel_rise, nominal["landed"] + 0.04, toe_off - 0.06)),
+        toe_off=toe_off, land_pitch=(land, land * left), off_pitch=(push, push * left),
+        clearance=(clear, clear * left), land_on_toe=action == "descend",
+        knee_gain=float(np.clip(1.0 + effect["knee"], 0.8, 1.25)),
+        knee_min=nominal["knee_min"] * float(np.clip(1.0 + effect["knee"], 0.8, 1.25)),
+        tread=tread, step_rise=step_rise)
+
+
+def _foot_rotation(yaw: float, pitch: np.ndarray) -> np.ndarray:
+    """Foot frame in the lab: heading ``yaw``, toes up by ``pitch``; (frames, 3, 3)."""
+    angles = np.stack(np.broadcast_arrays(yaw, -pitch), axis=-1)
+    return Rotation.from_euler("ZY", angles, degrees=True).as_matrix()
+
+
+def _quintic(start: tuple, end: tuple, duration: float, s: np.ndarray) -> np.ndarray:
+    """Quintic Hermite curve matching position, velocity and acceleration at both ends.
+
+    ``start`` and ``end`` are (value, rate, acceleration) per unit phase, each (dims,);
+    ``s`` (frames,) runs over [0, 1] in ``duration`` cycles; returns (frames, dims).
+    """
+    s = s[:, None]
+    basis = (1 - 10 * s**3 + 15 * s**4 - 6 * s**5, s - 6 * s**3 + 8 * s**4 - 3 * s**5,
+             0.5 * s**2 - 1.5 * s**3 + 1.5 * s**4 - 0.5 * s**5,
+             0.5 * s**3 - s**4 + 0.5 * s**5, -4 * s**3 + 7 * s**4 - 3 * s**5,
+             10 * s**3 - 15 * s**4 + 6 * s**5)
+    (p0, v0, a0), (p1, v1, a1) = start, end
+    return (basis[0] * p0 + basis[1] * v0 * duration + basis[2] * a0 * duration**2
+            + basis[3] * a1 * duration**2 + basis[4] * v1 * duration + basis[5] * p1)
+
+
+def _lift(s: np.ndarray) -> np.ndarray:
+    """Swing lift profile: 0 with zero rate and acceleration at both ends, 1 at mid-swing."""
+    return 64.0 * (s * (1.0 - s)) ** 3
+
+
+def _floor_height(gait: _Gait, x: np.ndarray) -> np.ndarray:
+    """Height of the floor (stairs: the step) at forward distance ``x`` from a foot's
+    landing heel position, metres."""
+    if gait.tread == 0.0:
+        return np.zeros_like(x)
+    margin = gait.placement[0][0]
+    return gait.step_rise * np.floor((x + margin) / gait.tread)
+
+
+_MID_SWING = 0.4   # fraction of the swing where the foot passes level
+
+
+class _FootPath:
+    """The lab trajectory of one foot over its cycle, relative to its landing heel position.
+
+    Stance: a landing rocker about the heel (toe for stair descent) from the landing pitch
+    to flat, the foot flat and still, then a push-off rocker about the toe; swing: quintic
+    Hermite curves (ankle position and foot pitch) matching the rockers' position, rate
+    and acceleration at toe-off and at the next landing, lifted enough to clear the floor.
+    """
+
+    def __init__(self, gait: _Gait, person: Person, side: int):
+        self.gait, self.side = gait, side
+        points = _foot_points(person)
+        self.heel, self.toe = points["heel"], points["toe"]
+        self.flat = _foot_rotation(gait.yaw[side], np.zeros(1))[0]
+        self.pivot = self.toe if gait.land_on_toe else self.heel
+        self.lift = 0.0
+        # Swing boundary states by one-sided differences of the rockers, per unit phase.
+        step = 1e-4
+        off = [self._push(np.array([gait.toe_off - k * step])) for k in range(3)]
+        land = [self._landing(np.array([k * step])) for k in range(3)]
+        self.start = self._state(off, -step)
+        self.end = self._state(land, step, shift=gait.advance)
+        self.lift = self._needed_lift(person)
+
+    @staticmethod
+    def _state(samples, step, shift=np.zeros(3)):
+        """(value, rate, acceleration) of [ankle xyz, pitch] from three samples ``step`` apart."""
+        f = [np.concatenate([ankle[0] + shift, pitch]) for ankle, pitch in samples]
+        rate = (-3 * f[0] + 4 * f[1] - f[2]) / (2 * step)
+        return f[0], rate, (f[0] - 2 * f[1] + f[2]) / step**2
+
+    def _rocker(self, pivot: np.ndarray, pitch: np.ndarray) -> np.ndarray:
+        """Ankle positions that keep the foot point ``pivot`` where it is when flat."""
+        rotation = _foot_rotation(self.gait.yaw[self.side], pitch)
+        return self.flat @ (pivot - self.heel) - rotation @ pivot
+
+    def _landing(self, u):
+        s = u / self.gait.landed
+        pitch = self.gait.land_pitch[self.side] * (1 - s) ** 2
+        return self._rocker(self.pivot, pitch), pitch
+
+    def _push(self, u):
+        g = self.gait
+        s = (u - g.heel_rise) / (g.toe_off - g.heel_rise)
+        pitch = g.off_pitch[self.side] * s**2
+        return self._rocker(self.toe, pitch), pitch
+
+    def _swing(self, u, lift):
+        g = self.gait
+        duration = 1.0 - g.toe_off
+        s = (u - g.toe_off) / duration
+        curve = _quintic(self.start, self.end, duration, s)
+        # The foot pitch passes level at mid-swing rather than overshooting toe-off's.
+        rate = (self.end[0][3] - self.start[0][3]) / duration
+        middle = (np.array([-5.0]), np.array([rate]), np.zeros(1))
+        first = s < _MID_SWING
+        start, end = [tuple(x[3:] for x in state) for state in (self.start, self.end)]
+        curve[first, 3] = _quintic(start, middle, _MID_SWING * duration,
+                                   s[first] / _MID_SWING)[:, 0]
+        curve[~first, 3] = _quintic(middle, end, (1 - _MID_SWING) * duration,
+                                    (s[~first] - _MID_SWING) / (1 - _MID_SWING))[:, 0]
+        if g.tread > 0:      # stairs: up before over the next step; over before down
+            lead = -0.3 if g.step_rise > 0 else 0.3
+            curve[:, 0] = _quintic(self.start, self.end, duration, s + lead * _lift(s))[:, 0]
+        ankle = curve[:, :3]
+        ankle[:, 2] += lift * _lift(s)
+        return ankle, curve[:, 3]
+
+    def _needed_lift(self, person: Person) -> float:
+        """Lift of the swing (metres at mid-swing) for the clearance over the floor below."""
+        g = self.gait
+        s = np.linspace(0.25, 0.75, 51)   # leaving and reaching a tread are the rockers' job
+        ankle, pitch = self._swing(g.toe_off + s * (1 - g.toe_off), 0.0)
+        rotation = _foot_rotation(g.yaw[self.side], pitch)
+        profile = _lift(s)
+        need = 0.0
+        for point in (self.heel, self.toe):
+            where = ankle + rotation @ point
+            height = where[:, 2] - _floor_height(g, where[:, 0])
+            need = max(need, float(np.max(g.clearance[self.side] - height / profile)))
+        return need
+
+    def pose(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Ankle position relative to the landing heel position (frames, 3) and foot pitch
+        (frames,) degrees at phase ``u`` ∈ [0, 1) from the landing."""
+        g = self.gait
+        ankle = np.empty(u.shape + (3,))
+        pitch = np.zeros(u.shape)
+        pieces = (u < g.landed, (u >= g.landed) & (u < g.heel_rise),
+                  (u >= g.heel_rise) & (u < g.toe_off), u >= g.toe_off)
+        ankle[pieces[0]], pitch[pieces[0]] = self._landing(u[pieces[0]])
+        ankle[pieces[1]] = -self.flat @ self.heel
+        ankle[pieces[2]], pitch[pieces[2]] = self._push(u[pieces[2]])
+        ankle[pieces[3]], pitch[pieces[3]] = self._swing(u[pieces[3]], self.lift)
+        return ankle, pitch
+
+    def in_lab(self, phase: np.ndarray) -> dict[str, np.ndarray]:
+        """The foot at ``phase`` (cycles from the right foot's landing; any range).
+
+        Returns ``ankle`` (frames, 3), ``rotation`` (frames, 3, 3), ``u`` (frames,) phase
+        from this foot's landing, ``cop`` (frames, 3) where it presses on the floor.
+        """
+        g = self.gait
+        local = phase - g.phase[self.side]
+        cycle = np.floor(local)
+        u = local - cycle
+        ankle, pitch = self.pose(u)
+        ankle = ankle + g.placement[self.side] + cycle[:, None] * g.advance
+        rotation = _foot_rotation(g.yaw[self.side], pitch)
+        heel, toe = ankle + rotation @ self.heel, ankle + rotation @ self.toe
+        if g.land_on_toe:      # forefoot landing: the pressure goes back, then forward again
+            along = 1.0 - 0.5 * np.sin(np.pi * np.clip(u / g.heel_rise, 0.0, 1.0))
+        else:                  # heel to ball by heel rise, to the toe by toe-off
+            along = 0.75 * _smoothstep(u / g.heel_rise) + 0.25 * _smoothstep(
+                (u - g.heel_rise) / (g.toe_off - g.heel_rise))
+        return {"ankle": ankle, "rotation": rotation, "u": u,
+                "cop": heel + along[:, None] * (toe - heel)}
+
+
+def _smoothstep(s: np.ndarray) -> np.ndarray:
+    """0 → 1 with zero rate and acceleration at both ends (clipped outside [0, 1])."""
+    s = np.clip(s, 0.0, 1.0)
+    return s**3 * (10 - 15 * s + 6 * s**2)
+
+
+def _loads(gait: _Gait, u: np.ndarray) -> np.ndarray:
+    """Share of the body weight on a foot at its phase ``u``: 1 in single support, handed
+    over smoothly in double support, 0 in swing; (frames,)."""
+    overlap = gait.toe_off - 0.5
+    load = (u < gait.toe_off).astype(float)
+    if overlap > 0:
+        load = np.where(u < overlap, _smoothstep(u / overlap), load)
+        load = np.where((u >= 0.5) & (u < gait.toe_off),
+                        1.0 - _smoothstep((u - 0.5) / overlap), load)
+    return load
+
+
+def _leg_length(person: Person, knee: np.ndarray | float) -> np.ndarray:
+    """Hip-to-ankle distance with the knee flexed by ``knee`` degrees, metres."""
+    t, s = person.lengths["thigh"], person.lengths["shank"]
+    return np.sqrt(t * t + s * s + 2 * t * s * np.cos(np.radians(knee)))
+
+
+def _leg_rotations(person: Person, side: str, pelvis: np.ndarray, hip: np.ndarray,
+                   ankle: np.ndarray, foot: np.ndarray, clinical: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Hip, knee and ankle joint rotations that put the ankle and the foot where asked.
+
+    The knee is a hinge, so the hip-to-ankle distance gives its flexion (two-link inverse
+    kinematics); the hip's flexion and abduction point the leg at the ankle; the hip's
+    axial rotation is chosen so that the ankle's axial rotation is the template's
+    (``clinical``, which carries the knee's axial rotation too); the ankle takes the rest
+    of the foot's orientation.
+
+    Parameters
+    ----------
+    pelvis : (frames, 3, 3) pelvis frame in the lab
+    hip, ankle : (frames, 3) joint centres in the lab, metres
+    foot : (frames, 3, 3) foot frame in the lab
+    clinical : (frames, segments, 3) template angles, degrees
+
+    Returns
+    -------
+    thigh, shank, foot joint rotations, each (frames, 3, 3).
+    """
+    thigh_i, shank_i, foot_i = (SEGMENT_NAMES.index(f"{side}_{n}") for n in ("thigh", "shank", "foot"))
+    t, s = person.lengths["thigh"], person.lengths["shank"]
+    target = np.einsum("fji,fj->fi", pelvis, ankle - hip)             # in the pelvis frame
+    distance = np.linalg.norm(target, axis=1)
+    reach = np.minimum(distance, _leg_length(person, 0.5))           # never quite straight
+    knee = np.arccos(np.clip((reach**2 - t * t - s * s) / (2 * t * s), -1.0, 1.0))
+    target = target * (reach / distance)[:, None]
+    leg = np.stack([-s * np.sin(knee), np.zeros_like(knee), -t - s * np.cos(knee)], axis=1)
+    knee_joint = Rotation.from_euler(
+        "YZ", np.stack([np.degrees(knee), clinical[:, shank_i, 2] * _CLINICAL_SIGNS[shank_i, 2]],
+                       axis=1), degrees=True).as_matrix()
+    wanted_twist = clinical[:, foot_i, 2] * _CLINICAL_SIGNS[foot_i, 2]
+    twist = np.zeros_like(knee)
+    for _ in range(4):          # fixed point on the hip's axial rotation (converges fast)
+        turned = np.stack([leg[:, 0] * np.cos(twist), leg[:, 0] * np.sin(twist), leg[:, 2]], axis=1)
+        radius = np.hypot(turned[:, 1], turned[:, 2])
+        about_x = -np.arccos(np.clip(target[:, 1] / radius, -1.0, 1.0)) - np.arctan2(
+            turned[:, 2], turned[:, 1])
+        about_x = (about_x + np.pi) % (2 * np.pi) - np.pi
+        rolled_z = turned[:, 1] * np.sin(about_x) + turned[:, 2] * np.cos(about_x)
+        about_y = np.arctan2(target[:, 0], target[:, 2]) - np.arctan2(turned[:, 0], rolled_z)
+        hip_joint = Rotation.from_euler("YXZ", np.stack([about_y, about_x, twist], axis=1)
+                                        ).as_matrix()
+        shank = pelvis @ hip_joint @ knee_joint
+        ankle_joint = np.swapaxes(shank, 1, 2) @ foot
+        about_z = Rotation.from_matrix(ankle_joint).as_euler("YXZ")[:, 2]
+        twist = twist + (about_z - np.radians(wanted_twist))
+    return hip_joint, knee_joint, ankle_joint
+
+
+# --------------------------------------------------------------------------- body path
+
+GRAVITY = 9.81
+_GRID = 200            # samples per cycle for the centre-of-mass solve
+_HEIGHT_HARMONICS = 4  # harmonics per cycle kept in a walking centre of mass's height
+
+
+def _template(person: Person, action: str, phase: np.ndarray, seed: int) -> np.ndarray:
+    """Template angles with the person's style (gains, offsets, asymmetry), (frames, segments, 3)."""
+    gains, offsets, action_weights = _style_effects(seed)
+    weights = person.style * action_weights[ACTIONS.index(action)]        # (styles,)
+    gain = 1.0 + np.tensordot(weights, gains, axes=1)                      # (segments, 3)
+    offset = np.tensordot(weights, offsets, axes=1)
+    left = np.array([name.startswith("l_") for name in SEGMENT_NAMES])
+    gain = gain * np.where(left, 1.0 + person.asymmetry, 1.0)[:, None]
+    return offset + gain * _action_angles(action, phase % 1.0)
+
+
+def _posture(person: Person, clinical: np.ndarray, root: np.ndarray,
+             feet: list[dict]) -> np.ndarray:
+    """Joint rotations (frames, segments, 3, 3): the template's, with both legs solved to
+    put the feet where ``feet`` (right, left; see :meth:`_FootPath.in_lab`) says."""
+    joints = _to_rotations(clinical)
+    offsets = _offsets(person)
+    pelvis = joints[:, 0]
+    for side, foot in zip("rl", feet):
+        thigh = SEGMENT_NAMES.index(f"{side}_thigh")
+        hip = root + pelvis @ offsets[thigh]
+        joints[:, thigh:thigh + 3] = np.stack(_leg_rotations(
+            person, side, pelvis, hip, foot["ankle"], foot["rotation"], clinical), axis=1)
+    return joints
+
+
+def _periodic_second_derivative(values: np.ndarray, period: float) -> np.ndarray:
+    """Spectral second time derivative of samples over one period, (N,) → (N,)."""
+    n = len(values)
+    omega = 2 * np.pi * np.fft.rfftfreq(n, d=period / n)
+    return np.fft.irfft(-omega**2 * np.fft.rfft(values), n)
+
+
+def _low_pass(values: np.ndarray, harmonics: int) -> np.ndarray:
+    """Keep the first ``harmonics`` harmonics of samples over one period, (N,) → (N,)."""
+    spectrum = np.fft.rfft(values)
+    spectrum[harmonics + 1:] = 0.0
+    return np.fft.irfft(spectrum, len(values))
+
+
+def _below(values: np.ndarray, limit: np.ndarray, width: float = 0.1) -> np.ndarray:
+    """Lower periodic samples smoothly where they exceed ``limit``, (N,) → (N,).
+
+    The excess, widened by ``width`` cycles either side and blurred over as much, is
+    taken off until nothing exceeds the limit (a smooth local dent, not a global shift).
+    """
+    n = len(values)
+    reach = max(1, int(round(width * n)))
+    frequencies = np.fft.rfftfreq(n, d=1.0 / n)
+    kernel = np.exp(-0.5 * (2 * np.pi * frequencies * width / 2) ** 2)   # Gaussian, std width/2
+    for _ in range(20):
+        excess = np.maximum(values - limit, 0.0)
+        if excess.max() <= 1e-6:
+            break
+        widened = np.max([np.roll(excess, k) for k in range(-reach, reach + 1)], axis=0)
+        values = values - 1.2 * np.fft.irfft(np.fft.rfft(widened) * kernel, n) - 1e-6
+    return values
+
+
+def _periodic_interpolate(values: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Trigonometric interpolation of (N, dims) samples over one cycle at phases ``u``."""
+    n = len(values)
+    spectrum = np.fft.rfft(values, axis=0) / n
+    k = np.arange(spectrum.shape[0])
+    weight = np.where((k == 0) | (2 * k == n), 1.0, 2.0)                   # one-sided sum
+    waves = np.exp(2j * np.pi * np.outer(u, k)) * weight
+    return np.real(waves @ spectrum)
+
+
+def _pendulum_solve(stiffness: np.ndarray, pressure: np.ndarray, period: float) -> np.ndarray:
+    """Periodic solution of x'' = k(t) (x − p(t)) on a uniform grid over one period.
+
+    The centre of mass is pushed away from the centre of pressure p by the floor's force
+    (an inverted pendulum whose stiffness k = (g + z'') / height varies, 0 in flight).
+    Second differences with wrap-around; (N,) arrays, seconds.
+    """
+    from scipy.sparse import diags
+    from scipy.sparse.linalg import spsolve
+
+    n = len(stiffness)
+    ones = np.full(n, 1.0 / (period / n) ** 2)
+    matrix = diags([ones[:1], ones[1:], -2 * ones - stiffness, ones[1:], ones[:1]],
+                   [-(n - 1), -1, 0, 1, n - 1], format="csc")            # cyclic tridiagonal
+    return spsolve(matrix, -stiffness * pressure)
+
+
+def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
+               ) -> np.ndarray:
+    """Root (pelvis origin) positions over one cycle, (_GRID, 3) metres, at phases
+    ``arange(_GRID) / _GRID``, with the feet where ``paths`` put them.
+
+    The centre of mass moves like an inverted pendulum on the centre of pressure, which
+    rolls from heel to toe under each foot and passes from foot to foot in double
+    support, so the floor can supply the accelerations.  Its height: walking and stairs,
+    what the leading supporting leg gives at its nominal knee flexion (smoothed, and never
+    higher than the supporting legs reach); running, a spring-mass bounce with a
+    ballistic flight.  The root follows from the centre of mass and the posture; a few
+    fixed-point passes settle the coupling.
+    """
+    u = np.arange(_GRID) / _GRID
+    period = gait.period
+    feet = [path.in_lab(u) for path in paths]
+    clinical = _template(person, gait.action, u, seed)
+    offsets = _offsets(person)
+    pelvis = _to_rotations(clinical)[:, 0]
+    hips = [pelvis @ offsets[SEGMENT_NAMES.index(f"{side}_thigh")] for side in "rl"]
+    loads = np.stack([_loads(gait, foot["u"]) for foot in feet])           # (2, N)
+    support = loads.sum(axis=0)
+    pressure = np.einsum("sn,snd->nd", loads, np.stack([f["cop"] for f in feet]))
+    pressure /= np.maximum(support, 1e-12)[:, None]
+    trend = np.outer(u, gait.advance)
+    standing = clinical.copy()
+    standing[:, 9:] = 0.0
+    rotations, origins = forward_kinematics(_to_rotations(standing), offsets, np.zeros((_GRID, 3)))
+    offset = _centre_of_mass(rotations, origins, person)                   # COM − root
+    lengths = person.lengths
+    com_z = trend[:, 2] + lengths["ankle_height"] + 0.95 * (lengths["thigh"] + lengths["shank"]) \
+        + lengths["hip_drop"] + offset[:, 2]
+    bounce = None
+    if gait.action == "run":     # spring-mass: half-sine floor force, ballistic flight
+        force = sum(np.where(f["u"] < gait.toe_off, np.pi / (4 * gait.toe_off)
+                             * np.sin(np.pi * np.minimum(f["u"] / gait.toe_off, 1.0)), 0.0)
+                    for f in feet)
+        omega = 2 * np.pi * np.fft.rfftfreq(_GRID, d=period / _GRID)
+        spectrum = np.fft.rfft(GRAVITY * (force - 1.0))
+        spectrum[1:] /= -omega[1:] ** 2
+        spectrum[0] = 0.0
+        bounce = np.fft.irfft(spectrum, _GRID)
+    for _ in range(4):
+        height = com_z - pressure[:, 2]
+        accel = _periodic_second_derivative(com_z - trend[:, 2], period)
+        stiffness = np.where(support > 0, (GRAVITY + accel) / height, 0.0)
+        com_x = trend[:, 0] + _pendulum_solve(stiffness, pressure[:, 0] - trend[:, 0], period)
+        com_y = _pendulum_solve(stiffness, pressure[:, 1], period)
+        root_xy = np.stack([com_x, com_y], axis=1) - offset[:, :2]
+        goal = np.zeros(_GRID)
+        ceiling = np.full(_GRID, np.inf)
+        for foot, hip, load in zip(feet, hips, loads):
+            across = np.linalg.norm(root_xy + hip[:, :2] - foot["ankle"][:, :2], axis=1)
+
+            def root_height(length):
+                return (foot["ankle"][:, 2] - hip[:, 2]
+                        + np.sqrt(np.maximum(length**2 - across**2, (0.5 * length) ** 2)))
+
+            stance = foot["u"] < gait.toe_off
+            ceiling = np.where(stance, np.minimum(ceiling, root_height(
+                _leg_length(person, gait.knee_min))), ceiling)
+            knee = np.clip(gait.knee_gain * _stance_knee(gait.action, foot["u"]), gait.knee_min, 80.0)
+            # The leading leg sets the height; a trailing leg pushing off only limits it
+            # (except down stairs, where it bends to lower the body onto the next step).
+            leads = (foot["u"] < 0.5) | (gait.action == "descend")
+            target = np.where(leads, root_height(_leg_length(person, knee)),
+                              root_height(_leg_length(person, gait.knee_min)))
+            goal += load * np.where(stance, target, 0.0)
+        if bounce is not None:
+            com_z = bounce + np.min(ceiling + offset[:, 2] - bounce)
+        else:
+            com_z = trend[:, 2] + _low_pass(goal + offset[:, 2] - trend[:, 2], _HEIGHT_HARMONICS)
+            com_z = _below(com_z, ceiling + offset[:, 2])
+        root = np.column_stack([root_xy, com_z - offset[:, 2]])
+        joints = _posture(person, clinical, root, feet)
+        rotations, origins = forward_kinematics(joints, offsets, root)
+        offset = _centre_of_mass(rotations, origins, person) - root
+    return root
+
+
+def _motion(person: Person, action: str, phase: np.ndarray, seed: int = 0
+            ) -> tuple[np.ndarray, np.ndarray, _Gait]:
+    """Clinical joint angles (frames, segments, 3) degrees and root positions (frames, 3)
+    metres of ``person`` doing ``action`` at ``phase`` (cycles from the right landing)."""
+    if action not in ACTIONS:
+        raise MocapError(f"unknown action {action!r}; known: {', '.join(ACTIONS)}")
+    phase = np.asarray(phase, dtype=float)
+    gait = _gait(person, action, seed)
+    paths = [_FootPath(gait, person, side) for side in (0, 1)]
+    grid = np.arange(_GRID) / _GRID
+    path = _body_path(person, gait, paths, seed) - np.outer(grid, gait.advance)
+    root = _periodic_interpolate(path, phase % 1.0) + np.outer(phase, gait.advance)
+    clinical = _template(person, action, phase, seed)
+    joints = _posture(person, clinical, root, [p.in_lab(phase) for p in paths])
+    for side in "rl":
+        for name in ("thigh", "shank", "foot"):
+            i = SEGMENT_NAMES.index(f"{side}_{name}")
+            clinical[:, i] = _to_clinical(joints[:, i], i)
+    return clinical, root, gait
 
 
 # --------------------------------------------------------------------------- trials
@@ -456,21 +953,11 @@ def cycle_seconds(person: Person, action: str, seed: int = 0) -> float:
 def person_angles(person: Person, action: str, phase: np.ndarray, seed: int = 0) -> np.ndarray:
     """Clinical joint angles of ``person`` doing ``action``, (frames, segments, 3) degrees.
 
-    ``phase`` is the gait-cycle phase (cycles, 0 = right heel strike); it may run
-    over several cycles.
+    ``phase`` is the gait-cycle phase (cycles, 0 = right foot landing); it may run
+    over several cycles.  Leg angles come from the feet's paths by inverse kinematics
+    (see the module docstring), the others from the action's templates.
     """
-    if action not in ACTIONS:
-        raise MocapError(f"unknown action {action!r}; known: {', '.join(ACTIONS)}")
-    gains, offsets, action_weights = _style_effects(seed)
-    weights = person.style * action_weights[ACTIONS.index(action)]        # (styles,)
-    gain = 1.0 + np.tensordot(weights, gains, axes=1)                      # (segments, 3)
-    offset = np.tensordot(weights, offsets, axes=1)
-    u = phase % 1.0
-    warped = u - person.timing / (2 * np.pi) * np.sin(2 * np.pi * u)      # stance/swing timing
-    template = _action_angles(action, warped)
-    left = np.array([name.startswith("l_") for name in SEGMENT_NAMES])
-    gain = gain * np.where(left, 1.0 + person.asymmetry, 1.0)[:, None]
-    return _with_ankles(offset + gain * template, action, warped)
+    return _motion(person, action, phase, seed)[0]
 
 
 def synthesize_trial(person: int | Person, action: str, seed: int = 0, people: int = 6,
@@ -512,10 +999,9 @@ def synthesize_trial(person: int | Person, action: str, seed: int = 0, people: i
     period = cycle_seconds(person, action, seed)
     frames = max(int(round(cycles * period * rate)), 2)
     times = np.arange(frames) / rate
-    clinical = person_angles(person, action, times / period, seed)
+    clinical, root, _ = _motion(person, action, times / period, seed)
     joint_rotations = _to_rotations(clinical)
     offsets = _offsets(person)
-    root = _planted_root(joint_rotations, offsets, person, action, times, period)
     rotations, origins = forward_kinematics(joint_rotations, offsets, root)
     points = _marker_positions(rotations, origins)
     rng = np.random.default_rng([seed, 4, ACTIONS.index(action), sum(map(ord, person.name))])
