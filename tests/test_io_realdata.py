@@ -252,6 +252,16 @@ def test_gait_events_are_indexed_from_the_trial_start():
     assert [e["frame"] for e in events] == sorted(e["frame"] for e in events)
 
 
+def test_events_survive_a_c3d_rewrite(tmp_path):
+    from mocap.io import write
+
+    trial = read(realdata_path("biomechzoo_sample_study/HC002D/Straight/HC002D06.c3d"))
+    write(trial, tmp_path / "copy.c3d")
+    copy = read(tmp_path / "copy.c3d")
+    assert [(e["label"], e["context"], e["frame"]) for e in copy.metadata["events"]] == \
+        [(e["label"], e["context"], e["frame"]) for e in trial.metadata["events"]]
+
+
 @pytest.mark.parametrize("local", ["c3dorg_via_c3dio/sample_06/MACsample.c3d",
                                    "c3dorg_via_c3dio/sample_28/type1.C3D",
                                    "c3dorg_via_c3dio/sample_02/sgi_int.c3d",

@@ -428,7 +428,9 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:
         Length unit stored in the file (POINT:UNITS); points are converted.
 
     Missing samples are written as residual -1 with zero coordinates, the C3D
-    convention; the data are stored as 32-bit floats (POINT:SCALE -1).
+    convention; the data are stored as 32-bit floats (POINT:SCALE -1). Analogs
+    (when their rate is a whole multiple of the point rate) and
+    ``metadata["events"]`` are written too.
     """
     import ezc3d
 
@@ -455,6 +457,12 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:
     coordinates = trial.points.transpose(2, 1, 0) / factor
     missing = ~np.isfinite(coordinates).all(axis=0)
     values[:3] = np.where(missing[None], 0.0, coordinates)
+    for event in trial.metadata.get("events", []):
+        # Written files start at frame 1, time 0: an event's time is its frame / rate.
+        frame = int(event.get("frame", round(float(event.get("time", 0.0)) * trial.rate)))
+        if 0 <= frame < frames:
+            c3d.add_event([0, frame / trial.rate], context=str(event.get("context", "")),
+                          label=str(event.get("label", "")))
     if frames > 65535:
         # The header and POINT:FRAMES are 16-bit; TRIAL:ACTUAL_*_FIELD carry the
         # frame range as two 16-bit words (low, high), as Vicon writes them.
