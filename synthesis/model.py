@@ -104,13 +104,16 @@ class MotionModel:
 
     # ------------------------------------------------------------------ fitting
 
-    def fit(self, corpus: MotionCorpus) -> "MotionModel":
+    def fit(self, corpus: MotionCorpus, cache: dict | None = None) -> "MotionModel":
         """Fit the model to a corpus.
 
         Parameters
         ----------
         corpus : MotionCorpus
             At least 2 people and 2 actions, at least 2 people with every action.
+        cache : dict, optional
+            Shared between fits to corpora that differ only in one person's cells (see
+            :meth:`synthesis.regression.SignatureModel.fit`); used by leave-one-out.
 
         Returns
         -------
@@ -139,9 +142,11 @@ class MotionModel:
             timing = np.log(np.where(corpus.durations > 0, corpus.durations, np.nan))[..., None]
         if np.any(observed & ~np.isfinite(timing[..., 0])):
             raise MocapError("every captured cycle needs a positive duration")
+        caches = (None, None) if cache is None else \
+            (cache.setdefault("angles", {}), cache.setdefault("timing", {}))
         self.angle_model_ = SignatureModel(self.people_rank, self.action_rank,
-                                           self.feature_rank, self.ridge).fit(angles)
-        self.timing_model_ = SignatureModel().fit(timing)
+                                           self.feature_rank, self.ridge).fit(angles, caches[0])
+        self.timing_model_ = SignatureModel().fit(timing, caches[1])
         deviations = angles[complete] - self.angle_model_.mean_
         self.spread_rms_ = float(np.sqrt(np.mean(deviations ** 2)))
         return self

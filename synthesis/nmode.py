@@ -184,12 +184,12 @@ def _gram_svd(matrix: np.ndarray, rank: Rank, mode: int
         values, vectors = leading_eigenpairs(gram, int(rank))
         all_values = values
     else:
-        all_values = scipy.linalg.eigvalsh(gram, check_finite=False)[::-1]
-        values, vectors = None, None
+        # Rank from the spectrum (numerical rank or kept energy): one full decomposition.
+        values, vectors = np.linalg.eigh(gram)
+        values, vectors = values[::-1], vectors[:, ::-1]
+        all_values = values
     all_values = np.clip(all_values, 0.0, None)
     keep = _rank_from_eigenvalues(all_values, total_energy, rank, mode)
-    if vectors is None or vectors.shape[1] < keep:
-        values, vectors = leading_eigenpairs(gram, keep)
     values = np.clip(values[:keep], 0.0, None)
     vectors = vectors[:, :keep]
     # Directions below the numerical rank are noise from the squared condition number.

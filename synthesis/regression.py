@@ -35,6 +35,22 @@ RIDGE_GRID = (0.0, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0, 3.0, 10.0)
 DEFAULT_RIDGE = 1e-2
 
 
+def rank_grid(largest: int) -> list[int]:
+    """Signature ranks tried by leave-one-out: every count up to 12, then steps of ~25 %.
+
+    Examples
+    --------
+    >>> rank_grid(5)
+    [1, 2, 3, 4, 5]
+    >>> rank_grid(30)
+    [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 15, 19, 24, 30]
+    """
+    ranks = list(range(1, min(largest, 12) + 1))
+    while ranks[-1] < largest:
+        ranks.append(min(largest, int(np.ceil(ranks[-1] * 1.25))))
+    return ranks
+
+
 @dataclass
 class _Fold:
     """Action means and action bases fitted to some complete people."""
@@ -85,14 +101,23 @@ class SignatureModel:
 
     # ------------------------------------------------------------------ fitting
 
-    def fit(self, data: np.ndarray) -> "SignatureModel":
+    def fit(self, data: np.ndarray, cache: dict | None = None) -> "SignatureModel":
         """Fit to ``data`` (people, actions, features); NaN rows mark missing cells.
+
+        Parameters
+        ----------
+        data : ndarray, shape (people, actions, features)
+        cache : dict, optional
+            Bases already fitted to sets of complete people, reused and filled in (keyed by
+            the people's indices). Only valid across fits whose data agree on those people —
+            as in leave-one-cell-out, where only the held-out person's cells change.
 
         Raises
         ------
         MocapError
             Fewer than 2 people with every action.
         """
+        self._cache = cache
         self.data_ = np.asarray(data, dtype=float)
         observed = self.observed
         complete = np.flatnonzero(observed.all(axis=1))
@@ -102,7 +127,7 @@ class SignatureModel:
         full = self._fold(complete)
         alphas = RIDGE_GRID if self.ridge == "auto" else (float(self.ridge),)
         if self.people_rank is None:
-            ranks = list(range(1, full.bases.shape[1] + 1))
+            ranks = rank_grid(full.bases.shape[1])
         else:
             ranks = [full.bases.shape[1]]
         errors, cells = self._leave_one_out_errors(full, ranks, alphas)
@@ -119,6 +144,7 @@ class SignatureModel:
         self.ridge_alpha_ = float(alpha)
         self.ridge_ = float(alpha) * full.ridge_unit
         self.signatures_ = self._signatures()
+        self._cache = None
         return self
 
     @property
@@ -128,6 +154,17 @@ class SignatureModel:
 
     def _fold(self, people: np.ndarray) -> _Fold:
         """Means and N-mode SVD of the deviations of ``people`` (all complete)."""
+        cache = getattr(self, "_cache", None)
+        key = (tuple(int(i) for i in people), self.people_rank, self.action_rank,
+               self.feature_rank)
+        if cache is not None and key in cache:
+            return cache[key]
+        fold = self._fit_fold(people)
+        if cache is not None:
+            cache[key] = fold
+        return fold
+
+    def _fit_fold(self, people: np.ndarray) -> _Fold:
         block = self.data_[people]                                    # (K, A, F)
         mean = block.mean(axis=0)
         decomposition = nmode_svd(block - mean,
@@ -173,22 +210,23 @@ class SignatureModel:
         grams = np.einsum("kij,klj->kil", chosen, chosen)                       # (k, r_P, r_P)
         sides = np.einsum("kij,kj->ki", chosen, coordinates)                    # (k, r_P)
         lambdas = np.asarray(alphas) * fold.ridge_unit
+        # Leave one action out: the normal equations of the others, for every cell at once.
+        grams = grams.sum(axis=0) - grams                                       # (k, r_P, r_P)
+        sides = sides.sum(axis=0) - sides                                       # (k, r_P)
         errors = np.empty((observed.size, len(ranks), len(alphas)))
-        for position in range(observed.size):
-            others = np.arange(observed.size) != position
-            gram, side = grams[others].sum(axis=0), sides[others].sum(axis=0)
-            for i, rank in enumerate(ranks):
-                r = min(rank, gram.shape[0])
-                # Ridge solutions for every λ at once from one eigen-decomposition.
-                values, vectors = np.linalg.eigh(gram[:r, :r])
-                projected = vectors.T @ side[:r]
-                scale = values[None, :] + lambdas[:, None]
-                tiny = 1e-12 * max(float(values.max(initial=0.0)), 1e-300)
-                inverse = np.where(np.abs(scale) > tiny, 1.0 / np.where(scale == 0, 1, scale), 0)
-                signatures = (inverse * projected[None, :]) @ vectors.T          # (alphas, r)
-                predicted = signatures @ chosen[position, :r]                    # (alphas, r_J)
-                errors[position, i] = np.sum((predicted - coordinates[position]) ** 2, axis=1) \
-                    + outside[position]
+        for i, rank in enumerate(ranks):
+            r = min(rank, grams.shape[1])
+            # Ridge solutions for every λ from one (batched) eigen-decomposition per cell.
+            values, vectors = np.linalg.eigh(grams[:, :r, :r])                 # (k, r), (k, r, r)
+            projected = np.einsum("kji,kj->ki", vectors, sides[:, :r])          # (k, r)
+            scale = values[:, None, :] + lambdas[None, :, None]                 # (k, alphas, r)
+            tiny = 1e-12 * np.maximum(values.max(axis=1, initial=0.0), 1e-300)
+            inverse = np.where(np.abs(scale) > tiny[:, None, None],
+                               1.0 / np.where(scale == 0, 1.0, scale), 0.0)
+            signatures = np.einsum("kar,kir->kai", inverse * projected[:, None, :], vectors)
+            predicted = np.einsum("kai,kij->kaj", signatures, chosen[:, :r])    # (k, alphas, r_J)
+            errors[:, i] = np.sum((predicted - coordinates[:, None, :]) ** 2, axis=2) \
+                + outside[:, None]
         return errors
 
     def _leave_one_out_errors(self, full: _Fold, ranks: Sequence[int], alphas: Sequence[float]
