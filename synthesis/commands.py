@@ -69,8 +69,8 @@ def _names(text: str) -> list[str]:
 def _add_corpus_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("corpus", nargs="?", metavar="CORPUS",
                         help="folder of trials named <person>_<action>[_anything].<c3d|csv|trc|"
-                             "bvh> (sub-folders are ignored); angle CSVs (DESIGN 3.2) are read "
-                             "as they are")
+                             "bvh|amc> (sub-folders are ignored); angle CSVs (DESIGN 3.2) are "
+                             "read as they are; an AMC needs <person>.asf beside it")
     parser.add_argument("--manifest", metavar="FILE.csv",
                         help="CSV with columns path,person,action listing the trials instead of "
                              "a folder (relative paths from the manifest's folder)")
@@ -325,7 +325,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "likely person and action with scores.")
     parser.add_argument("model", metavar="MODEL.npz", help="model from 'mocap decompose'")
     parser.add_argument("trial", metavar="TRIAL",
-                        help="marker trial (read with the model's marker set), angle CSV or BVH")
+                        help="marker trial (read with the model's marker set), angle CSV, BVH or AMC")
     parser.add_argument("--action", metavar="A",
                         help="the trial's action when known (otherwise recognised too)")
     parser.add_argument("--json", action="store_true",

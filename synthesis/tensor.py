@@ -1,10 +1,11 @@
 """Corpus → tensor: read trials, time-normalise cycles, stack people × actions × features.
 
 A *corpus* is a set of trials, each labelled with a person and an action: a folder of files
-named ``<person>_<action>[_<anything>].<c3d|csv|trc|bvh>`` (sub-folders such as ``truth/`` are
-ignored) or a manifest CSV with columns ``path,person,action``. Each trial becomes joint angles
-(``mocap.angles.joint_angles`` with a marker set, or read directly from an angle CSV), then one
-gait cycle of ``samples`` frames per angle:
+named ``<person>_<action>[_<anything>].<c3d|csv|trc|bvh|amc>`` (sub-folders such as ``truth/``
+are ignored) or a manifest CSV with columns ``path,person,action``. Each trial becomes joint
+angles (``mocap.angles.joint_angles`` with a marker set; read directly from an angle CSV; or
+from a BVH / ASF-AMC motion mapped onto the 15-segment body model), then one gait cycle of
+``samples`` frames per angle:
 
 * **Unwrapping.** Every angle is unwrapped (no ±180° jumps) before interpolation, over the
   samples where it is defined (NaN where markers were missing); gaps are bridged by linear
@@ -41,8 +42,8 @@ from scipy.signal import find_peaks
 
 from mocap.errors import MocapError
 
-#: File suffixes a corpus folder may hold (BVH only when ``mocap.io.bvh`` exists).
-TRIAL_SUFFIXES = (".c3d", ".csv", ".trc", ".bvh")
+#: File suffixes a corpus folder may hold (BVH and ASF/AMC through ``mocap.skeleton``).
+TRIAL_SUFFIXES = (".c3d", ".csv", ".trc", ".bvh", ".amc")
 #: Default number of samples per normalised cycle.
 DEFAULT_SAMPLES = 100
 
@@ -86,7 +87,7 @@ def list_corpus_folder(folder: str | Path) -> list[CorpusEntry]:
     Parameters
     ----------
     folder : path
-        Holds ``<person>_<action>[_anything].<c3d|csv|trc|bvh>`` files.
+        Holds ``<person>_<action>[_anything].<c3d|csv|trc|bvh|amc>`` files.
 
     Returns
     -------
@@ -202,8 +203,9 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     Parameters
     ----------
     path : path
-        A marker trial (``.c3d``, ``.csv``, ``.trc``), a joint-angle CSV (DESIGN 3.2) or a BVH
-        file (when the BVH reader exists).
+        A marker trial (``.c3d``, ``.csv``, ``.trc``), a joint-angle CSV (DESIGN 3.2), a BVH
+        file or an AMC motion (with ``<person>.asf`` beside it), the last two mapped onto the
+        15-segment body model (``mocap.skeleton.reduce_to_segments``).
     markerset : MarkerSet, str or None
         Marker set (object, preset name or TOML path) for marker trials; not needed for angle
         CSVs.
@@ -230,11 +232,11 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     if is_angle_csv(path) and not _named_like_markers(path, markerset):
         from mocap.angles import read_angles_csv
         return read_angles_csv(path)
-    if path.suffix.lower() == ".bvh":
+    if path.suffix.lower() in (".bvh", ".amc"):
         if not _bvh_reader_available():
-            raise MocapError("BVH trials need mocap.io.bvh (the BVH reader), which this "
-                             "installation does not have", path)
-        return _bvh_angles(path, sequence)
+            raise MocapError("BVH and AMC trials need mocap.io.bvh and mocap.skeleton, which "
+                             "this installation does not have", path)
+        return _skeleton_angles(path, sequence)
     if markerset is None:
         raise MocapError("marker trials need --markerset to turn markers into joint angles",
                          path)
@@ -250,15 +252,34 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     return joint_angles(trial, markerset, sequence)
 
 
-def _bvh_angles(path: Path, sequence: str):
-    """Joint angles of a BVH file on the 15-segment body model, in a Z-up lab's axes (the
-    axes of marker-derived angles), through ``mocap.skeleton``."""
+def find_asf(amc: Path) -> Path:
+    """The ASF skeleton of an AMC motion: ``<person>.asf`` beside it (CMU: ``02_01.amc`` →
+    ``02.asf``), else the only ``.asf`` in its folder."""
+    person = amc.stem.split("_")[0]
+    candidates = [amc.with_name(person + ".asf"), amc.with_suffix(".asf")]
+    for candidate in candidates:
+        if candidate.exists():
+            return candidate
+    found = sorted(amc.parent.glob("*.asf"))
+    if len(found) == 1:
+        return found[0]
+    raise MocapError(f"AMC motion needs its ASF skeleton: put {person}.asf beside it", amc)
+
+
+def _skeleton_angles(path: Path, sequence: str):
+    """Joint angles of a BVH or ASF/AMC file on the 15-segment body model, in a Z-up lab's axes
+    (the axes of marker-derived angles), through ``mocap.skeleton``."""
     from mocap.angles import JointAngles, check_sequence, matrices_to_angles, unwrap_angles
-    from mocap.io.bvh import read_bvh
     from mocap.skeleton import motion_to_lab, reduce_to_segments
 
     check_sequence(sequence)
-    motion = reduce_to_segments(read_bvh(path))
+    if path.suffix.lower() == ".amc":
+        from mocap.io.asfamc import read_asf_amc
+        motion = read_asf_amc(find_asf(path), path)
+    else:
+        from mocap.io.bvh import read_bvh
+        motion = read_bvh(path)
+    motion = reduce_to_segments(motion)
     rotations, _ = motion_to_lab(motion, up="z")
     values = unwrap_angles(matrices_to_angles(rotations, sequence), sequence)
     return JointAngles(times=motion.times, values=values, segments=list(motion.names),

@@ -156,3 +156,27 @@ def test_marker_csv_with_dotted_axis_names_is_read_as_markers(tmp_path):
     angles = read_trial_angles(tmp_path / "dotted.csv", markerset)
     assert angles.segments == expected.segments
     assert np.allclose(angles.values, expected.values, atol=1e-6, equal_nan=True)
+
+
+def test_bvh_corpus_gives_the_marker_corpus_angles(tmp_path):
+    """The same trials as C3D markers and as BVH motions (mocap.skeleton) give one tensor."""
+    from mocap import io
+    from mocap.io.bvh import write_bvh
+    from mocap.markerset import load_markerset
+    from mocap.skeleton import motion_from_trial
+    from mocap.synthetic import synthesize_trial
+
+    markerset = load_markerset("synthetic15")
+    for folder in ("c3d", "bvh"):
+        (tmp_path / folder).mkdir()
+    for person in (0, 1):
+        for action in ("walk", "run"):
+            trial, _ = synthesize_trial(person, action)
+            name = f"p{person}_{action}"
+            io.write(trial, tmp_path / "c3d" / f"{name}.c3d")
+            write_bvh(motion_from_trial(trial, markerset), tmp_path / "bvh" / f"{name}.bvh")
+    markers = load_corpus(tmp_path / "c3d", markerset=markerset, samples=50)
+    motions = load_corpus(tmp_path / "bvh", samples=50)
+    assert motions.segments == markers.segments and motions.columns == markers.columns
+    assert np.allclose(motions.angles, markers.angles, atol=1e-3)
+    assert np.allclose(motions.durations, markers.durations, atol=1e-6)
