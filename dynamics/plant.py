@@ -24,17 +24,22 @@ def foot_contact_positions(motion: Motion) -> np.ndarray:
     return np.concatenate(positions, axis=1)
 
 
-def plant_feet(motion: Motion) -> Motion:
+def plant_feet(motion: Motion, smooth_hz: float | None = 4.0) -> Motion:
     """The motion with a root translation that keeps the supporting foot point still.
 
     The joint rotations are kept; the root path is replaced by
     :func:`mocap.planting.planted_translation` of the feet's contact points, so the
     lowest point is on the floor (y = 0) and does not slide while it carries the body.
+    Where the supporting point changes (heel to toe, one foot to the other) that path
+    has kinks, which inverse dynamics would read as impacts; ``smooth_hz`` low-passes
+    it (zero-lag Butterworth, 4th order) at the cost of a few millimetres of slide.
 
     Parameters
     ----------
     motion : Motion
         With ``l_foot`` and ``r_foot`` segments (the 15-segment body).
+    smooth_hz : float or None
+        Cutoff of the path's low-pass in Hz; None keeps the kinks.
 
     Returns
     -------
@@ -43,5 +48,10 @@ def plant_feet(motion: Motion) -> Motion:
     still_root = Motion(motion.skeleton, np.zeros_like(motion.root_translation),
                         motion.rotations, motion.rate, dict(motion.metadata))
     translation = planted_translation(foot_contact_positions(still_root), up=1)
+    if smooth_hz is not None and motion.frames > 15 and smooth_hz < motion.rate / 2:
+        from scipy.signal import butter, sosfiltfilt
+
+        sos = butter(4, smooth_hz, fs=motion.rate, output="sos")
+        translation = sosfiltfilt(sos, translation, axis=0)
     return Motion(motion.skeleton, translation, motion.rotations, motion.rate,
                   dict(motion.metadata, root="planted feet"))
