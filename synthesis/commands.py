@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -136,6 +137,21 @@ def _model_options(args: argparse.Namespace) -> dict:
             "feature_rank": args.feature_rank, "ridge": args.ridge}
 
 
+def _plain(value):
+    """JSON-safe copy: NaN and infinities become null (strict JSON has no NaN)."""
+    if isinstance(value, dict):
+        return {key: _plain(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(item) for item in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def _print_json(value) -> None:
+    print(json.dumps(_plain(value), indent=2, allow_nan=False))
+
+
 def _check_output(path: str, suffixes=(".npz",)) -> None:
     if Path(path).suffix.lower() not in suffixes:
         raise MocapError(f"output must end in {' or '.join(suffixes)}", path)
@@ -153,7 +169,7 @@ def decompose(args: argparse.Namespace) -> int:
     model.save(args.output)
     summary = model.summary()
     if args.json:
-        print(json.dumps(summary, indent=2))
+        _print_json(summary)
         return 0
     ranks = summary["ranks"]
     print(f"wrote {args.output}: {len(model.people)} people × {len(model.actions)} actions × "
@@ -248,7 +264,7 @@ def recognize(args: argparse.Namespace) -> int:
     curve, duration = model.read_trial(args.trial)
     result = model.recognize(curve, args.action)
     if args.json:
-        print(json.dumps(result.to_json(), indent=2))
+        _print_json(result.to_json())
         return 0
     print(f"{args.trial}: {result.person} doing {result.action}")
     for person in sorted(result.scores, key=result.scores.get, reverse=True):
@@ -271,7 +287,7 @@ def evaluate(args: argparse.Namespace) -> int:
     if args.plot is not None:
         plot_evaluation(result, args.plot)
     if args.json:
-        print(json.dumps(result.to_json(), indent=2))
+        _print_json(result.to_json())
     else:
         print(result.table())
         if args.plot is not None:
