@@ -419,7 +419,7 @@ STEP_GOING = 0.28
 #: ``toe_out`` degrees; ``knee_min`` the least knee flexion of a supporting leg, degrees.
 _GAITS = {
     "walk": dict(stride=1.50, landed=0.08, heel_rise=0.30, toe_off=0.62, land_pitch=17.0,
-                 off_pitch=-42.0, clearance=0.015, width=0.10, toe_out=6.0, knee_min=3.0),
+                 off_pitch=-55.0, clearance=0.015, width=0.10, toe_out=6.0, knee_min=3.0),
     "run": dict(stride=2.45, landed=0.07, heel_rise=0.15, toe_off=0.36, land_pitch=8.0,
                 off_pitch=-38.0, clearance=0.05, width=0.05, toe_out=5.0, knee_min=16.0),
     "ascend": dict(stride=0.0, landed=0.05, heel_rise=0.42, toe_off=0.64, land_pitch=3.0,
@@ -562,19 +562,30 @@ class _FootPath:
     """
 
     def __init__(self, gait: _Gait, person: Person, side: int):
-        self.gait, self.side = gait, side
+        self.gait, self.side, self.person = gait, side, person
         points = _foot_points(person)
         self.heel, self.toe = points["heel"], points["toe"]
         self.flat = _foot_rotation(gait.yaw[side], np.zeros(1))[0]
         self.pivot = self.toe if gait.land_on_toe else self.heel
+        self.hip = None
+        self._plan_swing()
+
+    def follow(self, hip) -> None:
+        """Let the push-off follow the body: ``hip(u)`` gives the hip joint centre (frames, 3)
+        relative to the landing heel position at this foot's phase ``u``.  The heel then
+        rises as much as the knee's nominal flexion asks, rather than by a fixed profile."""
+        self.hip = hip
+        self._plan_swing()
+
+    def _plan_swing(self) -> None:
+        """Swing boundary states by one-sided differences of the rockers, per unit phase."""
+        g, step = self.gait, 1e-4
         self.lift = 0.0
-        # Swing boundary states by one-sided differences of the rockers, per unit phase.
-        step = 1e-4
-        off = [self._push(np.array([gait.toe_off - k * step])) for k in range(3)]
+        off = [self._push(np.array([g.toe_off - k * step])) for k in range(3)]
         land = [self._landing(np.array([k * step])) for k in range(3)]
         self.start = self._state(off, -step)
-        self.end = self._state(land, step, shift=gait.advance)
-        self.lift = self._needed_lift(person)
+        self.end = self._state(land, step, shift=g.advance)
+        self.lift = self._needed_lift(self.person)
 
     @staticmethod
     def _state(samples, step, shift=np.zeros(3)):
@@ -597,6 +608,28 @@ class _FootPath:
         g = self.gait
         s = (u - g.heel_rise) / (g.toe_off - g.heel_rise)
         pitch = g.off_pitch[self.side] * s**2
+        if self.hip is not None and len(u):
+            # Pitch about the toe that puts the ankle at the nominal knee's leg length
+            # from the hip: |h − t + R(φ) r| = d, i.e. A cos φ + B sin φ = C in the foot's
+            # heading (φ about the left axis, toes down positive).
+            knee = np.maximum(g.knee_gain * _stance_knee(g.action, u), g.knee_min)
+            length = _leg_length(self.person, knee)
+            toe = self.flat @ (self.toe - self.heel)
+            q = (self.hip(u) - toe) @ _foot_rotation(g.yaw[self.side], np.zeros(1))[0]
+            r = self.toe
+            a = q[:, 0] * r[0] + q[:, 2] * r[2]
+            b = q[:, 0] * r[2] - q[:, 2] * r[0]
+            c = 0.5 * (length**2 - (q**2).sum(axis=1) - r @ r)
+            spread = np.arccos(np.clip(c / np.hypot(a, b), -1.0, 1.0))
+            roots = [-np.degrees((np.arctan2(b, a) + sign * spread + np.pi) % (2 * np.pi) - np.pi)
+                     for sign in (-1.0, 1.0)]
+            solved = np.where(np.abs(roots[0] - pitch) < np.abs(roots[1] - pitch), *roots)
+            # ease from the nominal profile into the solved one, never heel below flat
+            # within about 20 degrees of the nominal profile (soft limit), never heel down
+            solved = pitch + 20.0 * np.tanh((solved - pitch) / 20.0)
+            # eased in after heel rise and out before toe-off (the swing starts nominally)
+            blend = _smoothstep(3 * s) * (1 - _smoothstep((s - 0.6) / 0.4))
+            pitch = np.minimum((1 - blend) * pitch + blend * solved, 0.0)
         return self._rocker(self.toe, pitch), pitch
 
     def _swing(self, u, lift):
@@ -623,7 +656,10 @@ class _FootPath:
     def _needed_lift(self, person: Person) -> float:
         """Lift of the swing (metres at mid-swing) for the clearance over the floor below."""
         g = self.gait
-        s = np.linspace(0.25, 0.75, 51)   # leaving and reaching a tread are the rockers' job
+        # clearance in mid-swing; on the flat, at least not below the floor throughout
+        # (leaving and reaching a stair tread is the rockers' job)
+        s = np.linspace(0.02, 0.98, 97) if g.tread == 0 else np.linspace(0.25, 0.75, 51)
+        wanted = np.where((s >= 0.25) & (s <= 0.75), g.clearance[self.side], 0.0)
         ankle, pitch = self._swing(g.toe_off + s * (1 - g.toe_off), 0.0)
         rotation = _foot_rotation(g.yaw[self.side], pitch)
         profile = _lift(s)
@@ -631,8 +667,9 @@ class _FootPath:
         for point in (self.heel, self.toe):
             where = ankle + rotation @ point
             height = where[:, 2] - _floor_height(g, where[:, 0])
-            need = max(need, float(np.max(g.clearance[self.side] - height / profile)))
-        return need
+            need = max(need, float(np.max(wanted - height / profile)))
+        leg = person.lengths["thigh"] + person.lengths["shank"]
+        return min(need, 0.25 * leg)
 
     def pose(self, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Ankle position relative to the landing heel position (frames, 3) and foot pitch
@@ -648,11 +685,13 @@ class _FootPath:
         ankle[pieces[3]], pitch[pieces[3]] = self._swing(u[pieces[3]], self.lift)
         return ankle, pitch
 
-    def in_lab(self, phase: np.ndarray) -> dict[str, np.ndarray]:
+    def in_lab(self, phase: np.ndarray, pace: float = 1.0) -> dict[str, np.ndarray]:
         """The foot at ``phase`` (cycles from the right foot's landing; any range).
 
         Returns ``ankle`` (frames, 3), ``rotation`` (frames, 3, 3), ``u`` (frames,) phase
-        from this foot's landing, ``cop`` (frames, 3) where it presses on the floor.
+        from this foot's landing, ``cop`` (frames, 3) where it presses on the floor (its
+        progress along the foot raised to the power ``pace``: below 1 it rolls forward
+        sooner).
         """
         g = self.gait
         local = phase - g.phase[self.side]
@@ -667,6 +706,7 @@ class _FootPath:
         else:                  # heel to ball by heel rise, to the toe by toe-off
             along = 0.75 * _smoothstep(u / g.heel_rise) + 0.25 * _smoothstep(
                 (u - g.heel_rise) / (g.toe_off - g.heel_rise))
+        along = along**pace
         return {"ankle": ankle, "rotation": rotation, "u": u,
                 "cop": heel + along[:, None] * (toe - heel)}
 
@@ -840,6 +880,24 @@ def _pendulum_solve(stiffness: np.ndarray, pressure: np.ndarray, period: float) 
     return spsolve(matrix, -stiffness * pressure)
 
 
+def _follow(paths: list[_FootPath], person: Person, gait: _Gait, periodic: np.ndarray,
+            seed: int) -> None:
+    """Make both feet's push-off follow the root path (``periodic``: root minus the
+    cycle's advance, (_GRID, 3) over one cycle)."""
+    offsets = _offsets(person)
+    for path, side in zip(paths, "rl"):
+        hip_offset = offsets[SEGMENT_NAMES.index(f"{side}_thigh")]
+        start, placement = gait.phase[path.side], gait.placement[path.side]
+
+        def hip(u, start=start, placement=placement, hip_offset=hip_offset):
+            phase = u + start
+            root = _periodic_interpolate(periodic, phase % 1.0) + np.outer(phase, gait.advance)
+            pelvis = _to_rotations(_template(person, gait.action, phase, seed))[:, 0]
+            return root + pelvis @ hip_offset - placement
+
+        path.follow(hip)
+
+
 def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
                ) -> np.ndarray:
     """Root (pelvis origin) positions over one cycle, (_GRID, 3) metres, at phases
@@ -862,9 +920,22 @@ def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
     hips = [pelvis @ offsets[SEGMENT_NAMES.index(f"{side}_thigh")] for side in "rl"]
     loads = np.stack([_loads(gait, foot["u"]) for foot in feet])           # (2, N)
     support = loads.sum(axis=0)
-    pressure = np.einsum("sn,snd->nd", loads, np.stack([f["cop"] for f in feet]))
-    pressure /= np.maximum(support, 1e-12)[:, None]
+
+    def centre_of_pressure(pace):
+        cops = np.stack([path.in_lab(u, pace)["cop"] for path in paths])
+        return np.einsum("sn,snd->nd", loads, cops) / np.maximum(support, 1e-12)[:, None]
+
+    pressure = centre_of_pressure(1.0)
     trend = np.outer(u, gait.advance)
+    if gait.toe_off > 0.5:
+        # walking: at the right foot's landing the hips are half-way between the ankles
+        moment = 0
+        between = 0.5 * (feet[0]["ankle"][0, 0] + feet[1]["ankle"][0, 0]) - 0.5 * (
+            hips[0][0, 0] + hips[1][0, 0])
+    else:
+        # running: the right hip passes over its ankle a little before mid-stance
+        moment = int(round(0.45 * gait.toe_off * _GRID))
+        between = feet[0]["ankle"][moment, 0] - hips[0][moment, 0]
     standing = clinical.copy()
     standing[:, 9:] = 0.0
     rotations, origins = forward_kinematics(_to_rotations(standing), offsets, np.zeros((_GRID, 3)))
@@ -886,6 +957,27 @@ def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
         height = com_z - pressure[:, 2]
         accel = _periodic_second_derivative(com_z - trend[:, 2], period)
         stiffness = np.where(support > 0, (GRAVITY + accel) / height, 0.0)
+
+        def ahead(pace):
+            """How far the root is ahead of its place at the right landing, metres."""
+            nonlocal pressure
+            pressure = centre_of_pressure(pace)
+            x = trend[:, 0] + _pendulum_solve(stiffness, pressure[:, 0] - trend[:, 0], period)
+            return x[moment] - offset[moment, 0] - between
+
+        # How soon the pressure rolls forward under the foot sets where the body rides
+        # over the feet: choose it (bisection on a log scale) to centre the body between
+        # the feet when they swap.
+        low, high = np.log(0.4), np.log(2.5)
+        if ahead(np.exp(low)) < 0:
+            high = low
+        elif ahead(np.exp(high)) < 0:
+            for _ in range(12):
+                mid = 0.5 * (low + high)
+                low, high = (mid, high) if ahead(np.exp(mid)) > 0 else (low, mid)
+        else:
+            low = high
+        ahead(np.exp(0.5 * (low + high)))
         com_x = trend[:, 0] + _pendulum_solve(stiffness, pressure[:, 0] - trend[:, 0], period)
         com_y = _pendulum_solve(stiffness, pressure[:, 1], period)
         root_xy = np.stack([com_x, com_y], axis=1) - offset[:, :2]
@@ -914,6 +1006,8 @@ def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
             com_z = trend[:, 2] + _low_pass(goal + offset[:, 2] - trend[:, 2], _HEIGHT_HARMONICS)
             com_z = _below(com_z, ceiling + offset[:, 2])
         root = np.column_stack([root_xy, com_z - offset[:, 2]])
+        _follow(paths, person, gait, root - trend, seed)
+        feet = [path.in_lab(u) for path in paths]
         joints = _posture(person, clinical, root, feet)
         rotations, origins = forward_kinematics(joints, offsets, root)
         offset = _centre_of_mass(rotations, origins, person) - root
@@ -931,6 +1025,7 @@ def _motion(person: Person, action: str, phase: np.ndarray, seed: int = 0
     paths = [_FootPath(gait, person, side) for side in (0, 1)]
     grid = np.arange(_GRID) / _GRID
     path = _body_path(person, gait, paths, seed) - np.outer(grid, gait.advance)
+    _follow(paths, person, gait, path, seed)
     root = _periodic_interpolate(path, phase % 1.0) + np.outer(phase, gait.advance)
     clinical = _template(person, action, phase, seed)
     joints = _posture(person, clinical, root, [p.in_lab(phase) for p in paths])
