@@ -176,8 +176,13 @@ def decompose(args: argparse.Namespace) -> int:
           f"{model.samples} samples × {len(model.columns)} angles")
     print(f"  ranks people/actions/features: {ranks[0]}/{ranks[1]}/{ranks[2]} "
           f"(kept energy {', '.join(f'{100 * e:.1f} %' for e in summary['energy'])})")
-    print(f"  bases from {len(summary['basis_people'])} complete people; missing cells: "
-          f"{', '.join(summary['missing_cells']) or 'none'}")
+    if summary["imputed_people_rank"]:
+        print(f"  fewer than 2 complete people: missing cells imputed with a people rank of "
+              f"{summary['imputed_people_rank']} (cross-validated) before the bases; missing "
+              f"cells: {', '.join(summary['missing_cells'])}")
+    else:
+        print(f"  bases from {len(summary['basis_people'])} complete people; missing cells: "
+              f"{', '.join(summary['missing_cells']) or 'none'}")
     loo = summary["loo_rms_deg"]
     print(f"  signature dimensions {ranks[0]}, ridge α = {summary['ridge_alpha']:g}; "
           "leave-one-out synthesis RMS "

@@ -129,13 +129,6 @@ class MotionModel:
         self.cleaning = dict(corpus.cleaning)
         observed = corpus.observed
         complete = np.flatnonzero(observed.all(axis=1))
-        if complete.size < 2:
-            raise MocapError(
-                "need at least 2 people who performed every action "
-                f"({', '.join(self.actions)}) to build the action bases; "
-                + (f"only {self.people[complete[0]]} did" if complete.size else "nobody did")
-                + f"; missing cells: {_cells_text(corpus.missing_cells())} "
-                "(choose people or actions with --people/--actions)")
         angles = corpus.angles.reshape(corpus.angles.shape[:2] + (-1,)).copy()
         angles[~observed] = np.nan
         with np.errstate(invalid="ignore", divide="ignore"):
@@ -144,12 +137,21 @@ class MotionModel:
             raise MocapError("every captured cycle needs a positive duration")
         caches = (None, None) if cache is None else \
             (cache.setdefault("angles", {}), cache.setdefault("timing", {}))
-        self.angle_model_ = SignatureModel(self.people_rank, self.action_rank,
-                                           self.feature_rank, self.ridge).fit(angles, caches[0])
-        self.timing_model_ = SignatureModel().fit(timing, caches[1])
-        deviations = angles[complete] - self.angle_model_.mean_
-        self.spread_rms_ = float(np.sqrt(np.mean(deviations ** 2)))
+        try:
+            self.angle_model_ = SignatureModel(self.people_rank, self.action_rank,
+                                               self.feature_rank, self.ridge).fit(angles,
+                                                                                  caches[0])
+            self.timing_model_ = SignatureModel().fit(timing, caches[1])
+        except MocapError as error:
+            raise MocapError(f"{error.problem}; missing cells: "
+                             f"{_cells_text(corpus.missing_cells())} "
+                             "(choose people or actions with --people/--actions)") from None
+        complete = complete if complete.size else np.arange(len(self.people))
+        deviations = np.where(observed[complete][..., None], angles[complete], np.nan) \
+            - self.angle_model_.mean_
+        self.spread_rms_ = float(np.sqrt(np.nanmean(deviations ** 2)))
         return self
+
 
     # ------------------------------------------------------------------ using the model
 
@@ -355,6 +357,7 @@ class MotionModel:
             "cleaning": self.cleaning, "missing_cells": [f"{self.people[p]}_{self.actions[a]}"
                               for p, a in np.argwhere(~observed)],
             "basis_people": [self.people[i] for i in angle.basis_people_],
+            "imputed_people_rank": angle.imputed_rank_,
             "ranks": [int(f.shape[1]) for f in angle.factors_],
             "energy": [float(e) for e in angle.energy_],
             "ridge_alpha": angle.ridge_alpha_, "loo_rms_deg": angle.loo_rms_,

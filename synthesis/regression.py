@@ -27,7 +27,8 @@ import numpy as np
 
 from mocap.errors import MocapError
 from synthesis.nmode import Rank, nmode_svd
-from synthesis.signature import action_bases, fit_signature, synthesize_features
+from synthesis.signature import (action_bases, fit_signature, solve_signature,
+                                 synthesize_features)
 
 #: Relative ridge strengths α tried by leave-one-out (λ = α · mean σ_P² / actions).
 RIDGE_GRID = (0.0, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 0.1, 0.3, 1.0, 3.0, 10.0)
@@ -49,6 +50,150 @@ def rank_grid(largest: int) -> list[int]:
     while ranks[-1] < largest:
         ranks.append(min(largest, int(np.ceil(ranks[-1] * 1.25))))
     return ranks
+
+
+def _two_way_fill(data: np.ndarray, observed: np.ndarray) -> np.ndarray:
+    """Missing cells ← action mean + the person's mean offset from the action means."""
+    counts = observed.sum(axis=0)[:, None]                               # (A, 1)
+    zeroed = np.where(observed[..., None], data, 0.0)
+    action_mean = zeroed.sum(axis=0) / np.maximum(counts, 1)             # (A, F)
+    offsets = np.where(observed[..., None], data - action_mean, 0.0)
+    person_offset = offsets.sum(axis=1) / np.maximum(observed.sum(axis=1), 1)[:, None]
+    guess = action_mean[None] + person_offset[:, None]
+    return np.where(observed[..., None], data, guess)
+
+
+#: Relative ridge of the signature fits inside the imputation (keeps them well posed).
+IMPUTATION_RIDGE = 1e-3
+
+
+def _impute_with_rank(data: np.ndarray, observed: np.ndarray, rank: int, action_rank: Rank,
+                      feature_rank: Rank, iterations: int = 300, tolerance: float = 1e-5
+                      ) -> np.ndarray:
+    """Alternating imputation: N-mode SVD bases of the filled tensor (people rank ``rank``),
+    then every missing cell re-predicted from its person's *observed* cells only."""
+    filled = _two_way_fill(data, observed)
+    incomplete = np.flatnonzero(~observed.all(axis=1))
+    if action_rank is None and feature_rank is None:
+        return _impute_full_modes(data, observed, filled, incomplete, rank, iterations,
+                                  tolerance)
+    for _ in range(iterations):
+        mean = filled.mean(axis=0)
+        decomposition = nmode_svd(filled - mean, [rank, action_rank, feature_rank])
+        bases = action_bases(decomposition.core, decomposition.factors[1])
+        feature_factor = decomposition.factors[2]
+        sigma = decomposition.singular_values[0]
+        ridge = IMPUTATION_RIDGE * float(np.mean(sigma ** 2)) / data.shape[1]
+        change = 0.0
+        for person in incomplete:
+            have = np.flatnonzero(observed[person])
+            lack = np.flatnonzero(~observed[person])
+            signature = fit_signature(bases, feature_factor, data[person, have] - mean[have],
+                                      have, ridge)
+            predicted = np.stack([synthesize_features(bases, feature_factor, mean, signature, a)
+                                  for a in lack])
+            change = max(change, float(np.max(np.abs(predicted - filled[person, lack]))))
+            filled[person, lack] = predicted
+        if change <= tolerance * max(float(np.max(np.abs(filled))), 1e-300):
+            break
+    return filled
+
+
+def _impute_full_modes(data: np.ndarray, observed: np.ndarray, filled: np.ndarray,
+                       incomplete: np.ndarray, rank: int, iterations: int, tolerance: float
+                       ) -> np.ndarray:
+    """:func:`_impute_with_rank` when the action and feature modes keep their full rank.
+
+    Then the action basis is ``B_a = Pᵀ (D_a − m_a)`` (people × features, ``P`` the leading
+    ``rank`` people singular vectors; notes §1.3d), so every quantity of a signature fit lives
+    in the small people space: ``B_a B_aᵀ = Pᵀ C_a P`` with ``C_a`` the people × people Gram
+    of action ``a``'s deviations. Same result as the general loop, without its per-iteration
+    decompositions of the long modes.
+    """
+    for _ in range(iterations):
+        mean = filled.mean(axis=0)                                           # (A, F)
+        deviations = filled - mean                                           # (K, A, F)
+        cross = np.einsum("paf,qaf->apq", deviations, deviations)            # (A, K, K)
+        values, vectors = np.linalg.eigh(cross.sum(axis=0))
+        people_factor = vectors[:, ::-1][:, :rank]                           # (K, r)
+        ridge = IMPUTATION_RIDGE * float(np.mean(np.clip(values[::-1][:rank], 0, None))) \
+            / data.shape[1]
+        change = 0.0
+        for person in incomplete:
+            have = np.flatnonzero(observed[person])
+            lack = np.flatnonzero(~observed[person])
+            residuals = data[person, have] - mean[have]                      # (h, F)
+            gram = people_factor.T @ cross[have].sum(axis=0) @ people_factor
+            side = people_factor.T @ np.einsum("paf,af->p", deviations[:, have], residuals)
+            signature = solve_signature(gram, side, ridge)
+            weights = people_factor @ signature                              # (K,)
+            predicted = mean[lack] + np.einsum("paf,p->af", deviations[:, lack], weights)
+            change = max(change, float(np.max(np.abs(predicted - filled[person, lack]))))
+            filled[person, lack] = predicted
+        if change <= tolerance * max(float(np.max(np.abs(filled))), 1e-300):
+            break
+    return filled
+
+
+def impute_cells(data: np.ndarray, action_rank: Rank = None, feature_rank: Rank = None,
+                 people_rank: Rank = None, folds: int = 4) -> tuple[np.ndarray, int]:
+    """Fill the missing cells of a tensor in which fewer than two people are complete.
+
+    With full people rank a filled-in guess reproduces itself (every value of a missing cell
+    fits), so the people rank is truncated: chosen by ``folds``-fold cross-validation over
+    the observed cells (each fold hides some observed cells, imputes them with every candidate
+    rank, and scores the prediction), unless ``people_rank`` is a count.
+
+    Parameters
+    ----------
+    data : ndarray, shape (people, actions, features), NaN rows for missing cells
+
+    Returns
+    -------
+    filled : ndarray, same shape, no NaN
+    rank : int
+        People rank used.
+
+    Raises
+    ------
+    MocapError
+        When an action has fewer than two people or a person no action at all.
+    """
+    observed = np.isfinite(data).all(axis=2)
+    people, actions = observed.shape
+    if np.any(observed.sum(axis=0) < 2) or np.any(observed.sum(axis=1) < 1) or people < 3:
+        raise MocapError("need at least 2 people who performed every action to build the "
+                         "action bases (or, to impute missing cells, at least 3 people and "
+                         "every action performed by at least 2 of them)")
+    largest = people - 2               # below the centred people rank (people − 1): no echo
+    if isinstance(people_rank, (int, np.integer)) and not isinstance(people_rank, bool):
+        rank = int(min(people_rank, largest))
+        return _impute_with_rank(data, observed, rank, action_rank, feature_rank), rank
+    candidates = rank_grid(largest)
+    cells = [(p, a) for p, a in np.argwhere(observed)
+             if observed[p].sum() >= 3 and observed[:, a].sum() >= 4]
+    order = np.random.default_rng(0).permutation(len(cells))
+    errors = np.full((folds, len(candidates)), np.nan)
+    for fold in range(folds):
+        hidden = [cells[i] for i in order[fold::folds]]
+        if not hidden:
+            continue
+        mask = observed.copy()
+        for p, a in hidden:          # every person keeps two cells, every action three
+            if mask[p].sum() >= 3 and mask[:, a].sum() >= 4:
+                mask[p, a] = False
+        held = [(p, a) for p, a in hidden if not mask[p, a]]
+        masked = np.where(mask[..., None], data, np.nan)
+        if not held:
+            continue
+        for i, rank in enumerate(candidates):
+            filled = _impute_with_rank(masked, mask, rank, action_rank, feature_rank)
+            errors[fold, i] = np.sqrt(np.mean([(filled[p, a] - data[p, a]) ** 2
+                                               for p, a in held]))
+    # Median over folds: one fold in which the alternating fit goes astray must not decide.
+    scores = np.nanmedian(errors, axis=0) if np.isfinite(errors).any() else np.zeros(len(candidates))
+    rank = candidates[int(np.argmin(scores))]
+    return _impute_with_rank(data, observed, rank, action_rank, feature_rank), rank
 
 
 @dataclass
@@ -98,6 +243,7 @@ class SignatureModel:
     ridge_: float = field(default=0.0, init=False)
     loo_rms_: float = field(default=float("nan"), init=False)
     loo_cells_: int = field(default=0, init=False)
+    imputed_rank_: int = field(default=0, init=False)
 
     # ------------------------------------------------------------------ fitting
 
@@ -115,18 +261,26 @@ class SignatureModel:
         Raises
         ------
         MocapError
-            Fewer than 2 people with every action.
+            Fewer than 2 people with every action and too few people to impute the missing
+            cells (see :func:`impute_cells`).
         """
         self._cache = cache
         self.data_ = np.asarray(data, dtype=float)
+        self._basis_data = self.data_
+        self.imputed_rank_ = 0
         observed = self.observed
         complete = np.flatnonzero(observed.all(axis=1))
         if complete.size < 2:
-            raise MocapError("need at least 2 people who performed every action to build the "
-                             "action bases")
+            # Too few complete people: impute the missing cells with a low-rank model first.
+            self._cache = None
+            self._basis_data, self.imputed_rank_ = impute_cells(
+                self.data_, self.action_rank, self.feature_rank, self.people_rank)
+            complete = np.arange(self.data_.shape[0])
         full = self._fold(complete)
         alphas = RIDGE_GRID if self.ridge == "auto" else (float(self.ridge),)
-        if self.people_rank is None:
+        if self.imputed_rank_:
+            ranks = [min(self.imputed_rank_, full.bases.shape[1])]
+        elif self.people_rank is None:
             ranks = rank_grid(full.bases.shape[1])
         else:
             ranks = [full.bases.shape[1]]
@@ -165,7 +319,7 @@ class SignatureModel:
         return fold
 
     def _fit_fold(self, people: np.ndarray) -> _Fold:
-        block = self.data_[people]                                    # (K, A, F)
+        block = self._basis_data[people]                              # (K, A, F)
         mean = block.mean(axis=0)
         decomposition = nmode_svd(block - mean,
                                   [self.people_rank, self.action_rank, self.feature_rank])
@@ -250,10 +404,11 @@ class SignatureModel:
     def _signatures(self) -> np.ndarray:
         """Signature of every person: row of P for the complete, a fit for the others."""
         signatures = np.full((self.data_.shape[0], self.bases_.shape[1]), np.nan)
-        signatures[self.basis_people_] = self.factors_[0]
         observed = self.observed
+        complete = observed.all(axis=1)
+        signatures[self.basis_people_] = self.factors_[0]
         for person in range(self.data_.shape[0]):
-            if person in self.basis_people_ or not observed[person].any():
+            if complete[person] or not observed[person].any():
                 continue
             actions = np.flatnonzero(observed[person])
             signatures[person] = self.signature_from(actions, self.data_[person, actions])
@@ -313,7 +468,8 @@ class SignatureModel:
         meta = {"people_rank": self.people_rank, "action_rank": self.action_rank,
                 "feature_rank": self.feature_rank, "ridge": self.ridge,
                 "ridge_alpha": self.ridge_alpha_, "ridge_value": self.ridge_,
-                "loo_rms": self.loo_rms_, "loo_cells": self.loo_cells_}
+                "loo_rms": self.loo_rms_, "loo_cells": self.loo_cells_,
+                "imputed_rank": self.imputed_rank_}
         return {f"{prefix}_{key}": value for key, value in arrays.items()}, meta
 
     @classmethod
@@ -334,4 +490,5 @@ class SignatureModel:
         model.signatures_ = get("signatures")
         model.ridge_alpha_, model.ridge_ = float(meta["ridge_alpha"]), float(meta["ridge_value"])
         model.loo_rms_, model.loo_cells_ = float(meta["loo_rms"]), int(meta["loo_cells"])
+        model.imputed_rank_ = int(meta.get("imputed_rank", 0))
         return model

@@ -152,9 +152,22 @@ def test_resampling_the_synthesised_cycle(corpus):
     assert np.allclose(fine[::2], curve, atol=1e-12)
 
 
-def test_too_few_complete_people_is_a_clear_error(corpus):
-    small = corpus.subset(people=["p0", "p1", "p2"]).without_cell("p1", "run") \
-        .without_cell("p2", "walk")
+def test_every_person_incomplete_imputes_with_a_truncated_people_rank(corpus):
+    """No complete person: missing cells are imputed with a cross-validated people rank below
+    the number of people (a full rank would let the initial guess reproduce itself)."""
+    holed = corpus
+    for p, person in enumerate(corpus.people):
+        holed = holed.without_cell(person, corpus.actions[p % 4])
+    model = MotionModel().fit(holed)
+    assert model.angle_model_.imputed_rank_ == 2          # the two person factors
+    for p, person in enumerate(corpus.people):
+        curve, duration = model.synthesize(person, corpus.actions[p % 4])
+        assert rms(curve, corpus.angles[p, p % 4]) < 0.5
+        assert duration == pytest.approx(corpus.durations[p, p % 4], rel=0.01)
+
+
+def test_too_few_people_is_a_clear_error(corpus):
+    small = corpus.subset(people=["p0", "p1"]).without_cell("p1", "run")
     with pytest.raises(MocapError, match="need at least 2 people who performed every action"):
         MotionModel().fit(small)
     with pytest.raises(MocapError, match="unknown person 'zed'"):
