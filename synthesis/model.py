@@ -398,8 +398,8 @@ class MotionModel:
             with np.load(path, allow_pickle=False) as archive:
                 meta = json.loads(str(archive["meta"]))
                 arrays = {key: archive[key] for key in archive.files if key != "meta"}
-        except (OSError, ValueError, KeyError, EOFError, json.JSONDecodeError) as error:
-            raise MocapError(f"not a motion model file (.npz from 'mocap decompose'): {error}",
+        except (OSError, ValueError, KeyError, EOFError, json.JSONDecodeError):
+            raise MocapError("not a motion model file (.npz from 'mocap decompose')",
                              path) from None
         if not isinstance(meta, dict) or meta.get("format") != "mocap-motion-model":
             raise MocapError("not a motion model file (.npz from 'mocap decompose')", path)

@@ -11,6 +11,10 @@ Given ``data`` (people × actions × features, NaN where a cell is missing):
    to the actions they have (:func:`synthesis.signature.fit_signature`), which fills their
    missing cells. A missing or held-out cell takes no part in the bases, so it is always
    predicted, never echoed back.
+   If fewer than two people are complete, the missing cells are first imputed
+   (:func:`impute_cells`: alternating N-mode SVD and signature regression from each person's
+   observed cells, with a people rank below the number of people chosen by cross-validation,
+   since at full rank an imputed guess reproduces itself), and the bases come from everyone.
 3. **Rank and ridge by leave-one-out.** With full people and action ranks, synthesis equals
    example-weight transfer and can over-fit (``nmode-svd-notes.md`` §1.3d). Every complete
    person is removed from the bases in turn and each of their cells predicted from their

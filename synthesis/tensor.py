@@ -114,6 +114,8 @@ def read_manifest(manifest: str | Path) -> list[CorpusEntry]:
     Relative paths are taken relative to the manifest's folder.
     """
     manifest = Path(manifest)
+    if not manifest.is_file():
+        raise MocapError("manifest not found", manifest)
     try:
         with open(manifest, newline="", encoding="utf-8") as handle:
             rows = list(csv.DictReader(handle))
