@@ -1,1 +1,49 @@
-"""synthesis: people × actions × joint-angle tensors, the N-mode SVD, motion signatures."""
+"""synthesis: people × actions × joint-angle tensors, the N-mode SVD, motion signatures.
+
+Vasilescu's *Human Motion Signatures* (ICPR 2002): a corpus of people performing actions is
+stacked into a people × actions × (time-normalised joint angles) tensor and decomposed with
+the N-mode SVD ``D = Z ×_1 P ×_2 A ×_3 J``; a person's row of ``P`` is their motion
+signature, and an action basis ``B_a = Z ×_2 a_aᵀ ×_3 J`` turns a signature into that
+person's motion of the action — also for actions they were never captured doing.
+
+Modules
+-------
+tensor
+    Corpus → :class:`~synthesis.tensor.MotionCorpus` (reading, unwrapping, time
+    normalisation, cycle detection and averaging, missing cells).
+nmode
+    :func:`~synthesis.nmode.nmode_svd` (Gram-matrix HOSVD, ranks by count or kept energy).
+signature
+    Action bases, signature least squares, synthesis, recognition scores, blending.
+regression
+    :class:`~synthesis.regression.SignatureModel`: bases from complete people, signatures by
+    ridge regression, rank and ridge by leave-one-out, imputation when few people are complete.
+model
+    :class:`~synthesis.model.MotionModel`: angles + timing models, synthesis, recognition,
+    ``.npz`` persistence.
+evaluate
+    Leave-one-cell-out evaluation against the "mean of the other people" baseline; plots.
+commands
+    ``mocap decompose | synthesize | recognize | evaluate``.
+
+Examples
+--------
+>>> from synthesis import MotionModel, load_corpus                       # doctest: +SKIP
+>>> corpus = load_corpus("corpus/", markerset="synthetic15")             # doctest: +SKIP
+>>> model = MotionModel().fit(corpus)                                    # doctest: +SKIP
+>>> curve, seconds = model.synthesize("ana", "run")                      # doctest: +SKIP
+"""
+from importlib import import_module
+
+#: Public names and their modules, imported on first use (keeps ``mocap --help`` fast).
+_EXPORTS = {"MotionModel": "synthesis.model", "MotionCorpus": "synthesis.tensor",
+            "load_corpus": "synthesis.tensor", "leave_one_out": "synthesis.evaluate",
+            "nmode_svd": "synthesis.nmode"}
+
+__all__ = list(_EXPORTS)
+
+
+def __getattr__(name: str):
+    if name in _EXPORTS:
+        return getattr(import_module(_EXPORTS[name]), name)
+    raise AttributeError(f"module 'synthesis' has no attribute {name!r}")
