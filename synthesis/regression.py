@@ -191,7 +191,8 @@ def impute_cells(data: np.ndarray, action_rank: Rank = None, feature_rank: Rank 
         if not held:
             continue
         for i, rank in enumerate(candidates):
-            filled = _impute_with_rank(masked, mask, rank, action_rank, feature_rank)
+            filled = _impute_with_rank(masked, mask, rank, action_rank, feature_rank,
+                                       iterations=100)
             errors[fold, i] = np.sqrt(np.mean([(filled[p, a] - data[p, a]) ** 2
                                                for p, a in held]))
     # Median over folds: one fold in which the alternating fit goes astray must not decide.
