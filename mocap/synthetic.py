@@ -1,18 +1,40 @@
 """Synthetic marker data: people × actions with ground-truth joint angles.
 
 Each person has a *motion signature*: body size and proportions, cadence, a few
-latent style factors that scale and offset every joint-angle curve (and interact
-with the action: a long-striding walker is not a long-striding stair climber in
-the same proportion), a stance/swing timing warp and a left/right asymmetry.
-Each action (walk, run, ascend and descend stairs) has its own template curves,
-written as sums of periodic bumps over the gait cycle (0 = right heel strike).
+latent style factors that move the gait (stride, step width, toe-out, foot pitch at
+landing and push-off, step clearance, knee flexion in stance, heel-rise timing) and
+scale and offset the trunk, arm and head curves (interacting with the action: a
+long-striding walker is not a long-striding stair climber in the same proportion), a
+stance/swing timing shift and a left/right asymmetry.
+
+The motion is built the way a body has to move, so that it is physically plausible:
+
+1. **Feet.**  Each foot lands (heel first; toe first down stairs) at its place on the
+   floor or on a stair tread, rolls flat, stays still while it carries the body, rolls
+   over the toe and swings to the next place along quintic curves that match the
+   rockers' position, velocity and acceleration and clear the floor (or the nosing).
+2. **Centre of mass.**  It rides the centre of pressure, which rolls from heel to toe
+   under each foot and passes from foot to foot in double support, like an inverted
+   pendulum with a virtual pivot (the periodic solution of x'' = k(t)(x − p(t)), so the
+   floor can supply every acceleration).  Its height is what the supporting leg gives at
+   its nominal knee flexion (walking, stairs: loading response, nearly straight in
+   mid-stance), smoothed and kept within reach, or a spring-mass bounce with a
+   ballistic flight phase (running).  The root follows from the centre of mass and the
+   posture (segment masses after de Leva).
+3. **Legs.**  Two-link inverse kinematics in 3-D gives hip flexion and abduction and
+   the knee from the hip-to-ankle vector; the hip's axial rotation keeps the ankle's
+   axial rotation at its template; the ankle takes the foot's orientation.  The heel
+   rises during push-off as much as the knee's nominal flexion asks.
+
+Stance feet are planted exactly (no skating, no penetration); the floor is flat for
+walk and run, a staircase of ``STEP_RISE`` × ``STEP_GOING`` steps for ascend and descend
+(two steps per cycle).  Measured with :func:`dynamics.humanoid.check_motion`, walks need a
+residual force of about 1–3 % body weight RMS, runs 6–11 % (the check's 0.1 s smoothing
+window spans the short flight phase).
 
 Forward kinematics puts three markers on each of the 15 segments of the
 ``synthetic15`` marker set (origin at the proximal joint centre, one marker
-0.10 m anterior, one 0.10 m to the left), in a Z-up lab facing +X.  The root is
-translated so that the stance foot's lowest contact point stays planted on the
-floor (no foot skating by construction; running has no flight phase in this
-simplified model; stair trials rise or fall by two steps per cycle).
+0.10 m anterior, one 0.10 m to the left), in a Z-up lab facing +X.
 
 Examples
 --------
@@ -85,9 +107,11 @@ class Person:
     cadence : float
         Multiplies every action's nominal cycle duration.
     timing : float
-        Stance/swing timing warp, fraction of the cycle (about ±0.15).
+        Stance/swing timing: shifts heel rise and toe-off by ``0.08 * timing`` cycles
+        (about ±0.15).
     asymmetry : float
-        Relative extra amplitude of the left side (about ±0.08).
+        Relative extra amplitude of the left side: foot pitches, clearance, step length
+        and the left limbs' template curves (about ±0.08).
     """
 
     name: str
@@ -193,8 +217,8 @@ def _style_effects(seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     action_weights : (actions, styles).
     """
     rng = np.random.default_rng([seed, 2])
-    gains = rng.normal(0.0, 0.09, size=(_STYLES,) + _DOFS)
-    offsets = rng.normal(0.0, 2.5, size=(_STYLES,) + _DOFS)
+    gains = rng.normal(0.0, 0.12, size=(_STYLES,) + _DOFS)
+    offsets = rng.normal(0.0, 3.5, size=(_STYLES,) + _DOFS)
     action_weights = rng.uniform(0.6, 1.4, size=(len(ACTIONS), _STYLES))
     return gains, offsets, action_weights
 
@@ -792,6 +816,10 @@ def _leg_rotations(person: Person, side: str, pelvis: np.ndarray, hip: np.ndarra
 GRAVITY = 9.81
 _GRID = 200            # samples per cycle for the centre-of-mass solve
 _HEIGHT_HARMONICS = 4  # harmonics per cycle kept in a walking centre of mass's height
+#: The floor's force points from the centre of pressure at a "virtual pivot" this far above
+#: the centre of mass (metres; Maus et al. 2010 measured 0.1–0.3 m in human walking), not at
+#: the centre of mass itself: gentler fore-aft forces than an inverted pendulum's.
+_PIVOT_ABOVE = 0.3
 
 
 def _template(person: Person, action: str, phase: np.ndarray, seed: int) -> np.ndarray:
@@ -956,7 +984,7 @@ def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
     for _ in range(4):
         height = com_z - pressure[:, 2]
         accel = _periodic_second_derivative(com_z - trend[:, 2], period)
-        stiffness = np.where(support > 0, (GRAVITY + accel) / height, 0.0)
+        stiffness = np.where(support > 0, (GRAVITY + accel) / (height + _PIVOT_ABOVE), 0.0)
 
         def ahead(pace):
             """How far the root is ahead of its place at the right landing, metres."""

@@ -73,6 +73,65 @@ def test_stance_foot_is_planted_on_the_floor(action, person):
     assert forward > (2.0 if action == "walk" else 3.0)                   # metres in two cycles
 
 
+def test_walks_have_double_support_steady_speed_and_clear_swings():
+    """Both feet down after each landing, the stance foot flat in mid-stance while the
+    other clears the floor, and a centre of mass whose speed varies as in real walking
+    (about ±10-15 %, the pelvis more as the legs swing under it)."""
+    from mocap.synthetic import _centre_of_mass
+
+    for person in make_people(6):
+        _, truth = synthesize_trial(person, "walk", cycles=3)
+        phase = (np.arange(len(truth.origins)) / truth.rate / truth.cycle_seconds) % 1.0
+        right, left = _feet(truth)
+        lowest = [foot[:, :, 2].min(axis=1) for foot in (right, left)]
+        double = ((phase > 0.02) & (phase < 0.08)) | ((phase > 0.52) & (phase < 0.58))
+        assert max(lowest[0][double].max(), lowest[1][double].max()) < 1e-6
+        middle = (phase > 0.15) & (phase < 0.22)                          # right mid-stance
+        np.testing.assert_allclose(right[middle, :, 2], 0.0, atol=1e-9)   # flat on the floor
+        swing = (phase > 0.22) & (phase < 0.32)                           # left mid-swing
+        assert lowest[1][swing].min() > 0.005                             # clears the floor
+        centre = _centre_of_mass(truth.segment_rotations, truth.origins, person)
+        for path, limit in ((centre, 0.25), (truth.origins[:, 0], 0.35)):
+            speed = np.gradient(path[:, 0]) * truth.rate
+            assert np.abs(speed / speed.mean() - 1.0).max() < limit
+        bob = np.ptp(centre[:, 2])
+        assert 0.015 < bob < 0.12                                         # metres
+
+
+@pytest.mark.parametrize("action, limit", [("walk", 5.0), ("run", 15.0)])
+def test_walk_and_run_pass_the_dynamics_check(action, limit):
+    """Pinocchio inverse dynamics: the floor can supply (almost) all the forces.  Captured
+    walks need 5-10 % body weight; the run's short flight phase falls inside the check's
+    0.1 s smoothing window, which costs it some."""
+    from dynamics.humanoid import check_motion
+    from mocap.markerset import load_markerset
+    from mocap.skeleton import motion_from_trial
+
+    trial, _ = synthesize_trial(0, action, cycles=3)
+    report = check_motion(motion_from_trial(trial, load_markerset("synthetic15"))).summary()
+    assert report["residual_force_rms_pct_bw"] < limit
+    assert report["foot_skate_mm"] < 1.0
+    assert report["penetration_mm"] < 1.0
+
+
+@pytest.mark.parametrize("action", ["ascend", "descend"])
+def test_stair_feet_are_planted_on_the_treads(action):
+    from mocap.synthetic import STEP_RISE
+
+    _, truth = synthesize_trial(1, action, cycles=2)
+    for foot in _feet(truth):
+        height = foot[:, :, 2]
+        on_tread = np.abs(height / STEP_RISE - np.round(height / STEP_RISE)) < 1e-9
+        lowest = on_tread.any(axis=1)
+        assert 0.45 < lowest.mean() < 0.8                                 # stance fraction
+        held = on_tread[1:] & on_tread[:-1]
+        slide = np.linalg.norm(foot[1:] - foot[:-1], axis=2)[held]
+        np.testing.assert_allclose(slide, 0.0, atol=1e-9)
+    climbed = truth.origins[-1, 0, 2] - truth.origins[0, 0, 2]
+    sign = 1.0 if action == "ascend" else -1.0
+    assert climbed * sign == pytest.approx(4 * STEP_RISE, abs=0.08)      # two cycles
+
+
 def test_people_have_signatures_that_carry_across_actions():
     people = make_people(6, seed=0)
     phase = np.linspace(0, 1, 100, endpoint=False)
