@@ -184,9 +184,11 @@ def decompose(args: argparse.Namespace) -> int:
         print(f"  bases from {len(summary['basis_people'])} complete people; missing cells: "
               f"{', '.join(summary['missing_cells']) or 'none'}")
     loo = summary["loo_rms_deg"]
+    caveat = " (optimistic: imputed cells saw everyone; use 'mocap evaluate')" \
+        if summary["imputed_people_rank"] else ""
     print(f"  signature dimensions {ranks[0]}, ridge α = {summary['ridge_alpha']:g}; "
           "leave-one-out synthesis RMS "
-          + (f"{loo:.2f}°" if loo == loo else "n/a (too few people)"))
+          + (f"{loo:.2f}°{caveat}" if loo == loo else "n/a (too few people)"))
     return 0
 
 
