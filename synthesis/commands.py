@@ -348,7 +348,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "likely person and action with scores.")
     parser.add_argument("model", metavar="MODEL.npz", help="model from 'mocap decompose'")
     parser.add_argument("trial", metavar="TRIAL",
-                        help="marker trial (read with the model's marker set), angle CSV, BVH or AMC")
+                        help="marker trial (read with the model's marker set), angle CSV, "
+                             "BVH or AMC")
     parser.add_argument("--action", metavar="A",
                         help="the trial's action when known (otherwise recognised too)")
     parser.add_argument("--json", action="store_true",

@@ -163,14 +163,16 @@ class MotionModel:
         """Index of a person (MocapError naming the known people)."""
         self._check_fitted()
         if person not in self.people:
-            raise MocapError(f"unknown person {person!r}; the model knows {', '.join(self.people)}")
+            raise MocapError(f"unknown person {person!r}; the model knows "
+                             f"{', '.join(self.people)}")
         return self.people.index(person)
 
     def action_index(self, action: str) -> int:
         """Index of an action (MocapError naming the known actions)."""
         self._check_fitted()
         if action not in self.actions:
-            raise MocapError(f"unknown action {action!r}; the model knows {', '.join(self.actions)}")
+            raise MocapError(f"unknown action {action!r}; the model knows "
+                             f"{', '.join(self.actions)}")
         return self.actions.index(action)
 
     @property
@@ -379,7 +381,8 @@ class MotionModel:
             "parents": self.parents, "columns": self.columns, "sequence": self.sequence,
             "samples": self.samples, "markerset": self.markerset, "cycles": self.cycles,
             "cycle_column": self.cycle_column, "sources": self.sources,
-            "cleaning": self.cleaning, "people_rank": self.people_rank, "action_rank": self.action_rank,
+            "cleaning": self.cleaning, "people_rank": self.people_rank,
+            "action_rank": self.action_rank,
             "feature_rank": self.feature_rank, "ridge": self.ridge,
             "spread_rms": self.spread_rms_, "angles": angle_meta, "timing": timing_meta,
         }

@@ -196,7 +196,8 @@ def impute_cells(data: np.ndarray, action_rank: Rank = None, feature_rank: Rank 
             errors[fold, i] = np.sqrt(np.mean([(filled[p, a] - data[p, a]) ** 2
                                                for p, a in held]))
     # Median over folds: one fold in which the alternating fit goes astray must not decide.
-    scores = np.nanmedian(errors, axis=0) if np.isfinite(errors).any() else np.zeros(len(candidates))
+    scores = np.nanmedian(errors, axis=0) if np.isfinite(errors).any() \
+        else np.zeros(len(candidates))
     rank = candidates[int(np.argmin(scores))]
     return _impute_with_rank(data, observed, rank, action_rank, feature_rank), rank
 

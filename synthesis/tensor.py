@@ -673,7 +673,8 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
     for entry, angles in read:
         if list(angles.segments) != list(reference_segments):
             raise MocapError(f"segments {', '.join(angles.segments)} differ from those of "
-                             f"{read[0][0].path.name} ({', '.join(reference_segments)})", entry.path)
+                             f"{read[0][0].path.name} ({', '.join(reference_segments)})",
+                             entry.path)
         if angles.sequence != reference_sequence:
             raise MocapError(f"Euler sequence {angles.sequence} differs from {reference_sequence} "
                              f"of {read[0][0].path.name}", entry.path)

@@ -13,7 +13,7 @@ from tests.test_synthesis_model import SEGMENTS, multilinear_corpus
 
 
 def write_corpus(folder, corpus, skip=()):
-    """Each cell of a MotionCorpus as an angle CSV ``<person>_<action>.csv`` spanning its duration."""
+    """Each cell of a MotionCorpus as an angle CSV ``<person>_<action>.csv`` over its duration."""
     folder.mkdir(parents=True, exist_ok=True)
     for p, person in enumerate(corpus.people):
         for a, action in enumerate(corpus.actions):

@@ -66,7 +66,8 @@ def test_full_rank_reconstruction_orthonormal_factors_and_ordered_all_orthogonal
 def test_truncated_feature_mode_equals_tensorly_tucker():
     rng = np.random.default_rng(3)
     clean = multilinear_tensor((8, 4, 450), (8, 4, 6), seed=3)
-    noisy = clean + 0.01 * np.linalg.norm(clean) / np.sqrt(clean.size) * rng.normal(size=clean.shape)
+    scale = 0.01 * np.linalg.norm(clean) / np.sqrt(clean.size)
+    noisy = clean + scale * rng.normal(size=clean.shape)
     ours = nmode_svd(noisy, [8, 4, 6]).reconstruct()
     core, factors = tucker(noisy, rank=[8, 4, 6])
     theirs = tl.tucker_to_tensor((core, factors))
