@@ -781,7 +781,7 @@ def _leg_rotations(person: Person, side: str, pelvis: np.ndarray, hip: np.ndarra
     -------
     thigh, shank, foot joint rotations, each (frames, 3, 3).
     """
-    thigh_i, shank_i, foot_i = (SEGMENT_NAMES.index(f"{side}_{n}") for n in ("thigh", "shank", "foot"))
+    shank_i, foot_i = (SEGMENT_NAMES.index(f"{side}_{name}") for name in ("shank", "foot"))
     t, s = person.lengths["thigh"], person.lengths["shank"]
     target = np.einsum("fji,fj->fi", pelvis, ankle - hip)             # in the pelvis frame
     distance = np.linalg.norm(target, axis=1)
@@ -792,10 +792,12 @@ def _leg_rotations(person: Person, side: str, pelvis: np.ndarray, hip: np.ndarra
     knee_joint = Rotation.from_euler(
         "YZ", np.stack([np.degrees(knee), clinical[:, shank_i, 2] * _CLINICAL_SIGNS[shank_i, 2]],
                        axis=1), degrees=True).as_matrix()
-    wanted_twist = clinical[:, foot_i, 2] * _CLINICAL_SIGNS[foot_i, 2]
-    twist = np.zeros_like(knee)
-    for _ in range(4):          # fixed point on the hip's axial rotation (converges fast)
-        turned = np.stack([leg[:, 0] * np.cos(twist), leg[:, 0] * np.sin(twist), leg[:, 2]], axis=1)
+    wanted = np.radians(clinical[:, foot_i, 2] * _CLINICAL_SIGNS[foot_i, 2])
+
+    def pose(twist):
+        """Hip and ankle joints, and the ankle's axial rotation, for a hip axial rotation."""
+        turned = np.stack([leg[:, 0] * np.cos(twist), leg[:, 0] * np.sin(twist), leg[:, 2]],
+                          axis=1)
         radius = np.hypot(turned[:, 1], turned[:, 2])
         about_x = -np.arccos(np.clip(target[:, 1] / radius, -1.0, 1.0)) - np.arctan2(
             turned[:, 2], turned[:, 1])
@@ -804,10 +806,20 @@ def _leg_rotations(person: Person, side: str, pelvis: np.ndarray, hip: np.ndarra
         about_y = np.arctan2(target[:, 0], target[:, 2]) - np.arctan2(turned[:, 0], rolled_z)
         hip_joint = Rotation.from_euler("YXZ", np.stack([about_y, about_x, twist], axis=1)
                                         ).as_matrix()
-        shank = pelvis @ hip_joint @ knee_joint
-        ankle_joint = np.swapaxes(shank, 1, 2) @ foot
-        about_z = Rotation.from_matrix(ankle_joint).as_euler("YXZ")[:, 2]
-        twist = twist + (about_z - np.radians(wanted_twist))
+        ankle_joint = np.swapaxes(pelvis @ hip_joint @ knee_joint, 1, 2) @ foot
+        axial = Rotation.from_matrix(ankle_joint).as_euler("YXZ")[:, 2]
+        return hip_joint, ankle_joint, (axial - wanted + np.pi) % (2 * np.pi) - np.pi
+
+    # Newton's method on the hip's axial rotation, slope by a forward difference; the
+    # slope is about −1 (turning the thigh turns the shank over the foot) and stays away
+    # from 0 while the knee is not bent past a right angle.
+    twist = np.zeros_like(knee)
+    for _ in range(6):
+        hip_joint, ankle_joint, error = pose(twist)
+        slope = (pose(twist + 1e-5)[2] - error) / 1e-5
+        slope = np.where(np.abs(slope) > 0.2, slope, -1.0)
+        twist = twist - np.clip(error / slope, -0.5, 0.5)
+    hip_joint, ankle_joint, _ = pose(twist)
     return hip_joint, knee_joint, ankle_joint
 
 
@@ -823,7 +835,8 @@ _PIVOT_ABOVE = 0.3
 
 
 def _template(person: Person, action: str, phase: np.ndarray, seed: int) -> np.ndarray:
-    """Template angles with the person's style (gains, offsets, asymmetry), (frames, segments, 3)."""
+    """Template angles with the person's style (gains, offsets, asymmetry),
+    (frames, segments, 3) degrees."""
     gains, offsets, action_weights = _style_effects(seed)
     weights = person.style * action_weights[ACTIONS.index(action)]        # (styles,)
     gain = 1.0 + np.tensordot(weights, gains, axes=1)                      # (segments, 3)
@@ -1021,7 +1034,8 @@ def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
             stance = foot["u"] < gait.toe_off
             ceiling = np.where(stance, np.minimum(ceiling, root_height(
                 _leg_length(person, gait.knee_min))), ceiling)
-            knee = np.clip(gait.knee_gain * _stance_knee(gait.action, foot["u"]), gait.knee_min, 80.0)
+            knee = np.clip(gait.knee_gain * _stance_knee(gait.action, foot["u"]),
+                           gait.knee_min, 80.0)
             # The leading leg sets the height; a trailing leg pushing off only limits it
             # (except down stairs, where it bends to lower the body onto the next step).
             leads = (foot["u"] < 0.5) | (gait.action == "descend")

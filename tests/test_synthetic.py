@@ -132,6 +132,42 @@ def test_stair_feet_are_planted_on_the_treads(action):
     assert climbed * sign == pytest.approx(4 * STEP_RISE, abs=0.08)      # two cycles
 
 
+@pytest.mark.parametrize("side", ["r", "l"])
+def test_leg_inverse_kinematics_puts_ankle_and_foot_exactly_where_asked(side):
+    from scipy.spatial.transform import Rotation
+
+    from mocap.synthetic import _leg_rotations
+
+    person = make_people(1)[0]
+    thigh, shank = person.lengths["thigh"], person.lengths["shank"]
+    rng = np.random.default_rng(7)
+    frames = 200
+    pelvis = Rotation.from_euler("YXZ", rng.uniform(-12, 12, (frames, 3)), degrees=True)
+    hip = rng.normal(0.0, 0.3, (frames, 3))
+    down = Rotation.from_euler("YX", rng.uniform(-1, 1, (frames, 2)) * [45, 20], degrees=True)
+    ankle = hip + down.apply([0.0, 0.0, -1.0]) * rng.uniform(0.6, 0.99, (frames, 1)) * (
+        thigh + shank)                                                   # knee 16-120 deg
+    foot = Rotation.from_euler("ZYX", rng.uniform(-20, 20, (frames, 3)), degrees=True)
+    clinical = np.zeros((frames, len(SEGMENT_NAMES), 3))
+    twist = rng.uniform(-6, 6, frames)
+    clinical[:, SEGMENT_NAMES.index(f"{side}_foot"), 2] = twist
+    clinical[:, SEGMENT_NAMES.index(f"{side}_shank"), 2] = rng.uniform(-6, 6, frames)
+    hip_joint, knee_joint, ankle_joint = _leg_rotations(
+        person, side, pelvis.as_matrix(), hip, ankle, foot.as_matrix(), clinical)
+    thigh_frame = pelvis.as_matrix() @ hip_joint
+    shank_frame = thigh_frame @ knee_joint
+    reached = hip + thigh_frame @ [0.0, 0.0, -thigh] + shank_frame @ [0.0, 0.0, -shank]
+    np.testing.assert_allclose(reached, ankle, atol=1e-9)
+    np.testing.assert_allclose(shank_frame @ ankle_joint, foot.as_matrix(), atol=1e-9)
+    # the knee is a hinge about the thigh's left axis (plus the template's axial twist)
+    knee = Rotation.from_matrix(knee_joint).as_euler("YXZ", degrees=True)
+    assert (knee[:, 0] > 0).all() and np.abs(knee[:, 1]).max() < 1e-9
+    # the hip's axial rotation leaves the ankle the template's axial rotation
+    axial = Rotation.from_matrix(ankle_joint).as_euler("YXZ", degrees=True)[:, 2]
+    sign = 1.0 if side == "r" else -1.0
+    np.testing.assert_allclose(axial, sign * twist, atol=1e-6)
+
+
 def test_people_have_signatures_that_carry_across_actions():
     people = make_people(6, seed=0)
     phase = np.linspace(0, 1, 100, endpoint=False)
