@@ -7,11 +7,11 @@ is on the PATH (otherwise a clear error, never a half-written file).
 from __future__ import annotations
 
 import os
-import shutil
 from pathlib import Path
 
 import numpy as np
 
+from dynamics.render import check_animation_path, save_animation
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 
@@ -59,16 +59,9 @@ def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float |
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib import animation
     from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
-    path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix not in (".gif", ".mp4"):
-        raise MocapError("the animation must be a .gif or .mp4 file", path)
-    if suffix == ".mp4" and shutil.which("ffmpeg") is None:
-        raise MocapError("writing MP4 needs ffmpeg on the PATH; install it or write a .gif",
-                         path)
+    path = check_animation_path(path)
     world = motion.forward_kinematics()
     joints = world[1]
     end_index, ends = motion.end_site_positions(world)
@@ -151,14 +144,7 @@ def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float |
         label.set_text(f"{title}  t = {frame / motion.rate:.2f} s".strip())
         return skeleton_lines, joint_artist, cloth_artist, rope_artist, floor_artist
 
-    movie = animation.FuncAnimation(figure, draw, frames=chosen, blit=False)
-    writer = animation.PillowWriter(fps=fps) if suffix == ".gif" else \
-        animation.FFMpegWriter(fps=fps)
-    try:
-        with atomic_path(path) as tmp:
-            movie.save(str(tmp), writer=writer, dpi=dpi)
-    finally:
-        plt.close(figure)
+    save_animation(figure, draw, chosen, path, fps, dpi)
     return int(chosen.size)
 
 

@@ -60,15 +60,9 @@ def render_animation(result: dict, path: str | os.PathLike, fps: float = 30.0,
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    from matplotlib import animation
     from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
-    path = Path(path)
-    suffix = path.suffix.lower()
-    if suffix not in (".gif", ".mp4"):
-        raise MocapError("animation must be a .gif or .mp4 file", path)
-    if suffix == ".mp4" and shutil.which("ffmpeg") is None:
-        raise MocapError("writing MP4 needs ffmpeg on the PATH; install it or write a .gif", path)
+    path = check_animation_path(path)
 
     times = np.asarray(result["times"])
     positions = np.asarray(result["positions"])
@@ -135,12 +129,38 @@ def render_animation(result: dict, path: str | os.PathLike, fps: float = 30.0,
         label.set_text(f"{title}  t = {times[frame]:.2f} s".strip())
         return scatter, lines, boxes, label
 
+    save_animation(figure, draw, frames, path, fps, dpi)
+    return len(frames)
+
+
+def check_animation_path(path: str | os.PathLike) -> Path:
+    """``path`` as a Path if it names a .gif, or an .mp4 with ffmpeg on the PATH.
+
+    Raises
+    ------
+    MocapError
+        Another suffix, or MP4 without ffmpeg.
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in (".gif", ".mp4"):
+        raise MocapError("the animation must be a .gif or .mp4 file", path)
+    if suffix == ".mp4" and shutil.which("ffmpeg") is None:
+        raise MocapError("writing MP4 needs ffmpeg on the PATH; install it or write a .gif", path)
+    return path
+
+
+def save_animation(figure, draw, frames, path: Path, fps: float, dpi: int) -> None:
+    """Render ``draw(frame)`` for each of ``frames`` into ``path`` (GIF by Pillow, MP4 by
+    ffmpeg), all or nothing, and close the figure."""
+    import matplotlib.pyplot as plt
+    from matplotlib import animation
+
     movie = animation.FuncAnimation(figure, draw, frames=frames, blit=False)
-    writer = (animation.PillowWriter(fps=fps) if suffix == ".gif"
+    writer = (animation.PillowWriter(fps=fps) if path.suffix.lower() == ".gif"
               else animation.FFMpegWriter(fps=fps))
     try:
         with atomic_path(path) as tmp:
             movie.save(str(tmp), writer=writer, dpi=dpi)
     finally:
         plt.close(figure)
-    return len(frames)

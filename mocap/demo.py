@@ -282,7 +282,7 @@ def _write_report(out: Path, summary: dict, corpus) -> None:
             f"<td>{'✓' if corpus.cycle_counts[i, j] else '—'}</td>"
             for j in range(len(corpus.actions))) + "</tr>"
         for i, person in enumerate(corpus.people))
-    animation = (f'<h2>Animation</h2><img src="animation.gif" alt="animation">'
+    animation = ('<h2>Animation</h2><img src="animation.gif" alt="animation">'
                  if "animation" in summary else "")
     page = f"""<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>mocap demo</title>

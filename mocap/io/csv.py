@@ -33,7 +33,7 @@ import numpy as np
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.io.c3d import infer_unit_factor, unique_labels, unit_factor
-from mocap.io.text_table import format_rows, mark_missing, parse_numeric_rows
+from mocap.io.text_table import format_rows, mark_missing, parse_numeric_rows, read_lines
 from mocap.trial import Trial
 
 _AXIS_COLUMN = re.compile(r"^(?P<label>.+?)[_.: ](?P<axis>[xyzXYZ])$")
@@ -42,14 +42,6 @@ _VICON_SECTIONS = {"trajectories", "devices", "model outputs", "joints", "segmen
                    "global angle", "events"}
 
 
-def _read_lines(path: str | os.PathLike) -> list[str]:
-    try:
-        with open(path, "r", encoding="utf-8-sig", errors="replace", newline=None) as handle:
-            return handle.read().splitlines()
-    except FileNotFoundError:
-        raise MocapError("no such file", path) from None
-    except OSError as error:
-        raise MocapError(f"cannot read file: {error.strerror or error}", path) from None
 
 
 def read_csv(path: str | os.PathLike) -> Trial:
@@ -69,7 +61,7 @@ def read_csv(path: str | os.PathLike) -> Trial:
     MocapError
         Missing file, empty file, or a header that fits neither layout.
     """
-    lines = _read_lines(path)
+    lines = read_lines(path, "utf-8-sig")
     first_cells = [line.split(",")[0].strip().lower() for line in lines[:1]]
     if not lines or not lines[0].strip():
         raise MocapError("empty CSV file", path)

@@ -1,7 +1,22 @@
 """Helpers shared by the text formats (CSV, TRC): numeric tables with empty cells."""
 from __future__ import annotations
 
+import os
+
 import numpy as np
+
+from mocap.errors import MocapError
+
+
+def read_lines(path: str | os.PathLike, encoding: str = "utf-8") -> list[str]:
+    """Lines of a text file; a missing or unreadable file is a :class:`MocapError`."""
+    try:
+        with open(path, "r", encoding=encoding, errors="replace", newline=None) as handle:
+            return handle.read().splitlines()
+    except FileNotFoundError:
+        raise MocapError("no such file", path) from None
+    except OSError as error:
+        raise MocapError(f"cannot read file: {error.strerror or error}", path) from None
 
 
 def parse_numeric_rows(lines: list[str], delimiter: str, width: int) -> np.ndarray:

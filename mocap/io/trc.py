@@ -29,18 +29,10 @@ import numpy as np
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.io.c3d import infer_unit_factor, unique_labels, unit_factor
-from mocap.io.text_table import format_rows, mark_missing, parse_numeric_rows
+from mocap.io.text_table import format_rows, mark_missing, parse_numeric_rows, read_lines
 from mocap.trial import Trial
 
 
-def _read_lines(path: str | os.PathLike) -> list[str]:
-    try:
-        with open(path, "r", encoding="utf-8", errors="replace", newline=None) as handle:
-            return handle.read().splitlines()
-    except FileNotFoundError:
-        raise MocapError("no such file", path) from None
-    except OSError as error:
-        raise MocapError(f"cannot read file: {error.strerror or error}", path) from None
 
 
 def read_trc(path: str | os.PathLike) -> Trial:
@@ -62,7 +54,7 @@ def read_trc(path: str | os.PathLike) -> Trial:
     MocapError
         Missing file, or a file that is not a TRC file.
     """
-    lines = _read_lines(path)
+    lines = read_lines(path)
     if len(lines) < 5 or not lines[0].lower().startswith("pathfiletype"):
         raise MocapError("not a TRC file (it must start with 'PathFileType')", path)
     delimiter = "\t" if "\t" in lines[0] + lines[1] else ","
