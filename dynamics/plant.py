@@ -55,3 +55,45 @@ def plant_feet(motion: Motion, smooth_hz: float | None = 4.0) -> Motion:
         translation = sosfiltfilt(sos, translation, axis=0)
     return Motion(motion.skeleton, translation, motion.rotations, motion.rate,
                   dict(motion.metadata, root="planted feet"))
+
+
+def motion_from_cycle(angles, skeleton=None, cycles: int = 1, up: str = "z") -> Motion:
+    """A walking :class:`Motion` from one cycle of joint angles (a synthesised cycle).
+
+    The cycle is closed first (its end made to continue smoothly into its start by a
+    linear ramp of the small mismatch), repeated ``cycles + 2`` times, the root path
+    planted on the feet and smoothed (:func:`plant_feet`), and the middle ``cycles``
+    kept, so neither the seams nor the ends carry artificial accelerations.
+
+    Parameters
+    ----------
+    angles : mocap.angles.JointAngles
+        One cycle: ``values`` (samples, segments, 3) degrees, ``times`` seconds.
+    skeleton : mocap.skeleton.Skeleton, optional
+        The body to put the angles on (default :func:`mocap.skeleton.default_skeleton`).
+    cycles : int
+        Cycles in the result.
+    up : {"z", "y"}
+        Vertical axis of the lab the angles were measured in.
+
+    Returns
+    -------
+    Motion
+        ``cycles × samples`` frames, feet planted on the floor y = 0.
+    """
+    from mocap.angles import JointAngles
+    from mocap.skeleton import motion_from_angles
+
+    cycle = np.asarray(angles.values, dtype=float)
+    if cycle.shape[0] < 3:
+        raise ValueError("a cycle needs at least 3 samples")
+    mismatch = cycle[0] - (2 * cycle[-1] - cycle[-2])          # where the next sample should be
+    cycle = cycle + np.linspace(0.0, 1.0, len(cycle))[:, None, None] * mismatch
+    samples, repeats = len(cycle), cycles + 2
+    values = np.concatenate([cycle] * repeats, axis=0)
+    step = float(angles.times[1] - angles.times[0])
+    tiled = JointAngles(times=np.arange(values.shape[0]) * step, values=values,
+                        segments=list(angles.segments), sequence=angles.sequence,
+                        parents=list(angles.parents))
+    motion = plant_feet(motion_from_angles(tiled, skeleton, up=up))
+    return motion.slice(samples, samples * (cycles + 1))

@@ -213,32 +213,15 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
 
 
 def _body_motion(synthesised, trials: dict, person: str, markerset):
-    """Synthesised joint angles on the person's own skeleton (from their markers): three
-    cycles, the root path planted on the feet.
-
-    The cycle is closed first (its end made to continue smoothly into its start, by a
-    linear ramp of the small mismatch), five cycles are planted and the middle three kept,
-    so neither the seams nor the ends of the path carry artificial accelerations.
-    """
+    """Three cycles of the synthesised joint angles on the person's own skeleton (from
+    their markers), feet planted (:func:`dynamics.plant.motion_from_cycle`)."""
     from mocap import io
-    from mocap.angles import JointAngles
-    from mocap.skeleton import motion_from_angles, motion_from_trial
-    from dynamics.plant import plant_feet
+    from mocap.skeleton import motion_from_trial
+    from dynamics.plant import motion_from_cycle
 
     source = next(path for (who, _), (path, _) in sorted(trials.items()) if who == person)
     skeleton = motion_from_trial(io.read(source), markerset).skeleton
-    cycle = synthesised.values
-    mismatch = cycle[0] - (2 * cycle[-1] - cycle[-2])           # where the next sample should be
-    cycle = cycle + np.linspace(0.0, 1.0, len(cycle))[:, None, None] * mismatch
-    samples, repeats, kept = len(cycle), 5, 3
-    values = np.concatenate([cycle] * repeats, axis=0)
-    step = synthesised.times[1] - synthesised.times[0]
-    tiled = JointAngles(times=np.arange(values.shape[0]) * step, values=values,
-                        segments=synthesised.segments, sequence=synthesised.sequence,
-                        parents=synthesised.parents)
-    motion = plant_feet(motion_from_angles(tiled, skeleton))
-    start = samples * (repeats - kept) // 2
-    return motion.slice(start, start + samples * kept)
+    return motion_from_cycle(synthesised, skeleton, cycles=3)
 
 
 def _plot_synthesis(corpus, truth, curve, baseline, path: Path, person: str) -> None:
