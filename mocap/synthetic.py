@@ -639,7 +639,7 @@ class _FootPath:
             knee = np.maximum(g.knee_gain * _stance_knee(g.action, u), g.knee_min)
             length = _leg_length(self.person, knee)
             toe = self.flat @ (self.toe - self.heel)
-            q = (self.hip(u) - toe) @ _foot_rotation(g.yaw[self.side], np.zeros(1))[0]
+            q = (self.hip(u) - toe) @ self.flat                  # in the foot heading
             r = self.toe
             a = q[:, 0] * r[0] + q[:, 2] * r[2]
             b = q[:, 0] * r[2] - q[:, 2] * r[0]
@@ -648,9 +648,8 @@ class _FootPath:
             roots = [-np.degrees((np.arctan2(b, a) + sign * spread + np.pi) % (2 * np.pi) - np.pi)
                      for sign in (-1.0, 1.0)]
             solved = np.where(np.abs(roots[0] - pitch) < np.abs(roots[1] - pitch), *roots)
-            # ease from the nominal profile into the solved one, never heel below flat
-            # within about 20 degrees of the nominal profile (soft limit), never heel down
-            solved = pitch + 20.0 * np.tanh((solved - pitch) / 20.0)
+            # within about 30 degrees of the nominal profile (soft limit), never heel down
+            solved = pitch + 30.0 * np.tanh((solved - pitch) / 30.0)
             # eased in after heel rise and out before toe-off (the swing starts nominally)
             blend = _smoothstep(3 * s) * (1 - _smoothstep((s - 0.6) / 0.4))
             pitch = np.minimum((1 - blend) * pitch + blend * solved, 0.0)
