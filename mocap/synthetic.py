@@ -712,9 +712,10 @@ class _FootPath:
         """The foot at ``phase`` (cycles from the right foot's landing; any range).
 
         Returns ``ankle`` (frames, 3), ``rotation`` (frames, 3, 3), ``u`` (frames,) phase
-        from this foot's landing, ``cop`` (frames, 3) where it presses on the floor (its
-        progress along the foot raised to the power ``pace``: below 1 it rolls forward
-        sooner).
+        from this foot's landing, ``heel`` and ``toe`` contact points (frames, 3),
+        ``along`` (frames,) how far from heel (0) to toe (1) it presses on the floor, and
+        ``cop`` (frames, 3) that point, with ``along`` raised to the power ``pace`` (below
+        1 the pressure rolls forward sooner).
         """
         g = self.gait
         local = phase - g.phase[self.side]
@@ -729,9 +730,8 @@ class _FootPath:
         else:                  # heel to ball by heel rise, to the toe by toe-off
             along = 0.75 * _smoothstep(u / g.heel_rise) + 0.25 * _smoothstep(
                 (u - g.heel_rise) / (g.toe_off - g.heel_rise))
-        along = along**pace
-        return {"ankle": ankle, "rotation": rotation, "u": u,
-                "cop": heel + along[:, None] * (toe - heel)}
+        return {"ankle": ankle, "rotation": rotation, "u": u, "heel": heel, "toe": toe,
+                "along": along, "cop": heel + along[:, None] ** pace * (toe - heel)}
 
 
 def _smoothstep(s: np.ndarray) -> np.ndarray:
@@ -809,16 +809,21 @@ def _leg_rotations(person: Person, side: str, pelvis: np.ndarray, hip: np.ndarra
         axial = Rotation.from_matrix(ankle_joint).as_euler("YXZ")[:, 2]
         return hip_joint, ankle_joint, (axial - wanted + np.pi) % (2 * np.pi) - np.pi
 
-    # Newton's method on the hip's axial rotation, slope by a forward difference; the
-    # slope is about −1 (turning the thigh turns the shank over the foot) and stays away
-    # from 0 while the knee is not bent past a right angle.
-    twist = np.zeros_like(knee)
-    for _ in range(6):
-        hip_joint, ankle_joint, error = pose(twist)
-        slope = (pose(twist + 1e-5)[2] - error) / 1e-5
+    # Secant method on the hip's axial rotation, starting from slope −1 (turning the
+    # thigh turns the shank over the foot); the slope stays away from 0 while the knee is
+    # not bent past a right angle.
+    twist, slope = np.zeros_like(knee), -np.ones_like(knee)
+    hip_joint, ankle_joint, error = pose(twist)
+    for _ in range(8):
+        if np.abs(error).max() < 1e-12:
+            break
+        step = -np.clip(error / slope, -0.5, 0.5)
+        twist = twist + step
+        hip_joint, ankle_joint, new_error = pose(twist)
+        moved = np.abs(step) > 1e-12
+        slope = np.where(moved, (new_error - error) / np.where(moved, step, 1.0), slope)
         slope = np.where(np.abs(slope) > 0.2, slope, -1.0)
-        twist = twist - np.clip(error / slope, -0.5, 0.5)
-    hip_joint, ankle_joint, _ = pose(twist)
+        error = new_error
     return hip_joint, knee_joint, ankle_joint
 
 
@@ -924,16 +929,18 @@ def _follow(paths: list[_FootPath], person: Person, gait: _Gait, periodic: np.nd
             seed: int) -> None:
     """Make both feet's push-off follow the root path (``periodic``: root minus the
     cycle's advance, (_GRID, 3) over one cycle)."""
+    grid = np.arange(_GRID) / _GRID
+    pelvis = _to_rotations(_template(person, gait.action, grid, seed))[:, 0]
     offsets = _offsets(person)
     for path, side in zip(paths, "rl"):
-        hip_offset = offsets[SEGMENT_NAMES.index(f"{side}_thigh")]
+        # the hip's path over one cycle, less the advance: interpolated at any phase
+        hips = periodic + pelvis @ offsets[SEGMENT_NAMES.index(f"{side}_thigh")]
         start, placement = gait.phase[path.side], gait.placement[path.side]
 
-        def hip(u, start=start, placement=placement, hip_offset=hip_offset):
+        def hip(u, hips=hips, start=start, placement=placement):
             phase = u + start
-            root = _periodic_interpolate(periodic, phase % 1.0) + np.outer(phase, gait.advance)
-            pelvis = _to_rotations(_template(person, gait.action, phase, seed))[:, 0]
-            return root + pelvis @ hip_offset - placement
+            return (_periodic_interpolate(hips, phase % 1.0) + np.outer(phase, gait.advance)
+                    - placement)
 
         path.follow(hip)
 
@@ -962,7 +969,8 @@ def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
     support = loads.sum(axis=0)
 
     def centre_of_pressure(pace):
-        cops = np.stack([path.in_lab(u, pace)["cop"] for path in paths])
+        cops = np.stack([f["heel"] + f["along"][:, None] ** pace * (f["toe"] - f["heel"])
+                         for f in feet])
         return np.einsum("sn,snd->nd", loads, cops) / np.maximum(support, 1e-12)[:, None]
 
     pressure = centre_of_pressure(1.0)
