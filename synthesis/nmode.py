@@ -99,6 +99,8 @@ def _rank_from_eigenvalues(eigenvalues: np.ndarray, total_energy: float, rank: R
 
 #: Gram matrices at least this large use a Krylov (ARPACK) solver for a few leading eigenpairs.
 KRYLOV_MIN_SIZE = 400
+#: Gram matrices at most this large are decomposed in full (numpy ``eigh``).
+SMALL_GRAM = 128
 
 
 def leading_eigenpairs(gram: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
@@ -132,6 +134,10 @@ def leading_eigenpairs(gram: np.ndarray, count: int) -> tuple[np.ndarray, np.nda
         if values is not None:
             order = np.argsort(values)[::-1]
             return values[order], vectors[:, order]
+    if size <= SMALL_GRAM:
+        # Small matrices: a full decomposition costs less than the subset driver's set-up.
+        values, vectors = np.linalg.eigh(gram)
+        return values[::-1][:count], vectors[:, ::-1][:, :count]
     values, vectors = scipy.linalg.eigh(gram, subset_by_index=[size - count, size - 1],
                                         check_finite=False)
     return values[::-1], vectors[:, ::-1]
@@ -171,12 +177,18 @@ def gram_svd(matrix: np.ndarray, rank: Rank = None, mode: int = 0
     return left, singular_values, energy
 
 
-def _gram_svd(matrix: np.ndarray, rank: Rank, mode: int
+def _gram_svd(matrix: np.ndarray | None, rank: Rank, mode: int,
+              gram: np.ndarray | None = None, shape: tuple[int, int] | None = None
               ) -> tuple[np.ndarray, np.ndarray, float, np.ndarray | None]:
-    """:func:`gram_svd`, plus ``Uᵀ matrix`` (r, n) when it came for free (else None)."""
-    rows, columns = matrix.shape
+    """:func:`gram_svd`, plus ``Uᵀ matrix`` (r, n) when it came for free (else None).
+
+    ``gram`` may be given precomputed (the smaller one); ``matrix`` may then be None when it
+    is ``matrix matrixᵀ``, with ``shape`` the matrix's shape.
+    """
+    rows, columns = matrix.shape if matrix is not None else shape
     tall_side_small = rows <= columns
-    gram = matrix @ matrix.T if tall_side_small else matrix.T @ matrix
+    if gram is None:
+        gram = matrix @ matrix.T if tall_side_small else matrix.T @ matrix
     size = gram.shape[0]
     total_energy = float(np.trace(gram))
     if isinstance(rank, (int, np.integer)) and not isinstance(rank, (bool, np.bool_)) \
@@ -283,8 +295,17 @@ def nmode_svd(tensor: np.ndarray, ranks: Sequence[Rank] | Rank = None) -> NModeS
         raise ValueError(f"{len(ranks)} ranks for a tensor of {tensor.ndim} modes")
     factors, singular_values, energy = [], [], []
     shortcut = None                  # (mode, D ×_mode U_modeᵀ) when an SVD gave it for free
+    grams = _grams_from_cells(tensor)
     for mode, rank in enumerate(ranks):
-        factor, sigma, kept, projected = _gram_svd(tl.unfold(tensor, mode), rank, mode)
+        if grams is None:
+            factor, sigma, kept, projected = _gram_svd(tl.unfold(tensor, mode), rank, mode)
+        elif mode < tensor.ndim - 1:
+            others = int(np.prod(tensor.shape)) // tensor.shape[mode]
+            factor, sigma, kept, projected = _gram_svd(None, rank, mode, grams[mode],
+                                                       (tensor.shape[mode], others))
+        else:
+            factor, sigma, kept, projected = _gram_svd(tl.unfold(tensor, mode), rank, mode,
+                                                       grams[mode])
         factors.append(factor)
         singular_values.append(sigma)
         energy.append(kept)
@@ -299,6 +320,31 @@ def nmode_svd(tensor: np.ndarray, ranks: Sequence[Rank] | Rank = None) -> NModeS
         mode, partial = shortcut
         core = project(partial, [factors[m] if m != mode else None for m in range(tensor.ndim)])
     return NModeSVD(core, factors, singular_values, energy)
+
+
+def _grams_from_cells(tensor: np.ndarray) -> list[np.ndarray] | None:
+    """Every mode's smaller Gram matrix from one product, when the last mode is the long one.
+
+    With ``Y`` the tensor seen as cells × last-mode fibres (``∏ I_k`` × ``I_N``, no copy), the
+    cell Gram ``C = Y Yᵀ`` is the smaller Gram of the last unfolding, and the Gram of every
+    other mode is a partial trace of it: ``D_(n) D_(n)ᵀ = Σ C[…, i_n, …; …, j_n, …]`` over
+    the other (equal) cell indices. One BLAS product instead of one per mode, and no
+    unfolding copies. Returns None when the last mode is shorter than the number of cells.
+    """
+    cells = int(np.prod(tensor.shape[:-1]))
+    if tensor.ndim < 2 or tensor.shape[-1] < cells or tensor.ndim > 26:
+        return None
+    flat = tensor.reshape(cells, tensor.shape[-1])
+    cell_gram = flat @ flat.T
+    blocks = cell_gram.reshape(tensor.shape[:-1] * 2)
+    letters = "abcdefghijklmnopqrstuvwxyz"[:tensor.ndim - 1]
+    grams = []
+    for mode in range(tensor.ndim - 1):
+        right = letters[:mode] + letters[mode].upper() + letters[mode + 1:]
+        grams.append(np.einsum(f"{letters}{right}->{letters[mode]}{letters[mode].upper()}",
+                               blocks))
+    grams.append(cell_gram)
+    return grams
 
 
 def _shrinking_order(shape: Sequence[int], factors: Sequence[np.ndarray]) -> list[int]:
