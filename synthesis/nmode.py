@@ -14,9 +14,13 @@ sweeps are needed (see ``shared/reference/nmode-svd-notes.md`` §1.1).
 Each ``U_n`` comes from the eigen-decomposition of the *smaller* Gram matrix of the
 unfolding: ``D_(n) D_(n)ᵀ`` when the mode is short, or ``D_(n)ᵀ D_(n) = V Σ² Vᵀ`` followed by
 ``U_n = D_(n) V Σ⁻¹`` when the mode is long. Only the leading eigenpairs are computed when the
-rank is given as a count. Squaring the matrix squares its condition number, so singular
-values below ~1e-8·σ_max lose relative accuracy; such directions are dropped as numerically
-zero (:data:`RELATIVE_TOLERANCE`).
+rank is given as a count (ARPACK's Lanczos iteration for a few pairs of a large Gram). When
+the last (feature) mode is at least as long as the number of cells, one product gives every
+mode's Gram: the cell Gram ``Y Yᵀ`` of the cells × features view, whose partial traces are the
+people and action Grams, and ``Uᵀ D_(N) = Σ Vᵀ`` then gives that mode's projection for free.
+Squaring the matrix squares its condition number, so singular values below ~1e-8·σ_max lose
+relative accuracy; such directions are dropped as numerically zero
+(:data:`RELATIVE_TOLERANCE`).
 
 Unfoldings, foldings and mode products use tensorly's vocabulary (``tl.unfold``,
 ``tl.fold``, ``tenalg.multi_mode_dot``).
