@@ -28,9 +28,10 @@ The motion is built the way a body has to move, so that it is physically plausib
 
 Stance feet are planted exactly (no skating, no penetration); the floor is flat for
 walk and run, a staircase of ``STEP_RISE`` × ``STEP_GOING`` steps for ascend and descend
-(two steps per cycle).  Measured with :func:`dynamics.humanoid.check_motion`, walks need a
-residual force of about 1–3 % body weight RMS, runs 6–11 % (the check's 0.1 s smoothing
-window spans the short flight phase).
+(two steps per cycle).  Measured with :func:`dynamics.humanoid.check_motion`, the default
+people's walks need a residual force of 1.5–3.5 % body weight RMS (captured walks: 5–10 %),
+their runs 6–10 %, nearly all of it around the short flight phases, which the check's
+0.1 s smoothing window blurs into the stance (away from them: 2–4 %).
 
 Forward kinematics puts three markers on each of the 15 segments of the
 ``synthetic15`` marker set (origin at the proximal joint centre, one marker
