@@ -29,7 +29,7 @@ The motion is built the way a body has to move, so that it is physically plausib
 Stance feet are planted exactly (no skating, no penetration); the floor is flat for
 walk and run, a staircase of ``STEP_RISE`` × ``STEP_GOING`` steps for ascend and descend
 (two steps per cycle).  Measured with :func:`dynamics.humanoid.check_motion`, the default
-people's walks need a residual force of 1.5–3.5 % body weight RMS (captured walks: 5–10 %),
+people's walks need a residual force of 2–4.5 % body weight RMS (captured walks: 5–10 %),
 their runs 6–10 %, nearly all of it around the short flight phases, which the check's
 0.1 s smoothing window blurs into the stance (away from them: 2–4 %).
 
@@ -108,7 +108,7 @@ class Person:
     cadence : float
         Multiplies every action's nominal cycle duration.
     timing : float
-        Stance/swing timing: shifts heel rise and toe-off by ``0.08 * timing`` cycles
+        Stance/swing timing: shifts heel rise and toe-off by ``0.04 * timing`` cycles
         (about ±0.15).
     asymmetry : float
         Relative extra amplitude of the left side: foot pitches, clearance, step length
@@ -506,8 +506,8 @@ def _gait(person: Person, action: str, seed: int = 0) -> _Gait:
     L = person.lengths
     leg = L["thigh"] + L["shank"] + L["ankle_height"]
     left = 1.0 + person.asymmetry
-    heel_rise = nominal["heel_rise"] + 0.08 * person.timing + effect["heel_rise"]
-    toe_off = nominal["toe_off"] + 0.08 * person.timing
+    heel_rise = nominal["heel_rise"] + 0.04 * person.timing + effect["heel_rise"]
+    toe_off = nominal["toe_off"] + 0.04 * person.timing
     width = nominal["width"] * (1 + effect["width"]) * person.height / 1.75
     toe_out = nominal["toe_out"] + effect["toe_out"]
     if action in ("ascend", "descend"):
@@ -626,7 +626,10 @@ class _FootPath:
 
     def _landing(self, u):
         s = u / self.gait.landed
-        pitch = self.gait.land_pitch[self.side] * (1 - s) ** 2
+        # walking: the foot comes down gently (half the rate at contact of the quick
+        # roll of a running foot, which keeps the run's short stance smooth)
+        ease = (1 + s) if self.gait.toe_off > 0.5 else 1.0
+        pitch = self.gait.land_pitch[self.side] * (1 - s) ** 2 * ease
         return self._rocker(self.pivot, pitch), pitch
 
     def _push(self, u):
