@@ -455,7 +455,7 @@ _GAITS = {
 
 #: How much one unit of (action-weighted) style moves each gait parameter: relative
 #: change for lengths, gains and pitches; degrees for ``toe_out``; cycles for ``heel_rise``.
-_GAIT_STYLE_SCALE = {"stride": 0.05, "width": 0.15, "toe_out": 2.5, "land_pitch": 0.12,
+_GAIT_STYLE_SCALE = {"stride": 0.035, "width": 0.15, "toe_out": 2.5, "land_pitch": 0.12,
                      "off_pitch": 0.10, "clearance": 0.20, "knee": 0.08, "heel_rise": 0.02}
 
 
