@@ -76,7 +76,7 @@ def test_stance_foot_is_planted_on_the_floor(action, person):
 def test_walks_have_double_support_steady_speed_and_clear_swings():
     """Both feet down after each landing, the stance foot flat in mid-stance while the
     other clears the floor, and a centre of mass whose speed varies as in real walking
-    (about ±10-15 %, the pelvis more as the legs swing under it)."""
+    (about ±10-20 %, the pelvis a little more as the legs swing under it)."""
     from mocap.synthetic import _centre_of_mass
 
     for person in make_people(6):
@@ -91,14 +91,14 @@ def test_walks_have_double_support_steady_speed_and_clear_swings():
         swing = (phase > 0.22) & (phase < 0.32)                           # left mid-swing
         assert lowest[1][swing].min() > 0.005                             # clears the floor
         centre = _centre_of_mass(truth.segment_rotations, truth.origins, person)
-        for path, limit in ((centre, 0.25), (truth.origins[:, 0], 0.35)):
+        for path, limit in ((centre, 0.25), (truth.origins[:, 0], 0.30)):
             speed = np.gradient(path[:, 0]) * truth.rate
             assert np.abs(speed / speed.mean() - 1.0).max() < limit
         bob = np.ptp(centre[:, 2])
         assert 0.015 < bob < 0.12                                         # metres
 
 
-@pytest.mark.parametrize("action, limit", [("walk", 5.0), ("run", 15.0)])
+@pytest.mark.parametrize("action, limit", [("walk", 2.0), ("run", 15.0)])
 def test_walk_and_run_pass_the_dynamics_check(action, limit):
     """Pinocchio inverse dynamics: the floor can supply (almost) all the forces.  Captured
     walks need 5-10 % body weight; the run's short flight phase falls inside the check's
