@@ -31,7 +31,7 @@ The motion is built the way a body has to move, so that it is physically plausib
 Stance feet are planted exactly (no skating, no penetration); the floor is flat for
 walk and run, a staircase of ``STEP_RISE`` × ``STEP_GOING`` steps for ascend and descend
 (two steps per cycle).  Measured with :func:`dynamics.humanoid.check_motion`, the default
-people's walks need a residual force of 0.1–0.5 % body weight RMS (captured walks:
+people's walks need a residual force of 0.2–0.6 % body weight RMS (captured walks:
 5–10 %; over 24 people of two seeds the median is 0.6 %, the worst, extreme styles, 8 %),
 their runs 6–10 %, nearly all of it around the short flight phases, which the check's
 0.1 s smoothing window blurs into the stance.
