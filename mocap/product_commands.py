@@ -21,7 +21,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     demo.add_argument("--data", metavar="DIR",
                       help="use this corpus of <person>_<action> marker files instead of "
                            "generating one (needs the synthetic15 markers, or --markerset)")
-    demo.add_argument("--markerset", default="synthetic15",
+    demo.add_argument("--markerset", "-m", default="synthetic15",
                       help="marker set for --data (default synthetic15)")
     demo.add_argument("--people", type=int, default=6, help="people to generate (default 6)")
     demo.add_argument("--seed", type=int, default=0, help="random seed of the corpus (default 0)")
@@ -44,7 +44,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                        help="write the table here (default: print it)")
     batch.add_argument("--jobs", "-j", type=int, default=1,
                        help="worker processes, or LocalCluster workers with --dask (default 1)")
-    batch.add_argument("--markerset", help="marker set preset or TOML file for joint angles")
+    batch.add_argument("--markerset", "-m", help="marker set preset or TOML file for joint angles")
     batch.add_argument("--sequence", default="ZXY", help="Euler sequence (default ZXY)")
     batch.add_argument("--check", action="store_true",
                        help="also run the humanoid dynamics check (full-body marker sets)")

@@ -75,7 +75,7 @@ def _add_corpus_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--manifest", metavar="FILE.csv",
                         help="CSV with columns path,person,action listing the trials instead of "
                              "a folder (relative paths from the manifest's folder)")
-    parser.add_argument("--markerset", metavar="SET",
+    parser.add_argument("--markerset", "-m", metavar="SET",
                         help="marker set (preset name such as synthetic15, or a TOML file) that "
                              "turns marker trials into joint angles")
     parser.add_argument("--sequence", default="ZXY", metavar="SEQ",
@@ -216,7 +216,6 @@ def synthesize(args: argparse.Namespace) -> int:
     if suffix == ".bvh":
         try:
             from mocap.io.bvh import write_bvh
-            from mocap.skeleton import motion_from_angles
         except ImportError:
             raise MocapError("BVH needs mocap.skeleton and mocap.io.bvh, which this "
                              "installation lacks; write a .csv instead", args.output) from None
@@ -252,14 +251,25 @@ def synthesize(args: argparse.Namespace) -> int:
         from mocap.angles import write_angles_csv
         write_angles_csv(angles, args.output)
     else:
+        # The cycle on the default body, its root path planted on the feet (the model
+        # knows joint angles, not where the body is in the room).
+        from dynamics.plant import motion_from_cycle
+        from mocap.skeleton import load_motion
+
+        skeleton = (load_motion(args.skeleton, markerset=model.markerset).skeleton
+                    if args.skeleton else None)
         try:
-            motion = motion_from_angles(angles, up="z")
+            motion = motion_from_cycle(angles, skeleton, cycles=args.cycles, up="z")
         except MocapError as error:
             raise MocapError(f"cannot build a BVH skeleton for these segments: {error.problem}",
                              args.output) from None
         write_bvh(motion, args.output)
-    print(f"wrote {args.output}: {who} doing {args.action}, {angles.frames} frames over "
-          f"{angles.times[-1]:.3f} s")
+    if suffix == ".csv":
+        print(f"wrote {args.output}: {who} doing {args.action}, {angles.frames} frames over "
+              f"{angles.times[-1]:.3f} s")
+    else:
+        print(f"wrote {args.output}: {who} doing {args.action}, {args.cycles} cycle(s) of "
+              f"{angles.times[-1]:.3f} s, {motion.frames} frames, feet planted")
     return 0
 
 
@@ -338,6 +348,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--action", required=True, metavar="A", help="action to synthesise")
     parser.add_argument("--samples", type=_positive_int, default=None, metavar="N",
                         help="frames of the cycle written (default: the model's sample count)")
+    parser.add_argument("--cycles", type=_positive_int, default=1, metavar="N",
+                        help="BVH output: cycles to write, the root path planted on the feet "
+                             "(default 1)")
+    parser.add_argument("--skeleton", metavar="TRIAL",
+                        help="BVH output: take the body (segment lengths) from this marker "
+                             "trial (read with the model's marker set) or BVH file, e.g. a "
+                             "trial of the same person; the angles only fit the body they "
+                             "came from (default: a generic 1.75 m body)")
     parser.add_argument("-o", "--output", required=True, metavar="OUT.csv|OUT.bvh",
                         help="joint-angle CSV (DESIGN 3.2) or BVH file to write")
     parser.set_defaults(func=synthesize)

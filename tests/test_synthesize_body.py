@@ -1,0 +1,28 @@
+"""A synthesised cycle on the person's own body, feet planted, passes the dynamics check."""
+from __future__ import annotations
+
+import json
+
+from mocap.cli import main
+from mocap.io.bvh import read_bvh
+from mocap.synthetic import generate_corpus
+
+
+def test_synthesised_walk_on_the_persons_body_is_plausible(tmp_path, capsys):
+    generate_corpus(tmp_path / "corpus", people=5, actions=["walk", "run", "ascend"], seed=2)
+    model = tmp_path / "model.npz"
+    assert main(["decompose", str(tmp_path / "corpus"), "-m", "synthetic15", "-o", str(model)]) == 0
+    bvh = tmp_path / "walk.bvh"
+    assert main(["synthesize", str(model), "--person", "ben", "--action", "walk", "--cycles", "2",
+                 "--skeleton", str(tmp_path / "corpus" / "ben_run.c3d"), "-o", str(bvh)]) == 0
+    motion = read_bvh(bvh)
+    capsys.readouterr()
+    assert main(["check", str(bvh), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["frames"] == motion.frames == 2 * 100
+    assert report["residual_force_rms_pct_bw"] < 5.0
+    assert report["foot_skate_mm"] < 3.0 and report["penetration_mm"] < 10.0
+    assert report["verdict"] == "plausible", report["reasons"]
+    # the walk moves forward: about a stride per cycle
+    forward = abs(motion.root_translation[-1, 2] - motion.root_translation[0, 2])
+    assert 1.5 < forward < 4.0
