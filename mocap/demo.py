@@ -206,7 +206,9 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
     echo(f"Synthesised {person}'s {ACTION} (never seen by the model): "
          f"{synthesis['synthesis_rms_deg']:.2f}° RMS from the captured walk, baseline "
          f"(mean of the others) {synthesis['baseline_rms_deg']:.2f}°; recognised as "
-         f"{synthesis['recognised_person']}; dynamics check: {summary['check']['verdict']}.")
+         f"{synthesis['recognised_person']}; dynamics check: {summary['check']['verdict']}"
+         + (f" ({'; '.join(summary['check']['reasons'])})" if summary['check']['reasons'] else "")
+         + ".")
     echo(f"Report: {out / 'index.html'}   angles: {out / 'angles'}   BVH: {summary['bvh']}"
          + (f"   animation: {summary['animation']}" if animation else ""))
     return summary
