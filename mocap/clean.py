@@ -1,6 +1,10 @@
-"""Cleaning marker trajectories: cubic-spline gap filling and zero-lag low-pass.
+"""Cleaning marker trajectories: gap filling and zero-lag low-pass.
 
-Both work per marker and never invent data where they cannot know it: gaps
+Gaps are filled from *donors* when some are given and seen throughout the gap (the
+other markers of the same rigid segment: the filled marker keeps its distances to them,
+so a long gap in a fast-turning segment keeps the segment's shape), otherwise by a cubic
+spline through the marker's own samples.
+Both never invent data where they cannot know it: gaps
 longer than the maximum, or at the start or end of a trajectory (which would
 need extrapolation), stay NaN and are reported; the filter runs separately on
 each contiguous run of valid samples, so a gap never smears into its
@@ -32,12 +36,15 @@ class Gap:
     reason : str
         Why it was not filled (``"longer than N frames"``, ``"at the start"``,
         ``"at the end"``, ``"marker never seen"``), or ``"filled"``.
+    method : str
+        How a filled gap was filled: ``"spline"`` or ``"rigid <donor>,…"``.
     """
 
     label: str
     start: int
     length: int
     reason: str = "filled"
+    method: str = ""
 
 
 @dataclass
@@ -100,8 +107,9 @@ def _max_gap(trial: Trial, max_gap_frames: int | None, max_gap_seconds: float | 
 
 
 def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
-              max_gap_seconds: float | None = None) -> tuple[Trial, GapReport]:
-    """Fill short gaps of every marker with a cubic spline through its samples.
+              max_gap_seconds: float | None = None,
+              donors: dict[str, list[str]] | None = None) -> tuple[Trial, GapReport]:
+    """Fill short gaps of every marker from a donor marker or with a cubic spline.
 
     Parameters
     ----------
@@ -112,13 +120,18 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
         Longest gap to fill, in frames.
     max_gap_seconds : float, optional
         Or in seconds (``floor(seconds × rate)`` frames).  Give exactly one.
+    donors : dict of str to list of str, optional
+        Markers on the same rigid body as each marker (``MarkerSet.donors``).
+        A gap is filled from the donors seen throughout the gap and on both edges,
+        keeping the marker rigid with them (see :func:`_rigid_fill`); otherwise by
+        the spline.
 
     Returns
     -------
     Trial
-        A copy with interior gaps of at most the maximum length filled by
-        ``scipy.interpolate.CubicSpline`` (not-a-knot) through all valid
-        samples of the marker, per coordinate.
+        A copy with interior gaps of at most the maximum length filled, by the
+        donors or by ``scipy.interpolate.CubicSpline`` (not-a-knot) through all
+        valid samples of the marker, per coordinate.
     GapReport
         The gaps filled and those left NaN: longer ones, those at the start or
         end (no extrapolation), and markers with fewer than 2 valid samples.
@@ -131,7 +144,7 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
     >>> points[40:45] = np.nan
     >>> filled, report = fill_gaps(Trial(["M"], points, 100.0), max_gap_seconds=0.1)
     >>> bool(np.isfinite(filled.points).all()), report.filled
-    (True, [Gap(label='M', start=40, length=5, reason='filled')])
+    (True, [Gap(label='M', start=40, length=5, reason='filled', method='spline')])
     """
     limit = _max_gap(trial, max_gap_frames, max_gap_seconds)
     report = GapReport(limit)
@@ -140,6 +153,9 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
     missing = ~np.isfinite(points).all(axis=2)                      # (frames, markers)
     points[missing] = np.nan
     all_frames = np.arange(frames)
+    index = {label: i for i, label in enumerate(trial.labels)}
+    donor_columns = {label: [index[d] for d in names if d in index and d != label]
+                     for label, names in (donors or {}).items()}
     # a Python loop over markers (not frames): each marker has its own gaps
     for m in np.flatnonzero(missing.any(axis=0)):
         label = trial.labels[m]
@@ -151,7 +167,7 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
                                            "marker never seen" if not valid.any()
                                            else "only one valid sample"))
             continue
-        fill = np.zeros(frames, dtype=bool)
+        spline = CubicSpline(all_frames[valid], points[valid, m, :], axis=0)
         for s, n in zip(starts, lengths):
             s, n = int(s), int(n)
             if s == 0:
@@ -161,12 +177,74 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
             elif n > limit:
                 report.unfilled.append(Gap(label, s, n, f"longer than {limit} frames"))
             else:
-                report.filled.append(Gap(label, s, n))
-                fill[s:s + n] = True
-        if fill.any():
-            spline = CubicSpline(all_frames[valid], points[valid, m, :], axis=0)
-            points[fill, m, :] = spline(all_frames[fill])
+                guess = spline(all_frames[s:s + n])
+                used = _rigid_fill(points, missing, s, n, m, donor_columns.get(label, []), guess)
+                if used:
+                    names = ",".join(trial.labels[d] for d in used)
+                    report.filled.append(Gap(label, s, n, method=f"rigid {names}"))
+                else:
+                    points[s:s + n, m] = guess
+                    report.filled.append(Gap(label, s, n, method="spline"))
     return trial.with_points(points), report
+
+
+def _rigid_fill(points: np.ndarray, missing: np.ndarray, start: int, length: int,
+                marker: int, donors: list[int], guess: np.ndarray) -> list[int]:
+    """Fill ``points[start:start+length, marker]`` from donors on the same rigid body.
+
+    Donors seen throughout the gap and on both edges keep their distances to the
+    marker (taken on the edges).  Three or more donors fix the marker's position
+    (best-fit rigid transform, Kabsch, from each edge, blended across the gap); two
+    leave it on a circle about their axis and one on a sphere about it, where the
+    point nearest the spline ``guess`` (gap, 3) is taken.  Returns the donors used
+    (none: nothing filled).
+    """
+    before, after = start - 1, start + length
+    usable = [d for d in donors if not missing[before:after + 1, d].any()]
+    if not usable:
+        return []
+    gap = slice(start, after)
+    weight = (np.arange(1, length + 1) / (length + 1))[:, None]              # (gap, 1)
+    edges = np.array([before, after])
+    donor_edges = points[edges][:, usable]                                   # (2, k, 3)
+    marker_edges = points[edges, marker]                                     # (2, 3)
+    current = points[gap][:, usable]                                         # (gap, k, 3)
+    if len(usable) >= 3:
+        estimates = [_kabsch_place(donor_edges[e], marker_edges[e], current) for e in (0, 1)]
+        points[gap, marker] = estimates[0] * (1 - weight) + estimates[1] * weight
+        return usable
+    radii = np.linalg.norm(marker_edges[:, None] - donor_edges, axis=2).mean(axis=0)   # (k,)
+    first = current[:, 0]
+    if len(usable) == 1:
+        direction = guess - first
+        points[gap, marker] = first + radii[0] * direction / np.maximum(
+            np.linalg.norm(direction, axis=1, keepdims=True), 1e-12)
+        return usable
+    axis = current[:, 1] - first
+    separation = np.maximum(np.linalg.norm(axis, axis=1, keepdims=True), 1e-12)
+    axis = axis / separation
+    along = (separation ** 2 + radii[0] ** 2 - radii[1] ** 2) / (2 * separation)   # (gap, 1)
+    centre = first + along * axis
+    radius = np.sqrt(np.maximum(radii[0] ** 2 - along ** 2, 0.0))
+    offset = guess - centre
+    offset -= np.sum(offset * axis, axis=1, keepdims=True) * axis
+    points[gap, marker] = centre + radius * offset / np.maximum(
+        np.linalg.norm(offset, axis=1, keepdims=True), 1e-12)
+    return usable
+
+
+def _kabsch_place(reference: np.ndarray, marker: np.ndarray, current: np.ndarray) -> np.ndarray:
+    """Carry ``marker`` (3,) with the rigid motion taking ``reference`` (k, 3) onto each
+    frame of ``current`` (frames, k, 3); returns (frames, 3)."""
+    ref_centre = reference.mean(axis=0)
+    cur_centre = current.mean(axis=1)
+    h = np.einsum("ki,fkj->fij", reference - ref_centre, current - cur_centre[:, None])
+    u, _, vt = np.linalg.svd(h)
+    d = np.sign(np.linalg.det(np.einsum("fij,fjk->fik", vt.transpose(0, 2, 1),
+                                        u.transpose(0, 2, 1))))
+    vt[:, 2, :] *= d[:, None]
+    rotation = np.einsum("fij,fjk->fik", vt.transpose(0, 2, 1), u.transpose(0, 2, 1))
+    return cur_centre + np.einsum("fij,j->fi", rotation, marker - ref_centre)
 
 
 def butterworth_sos(cutoff_hz: float, rate: float, order: int = 4,

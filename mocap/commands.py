@@ -139,7 +139,8 @@ def _angles_one(source: Path, target: Path, plot: Path | None, markerset,
     trial = Trial(used, trial.points[:, columns, :], trial.rate, trial.units, trial.path,
                   trial.format, metadata=dict(trial.metadata))
     if args.fill_gaps is not None:
-        trial, report = fill_gaps(trial, max_gap_seconds=args.fill_gaps)
+        trial, report = fill_gaps(trial, max_gap_seconds=args.fill_gaps,
+                                  donors=markerset.donors(trial.labels))
         if report.unfilled:
             lines = report.summary().splitlines()
             shown = lines[:11] + ([f"  … {len(lines) - 11} more marker(s)"]

@@ -254,6 +254,19 @@ class MarkerSet:
         """
         return self._requirements(labels)[1]
 
+    def donors(self, labels: list[str]) -> dict[str, list[str]]:
+        """For gap filling: each recorded marker → the other recorded markers of its
+        segment(s), which move rigidly with it (``labels`` as found in the trial)."""
+        find = _LabelIndex(labels).find
+        donors: dict[str, list[str]] = {}
+        for segment in self.segments:
+            present = [labels[i] for i in (find(name) for name in segment.markers)
+                       if i is not None]
+            for label in present:
+                donors.setdefault(label, [])
+                donors[label] += [d for d in present if d != label and d not in donors[label]]
+        return donors
+
     def used_labels(self, labels: list[str]) -> list[str]:
         """The labels (of ``labels``, in their order) the set reads.
 

@@ -247,7 +247,8 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     trial = read(path)
     if max_gap_frames:
         from mocap.clean import fill_gaps as fill_marker_gaps
-        trial, _ = fill_marker_gaps(trial, max_gap_frames=int(max_gap_frames))
+        trial, _ = fill_marker_gaps(trial, max_gap_frames=int(max_gap_frames),
+                                    donors=markerset.donors(trial.labels))
     if lowpass_hz:
         from mocap.clean import lowpass
         trial = lowpass(trial, float(lowpass_hz), short_runs="keep")
