@@ -43,7 +43,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "inertias scaled to the skeleton and --mass): residual force and torque "
                     "at the root that ground reactions inside friction cones cannot supply, "
                     "foot skating, floor penetration, floating, peak joint torques, and a "
-                    "verdict with reasons (DESIGN 3.5). The floor is y = 0, Y up (z = 0 of a "
+                    "verdict with reasons. The floor is y = 0, Y up (z = 0 of a "
                     "Z-up marker lab). A lower-body marker set is enough: the trunk, head "
                     "and arms are then carried rigidly by the pelvis. In --json, joint "
                     "torques are named by the segment the joint moves (l_thigh: left hip, "
@@ -68,7 +68,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                        help="height of the floor in the motion file, metres along the up "
                             "axis (default 0), or 'auto': where the feet stand still")
     check.add_argument("--json", action="store_true",
-                       help="print one JSON object (keys of DESIGN 3.5) instead of text")
+                       help="print one JSON object instead of text (keys as in the README)")
     check.add_argument("--plot", metavar="OUT.png",
                        help="also plot residuals, ground reactions, joint torques and the "
                             "lowest point over time (.png, .pdf, .svg)")
@@ -77,7 +77,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     export = subparsers.add_parser(
         "export", help="write a motion as BVH, angle CSV, C3D/TRC joint markers, .mot or JSON",
         description="Convert a motion: bvh (hierarchy + channels, centimetres), csv (joint "
-                    "angles per DESIGN 3.2 in a Z-up lab), c3d/trc (one marker per joint and "
+                    "angles as mocap angles writes them, in a Z-up lab), c3d/trc (one marker per joint and "
                     "end site, Z-up lab, metres), mot (OpenSim storage: root translation and "
                     "joint Euler angles in degrees), json (skeleton, root translation, joint "
                     "quaternions and joint positions).",

@@ -11,7 +11,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
         "simulate",
         help="run a particle / mass-spring / rigid-body scene (TOML) and save the frames",
-        description="Run a simulation scene file (DESIGN 3.6) and write its saved frames to "
+        description="Run a simulation scene file (TOML, format in the README) and write its saved frames to "
                     "an .npz file (times, positions, springs, temperature, energy, rigid "
                     "bodies), optionally also an animation. SCENE may be a path or the name "
                     "of a shipped example (see --list-examples).",

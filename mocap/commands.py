@@ -16,7 +16,7 @@ MARKER_SUFFIXES = (".c3d", ".trc", ".csv")
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add ``angles`` and ``generate`` to ``subparsers``."""
     parser = subparsers.add_parser(
-        "angles", help="joint angles from marker files (CSV per DESIGN 3.2)",
+        "angles", help="joint angles from marker files, as CSV (time, <segment>.<axis> in degrees)",
         description="Compute segment frames from three markers per segment and write the "
                     "joint angles (child relative to parent, the root relative to the lab) "
                     "as CSV: time in seconds, then <segment>.<axis> in degrees, continuous. "

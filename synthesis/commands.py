@@ -70,7 +70,7 @@ def _names(text: str) -> list[str]:
 def _add_corpus_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("corpus", nargs="?", metavar="CORPUS",
                         help="folder of trials named <person>_<action>[_anything].<c3d|csv|trc|"
-                             "bvh|amc> (sub-folders are ignored); angle CSVs (DESIGN 3.2) are "
+                             "bvh|amc> (sub-folders are ignored); angle CSVs (from mocap angles) are "
                              "read as they are; an AMC needs <person>.asf beside it")
     parser.add_argument("--manifest", metavar="FILE.csv",
                         help="CSV with columns path,person,action listing the trials instead of "
@@ -357,7 +357,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "trial of the same person; the angles only fit the body they "
                              "came from (default: a generic 1.75 m body)")
     parser.add_argument("-o", "--output", required=True, metavar="OUT.csv|OUT.bvh",
-                        help="joint-angle CSV (DESIGN 3.2) or BVH file to write")
+                        help="joint-angle CSV (as mocap angles writes) or BVH file to write")
     parser.set_defaults(func=synthesize)
 
     parser = subparsers.add_parser(
