@@ -260,7 +260,10 @@ def _write_report(out: Path, summary: dict, corpus) -> None:
         return f'<a href="{html.escape(relative)}">{html.escape(relative)}</a>'
 
     synthesis, check = summary["synthesis"], summary["check"]
-    rows = "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>"
+    def cell(value) -> str:
+        return html.escape("; ".join(value) or "none" if isinstance(value, list) else str(value))
+
+    rows = "".join(f"<tr><th>{html.escape(k)}</th><td>{cell(v)}</td></tr>"
                    for k, v in {**synthesis, **check}.items())
     cells = "".join(
         f"<tr><th>{html.escape(person)}</th>" + "".join(
