@@ -10,12 +10,12 @@ from __future__ import annotations
 import csv
 import io as _io
 import os
-import re
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Iterable, Sequence
 
 from mocap.errors import MocapError
+from mocap.naming import parse_trial_name
 from mocap.progress import progress
 
 #: Marker-file suffixes a corpus folder is searched for.
@@ -25,7 +25,6 @@ BASE_COLUMNS = ["path", "person", "action", "status", "error", "format", "rate_h
                 "duration_s", "markers", "missing_pct"]
 CHECK_COLUMNS = ["residual_force_rms_pct_bw", "foot_skate_mm", "penetration_mm", "floating_mm",
                  "verdict"]
-_NAME = re.compile(r"^(?P<person>[^_]+)_(?P<action>[^_.]+)")
 
 
 def find_trials(corpus: str | os.PathLike) -> list[Path]:
@@ -69,9 +68,11 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
 
     from mocap import io
 
-    name = _NAME.match(Path(path).stem)
-    row = {"path": str(path), "person": name["person"] if name else "",
-           "action": name["action"] if name else "", "status": "ok", "error": ""}
+    try:
+        person, action = parse_trial_name(path)
+    except MocapError:                  # not a corpus name: the trial is analysed all the same
+        person, action = "", ""
+    row = {"path": str(path), "person": person, "action": action, "status": "ok", "error": ""}
     try:
         trial = io.read(path)
         missing = np.isnan(trial.points).any(axis=2).mean() if trial.points.size else 0.0

@@ -100,7 +100,8 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
     from mocap.progress import progress
     from mocap.synthetic import generate_corpus
     from synthesis.model import MotionModel
-    from synthesis.tensor import load_corpus, parse_trial_name
+    from mocap.naming import parse_trial_name
+    from synthesis.tensor import load_corpus
 
     out = Path(out_dir)
     figures = out / "figures"

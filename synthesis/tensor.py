@@ -41,6 +41,7 @@ import numpy as np
 from scipy.signal import find_peaks
 
 from mocap.errors import MocapError
+from mocap.naming import parse_trial_name
 
 #: File suffixes a corpus folder may hold (BVH and ASF/AMC through ``mocap.skeleton``).
 TRIAL_SUFFIXES = (".c3d", ".csv", ".trc", ".bvh", ".amc")
@@ -59,26 +60,6 @@ class CorpusEntry:
     path: Path
     person: str
     action: str
-
-
-def parse_trial_name(path: str | Path) -> tuple[str, str]:
-    """``(person, action)`` from a file named ``<person>_<action>[_<anything>].<suffix>``.
-
-    Raises
-    ------
-    MocapError
-        When the name has no ``_`` separating a person from an action.
-
-    Examples
-    --------
-    >>> parse_trial_name("data/ana_walk_02.c3d")
-    ('ana', 'walk')
-    """
-    parts = Path(path).stem.split("_")
-    if len(parts) < 2 or not parts[0] or not parts[1]:
-        raise MocapError("trial name must be <person>_<action>[_anything].<suffix> "
-                         "(or use --manifest FILE.csv with columns path,person,action)", path)
-    return parts[0], parts[1]
 
 
 def list_corpus_folder(folder: str | Path) -> list[CorpusEntry]:
@@ -190,14 +171,6 @@ def _named_like_markers(path: Path, markerset) -> bool:
         {v.name for v in getattr(markerset, "virtual", [])}
 
 
-def _bvh_reader_available() -> bool:
-    try:
-        import mocap.io.bvh  # noqa: F401
-    except ImportError:
-        return False
-    return True
-
-
 def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
                       lowpass_hz: float | None = None, max_gap_frames: int | None = None):
     """Joint angles of one trial file.
@@ -235,9 +208,6 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
         from mocap.angles import read_angles_csv
         return read_angles_csv(path)
     if path.suffix.lower() in (".bvh", ".amc"):
-        if not _bvh_reader_available():
-            raise MocapError("BVH and AMC trials need mocap.io.bvh and mocap.skeleton, which "
-                             "this installation does not have", path)
         return _skeleton_angles(path, sequence)
     if markerset is None:
         raise MocapError("marker trials need --markerset to turn markers into joint angles",
