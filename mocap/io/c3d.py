@@ -108,28 +108,24 @@ def _string_list(value) -> list[str]:
     return []
 
 
-def _point_labels(layout: C3DLayout) -> list[str]:
-    """POINT:LABELS, LABELS2 … joined, padded or cut to the point count."""
-    point_group = layout.parameters.get("POINT", {})
-    labels = _string_list(point_group.get("LABELS"))
-    index = 2
-    while f"LABELS{index}" in point_group:
-        labels += _string_list(point_group[f"LABELS{index}"])
-        index += 1
-    labels = [label.strip() for label in labels[:layout.point_count]]
-    labels += [""] * (layout.point_count - len(labels))
-    return labels
-
-
-def _analog_labels(layout: C3DLayout) -> list[str]:
-    group = layout.parameters.get("ANALOG", {})
+def _group_labels(group: dict, count: int) -> list[str]:
+    """A group's LABELS, LABELS2 … joined, stripped, padded with "" or cut to ``count``."""
     labels = _string_list(group.get("LABELS"))
     index = 2
     while f"LABELS{index}" in group:
         labels += _string_list(group[f"LABELS{index}"])
         index += 1
-    labels = [label.strip() for label in labels[:layout.analog_channels]]
-    labels += [""] * (layout.analog_channels - len(labels))
+    labels = [label.strip() for label in labels[:count]]
+    return labels + [""] * (count - len(labels))
+
+
+def _point_labels(layout: C3DLayout) -> list[str]:
+    """POINT:LABELS, LABELS2 … joined, padded or cut to the point count."""
+    return _group_labels(layout.parameters.get("POINT", {}), layout.point_count)
+
+
+def _analog_labels(layout: C3DLayout) -> list[str]:
+    labels = _group_labels(layout.parameters.get("ANALOG", {}), layout.analog_channels)
     return unique_labels(labels, prefix="A")[0]      # blank → A001…, repeats → _2
 
 
