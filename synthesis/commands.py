@@ -213,12 +213,6 @@ def synthesize(args: argparse.Namespace) -> int:
     suffix = Path(args.output).suffix.lower()
     if suffix not in OUTPUT_SUFFIXES:
         raise MocapError("output must be an angle CSV (.csv) or a BVH file (.bvh)", args.output)
-    if suffix == ".bvh":
-        try:
-            from mocap.io.bvh import write_bvh
-        except ImportError:
-            raise MocapError("BVH needs mocap.skeleton and mocap.io.bvh, which this "
-                             "installation lacks; write a .csv instead", args.output) from None
     if (args.person is None) == (not args.trials):
         raise MocapError("give either --person P (optionally --to P2 --weight W) or "
                          "--from TRIAL for a new person")
@@ -254,6 +248,7 @@ def synthesize(args: argparse.Namespace) -> int:
         # The cycle on the default body, its root path planted on the feet (the model
         # knows joint angles, not where the body is in the room).
         from dynamics.plant import motion_from_cycle
+        from mocap.io.bvh import write_bvh
         from mocap.skeleton import load_motion
 
         skeleton = (load_motion(args.skeleton, markerset=model.markerset).skeleton
