@@ -42,7 +42,7 @@ def _scipy_contact_reference(wrench: np.ndarray, levers: np.ndarray) -> np.ndarr
     ridge-augmented problem (the same objective as the batched solver)."""
     from scipy.optimize import nnls
 
-    from dynamics.humanoid import pyramid_edges
+    from dynamics.humanoid.core import pyramid_edges
 
     edges = pyramid_edges(0.8)
     out = []
@@ -68,10 +68,10 @@ def best_of(function, repeats: int = 3) -> float:
 def main() -> None:
     import pinocchio as pin
 
-    from dynamics.humanoid import (build_humanoid, check_motion, motion_kinematics,
+    from dynamics.humanoid.core import (build_humanoid, check_motion, motion_kinematics,
                                    rnea_batch, solve_contact_forces)
     from dynamics.secondary import simulate_secondary
-    from dynamics.tracking import simulate_tracking
+    from dynamics.humanoid.tracking import simulate_tracking
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--frames", type=int, default=20000, help="frames of the batch")

@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from mocap.io import read, write                      # noqa: E402
-from mocap.io.c3d_header import inspect_c3d           # noqa: E402
+from mocap.io.c3d.layout import inspect_c3d           # noqa: E402
 from mocap.trial import Trial                         # noqa: E402
 
 REALDATA = ROOT.parent / "shared" / "realdata"

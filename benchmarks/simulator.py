@@ -18,12 +18,12 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")      # small sparse systems: 
 
 import numpy as np  # noqa: E402
 
-from dynamics.builders import cloth_grid, particle_block  # noqa: E402
-from dynamics.collisions import Box  # noqa: E402
-from dynamics.fluid import FluidForce, equilibrium_beta  # noqa: E402
-from dynamics.forces import Drag, Gravity  # noqa: E402
-from dynamics.integrators import advance, stability_limit  # noqa: E402
-from dynamics.system import System  # noqa: E402
+from dynamics.sim.builders import cloth_grid, particle_block  # noqa: E402
+from dynamics.sim.collisions import Box  # noqa: E402
+from dynamics.sim.fluid import FluidForce, equilibrium_beta  # noqa: E402
+from dynamics.sim.forces import Drag, Gravity  # noqa: E402
+from dynamics.sim.integrators import advance, stability_limit  # noqa: E402
+from dynamics.sim.system import System  # noqa: E402
 
 STIFFNESS = {"structural": 500.0, "shear": 100.0, "bend": 20.0}
 

@@ -2,26 +2,26 @@
 
 The core simulator (lecture "Physical Simulations"):
 
-- :mod:`dynamics.particles`   ``Particles`` (position, velocity, mass, pinned, colour,
+- :mod:`dynamics.sim.particles`   ``Particles`` (position, velocity, mass, pinned, colour,
   temperature, age)
-- :mod:`dynamics.springs`     ``Springs`` (Voigt spring-dampers; numba force loop)
-- :mod:`dynamics.forces`      ``Gravity``, ``Drag``, ``Wind``, ``ForceCallback``
-- :mod:`dynamics.fluid`       ``FluidForce`` (pairwise attraction/repulsion, KD-tree)
-- :mod:`dynamics.collisions`  ``Plane``, ``Sphere``, ``Capsule``, ``Box`` colliders
-- :mod:`dynamics.builders`    ``rope``, ``cloth_grid``, ``lattice_block``, ``particle_block``
-- :mod:`dynamics.system`      ``System``: what the integrators step
-- :mod:`dynamics.integrators` explicit / symplectic Euler, RK4, implicit Euler; ``advance``
-- :mod:`dynamics.thermal`     heat diffusion, thermoelastic stiffness, melting
-- :mod:`dynamics.rigid`       rigid bodies (inertia tensors, Newton–Euler, quaternions)
-- :mod:`dynamics.scene`       TOML scene -> simulation -> ``.npz`` (DESIGN 3.6)
-- :mod:`dynamics.render`      GIF / MP4 of a run
+- :mod:`dynamics.sim.springs`     ``Springs`` (Voigt spring-dampers; numba force loop)
+- :mod:`dynamics.sim.forces`      ``Gravity``, ``Drag``, ``Wind``, ``ForceCallback``
+- :mod:`dynamics.sim.fluid`       ``FluidForce`` (pairwise attraction/repulsion, KD-tree)
+- :mod:`dynamics.sim.collisions`  ``Plane``, ``Sphere``, ``Capsule``, ``Box`` colliders
+- :mod:`dynamics.sim.builders`    ``rope``, ``cloth_grid``, ``lattice_block``, ``particle_block``
+- :mod:`dynamics.sim.system`      ``System``: what the integrators step
+- :mod:`dynamics.sim.integrators` explicit / symplectic Euler, RK4, implicit Euler; ``advance``
+- :mod:`dynamics.sim.thermal`     heat diffusion, thermoelastic stiffness, melting
+- :mod:`dynamics.sim.rigid`       rigid bodies (inertia tensors, Newton–Euler, quaternions)
+- :mod:`dynamics.scenes.scene`       TOML scene -> simulation -> ``.npz`` (DESIGN 3.6)
+- :mod:`dynamics.viz.render`      GIF / MP4 of a run
 
 A cape pinned to moving skeleton points, driven from outside every frame::
 
-    from dynamics.builders import cloth_grid
-    from dynamics.collisions import Capsule, Plane
-    from dynamics.forces import Drag, Gravity
-    from dynamics.system import System
+    from dynamics.sim.builders import cloth_grid
+    from dynamics.sim.collisions import Capsule, Plane
+    from dynamics.sim.forces import Drag, Gravity
+    from dynamics.sim.system import System
 
     system = System()
     cape = cloth_grid(origin=shoulder_left, size=[0.45, 0.9], resolution=[12, 20],

@@ -1,7 +1,7 @@
 """Secondary motion driven by a moving skeleton: a cape on the shoulders, a rope at the head.
 
-Built on the core simulator (:mod:`dynamics.system`, :mod:`dynamics.builders`,
-:mod:`dynamics.collisions`): the cape's top row and the rope's first particle are pinned
+Built on the core simulator (:mod:`dynamics.sim.system`, :mod:`dynamics.sim.builders`,
+:mod:`dynamics.sim.collisions`): the cape's top row and the rope's first particle are pinned
 and driven every step to points of the skeleton (``System.drive_pinned``); the body is a
 set of moving capsules (trunk and limbs) and a sphere (head) the cloth cannot enter; the
 floor is a plane. Between two motion frames the skeleton points are interpolated linearly
@@ -51,7 +51,7 @@ class SecondaryMotion:
 
 def _body_colliders(names: list[str], positions: np.ndarray, scale: float):
     """Capsules (trunk, arms, legs) and a head sphere at one frame's joint positions."""
-    from dynamics.collisions import Capsule, Sphere
+    from dynamics.sim.collisions import Capsule, Sphere
 
     index = {n: i for i, n in enumerate(names)}
     colliders = {}
@@ -105,18 +105,18 @@ def simulate_secondary(motion: Motion, cape: bool = True, rope: bool = False,
     settle : float, s
         Time simulated on the first pose before the motion starts, so the cape hangs.
     integrator : str
-        A :data:`dynamics.integrators.INTEGRATORS` name; implicit Euler is stable at frame
+        A :data:`dynamics.sim.integrators.INTEGRATORS` name; implicit Euler is stable at frame
         rate (symplectic Euler needs many substeps for a stiff cloth).
 
     Returns
     -------
     SecondaryMotion
     """
-    from dynamics.builders import cloth_grid
-    from dynamics.builders import rope as rope_builder
-    from dynamics.collisions import Plane
-    from dynamics.forces import Drag, Gravity
-    from dynamics.system import System
+    from dynamics.sim.builders import cloth_grid
+    from dynamics.sim.builders import rope as rope_builder
+    from dynamics.sim.collisions import Plane
+    from dynamics.sim.forces import Drag, Gravity
+    from dynamics.sim.system import System
 
     if not (cape or rope):
         raise MocapError("nothing to simulate: ask for the cape, the rope or both")

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Iterable, Sequence
 
 from mocap.errors import MocapError
-from mocap.naming import parse_trial_name
+from mocap.io.discovery import parse_trial_name
 from mocap.progress import progress
 
 #: Marker-file suffixes a corpus folder is searched for.
@@ -81,7 +81,7 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
                    missing_pct=round(100.0 * float(missing), 3))
         if markerset:
             from mocap.angles import joint_angles
-            from mocap.markerset import load_markerset
+            from mocap.markersets.model import load_markerset
 
             chosen = load_markerset(markerset)
             angles = joint_angles(trial, chosen, sequence=sequence)
@@ -89,7 +89,7 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
             for segment, span in zip(angles.segments, np.nanmax(ranges, axis=1)):
                 row[f"{segment}_rom_deg"] = round(float(span), 3)
             if check:
-                from dynamics.humanoid import check_motion
+                from dynamics.humanoid.core import check_motion
                 from mocap.skeleton import motion_from_trial
 
                 report = check_motion(motion_from_trial(trial, chosen), body_mass=mass_kg).summary()

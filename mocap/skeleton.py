@@ -463,7 +463,7 @@ def motion_from_trial(trial, markerset, up: str = "z") -> Motion:
     Parameters
     ----------
     trial : mocap.trial.Trial
-    markerset : mocap.markerset.MarkerSet or str
+    markerset : mocap.markersets.model.MarkerSet or str
         A marker set or the name/path of one (``load_markerset``).
     up : {"z", "y"}
 
@@ -472,7 +472,7 @@ def motion_from_trial(trial, markerset, up: str = "z") -> Motion:
     Motion
     """
     from mocap.frames import segment_frames
-    from mocap.markerset import load_markerset
+    from mocap.markersets.model import load_markerset
 
     if isinstance(markerset, str):
         markerset = load_markerset(markerset)
@@ -912,7 +912,7 @@ def load_motion(path: str | os.PathLike, asf: str | None = None,
             raise MocapError("a marker trial needs --markerset (e.g. synthetic15) to build "
                              "the skeleton", path)
         from mocap.io import read
-        from mocap.markerset import load_markerset
+        from mocap.markersets.model import load_markerset
         return motion_from_trial(read(path), load_markerset(markerset))
     raise MocapError("unknown motion file type: use .bvh, .amc, a joint-angle .csv, or a "
                      ".c3d/.trc/.csv marker trial with --markerset", path)

@@ -41,7 +41,7 @@ import numpy as np
 from scipy.signal import find_peaks
 
 from mocap.errors import MocapError
-from mocap.naming import parse_trial_name
+from mocap.io.discovery import parse_trial_name
 
 #: File suffixes a corpus folder may hold (BVH and ASF/AMC through ``mocap.skeleton``).
 TRIAL_SUFFIXES = (".c3d", ".csv", ".trc", ".bvh", ".amc")
@@ -202,7 +202,7 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     if not path.exists():
         raise MocapError("trial file not found", path)
     if isinstance(markerset, (str, Path)) and not is_angle_csv(path):
-        from mocap.markerset import load_markerset
+        from mocap.markersets.model import load_markerset
         markerset = load_markerset(markerset)
     if is_angle_csv(path) and not _named_like_markers(path, markerset):
         from mocap.angles import read_angles_csv
@@ -633,7 +633,7 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
     check_corpus_size(sorted({e.person for e in entries}), sorted({e.action for e in entries}))
     markerset_name = None if markerset is None else str(getattr(markerset, "name", markerset))
     if isinstance(markerset, (str, Path)) and any(not is_angle_csv(e.path) for e in entries):
-        from mocap.markerset import load_markerset
+        from mocap.markersets.model import load_markerset
         markerset = load_markerset(markerset)
     wrap = progress or (lambda items, description: items)
     read = []

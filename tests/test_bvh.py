@@ -106,7 +106,7 @@ def test_bvh_units_are_detected_or_stated(tmp_path):
 
 
 def test_real_bvh_reads_maps_and_plays(tmp_path):
-    from dynamics.animate import animate_motion
+    from dynamics.viz.animate import animate_motion
 
     motion = read_bvh(DATA / "mocapbank_walk.bvh")
     assert motion.frames == 10 and motion.rate == 30.0

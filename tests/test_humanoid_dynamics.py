@@ -8,8 +8,8 @@ from scipy.spatial.transform import Rotation
 
 from mocap.errors import MocapError
 from mocap.skeleton import BODY_SEGMENTS, Motion, default_skeleton
-from dynamics.anthropometry import segment_table
-from dynamics.humanoid import (build_humanoid, check_motion, configurations, motion_kinematics,
+from mocap.body.anthropometry import segment_table
+from dynamics.humanoid.core import (build_humanoid, check_motion, configurations, motion_kinematics,
                                rnea_batch, solve_contact_forces)
 
 MASS = 75.0
@@ -171,7 +171,7 @@ def test_vertical_ground_reaction_matches_force_plates():
     finds from the markers alone follows the plates' vertical force while the feet are on
     them, with the body mass the plates give."""
     from mocap.io import read
-    from mocap.markerset import load_markerset
+    from mocap.markersets.model import load_markerset
     from mocap.skeleton import motion_from_trial
     from tests.conftest import realdata_path
 

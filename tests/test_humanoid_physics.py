@@ -6,7 +6,7 @@ import pytest
 
 from mocap.skeleton import BODY_SEGMENTS, Motion, default_skeleton
 from dynamics.secondary import CAPE_BACK, TRUNK_RADIUS, simulate_secondary
-from dynamics.tracking import simulate_tracking
+from dynamics.humanoid.tracking import simulate_tracking
 
 
 @pytest.fixture(scope="module")

@@ -172,7 +172,7 @@ def test_bts_file_ezc3d_misreads_is_smooth_with_our_layout():
     """ezc3d skips the 6 analog words per frame it is not told about and scrambles points."""
     import dataclasses
 
-    from mocap.io.c3d_header import decode_c3d_data, inspect_c3d
+    from mocap.io.c3d.layout import decode_c3d_data, inspect_c3d
 
     path = realdata_path("c3dorg_via_c3dio/sample_28/type1.C3D")
     trial = read(path)
@@ -203,8 +203,8 @@ EZC3D_READABLE = [
 
 @pytest.mark.parametrize("local", EZC3D_READABLE)
 def test_own_decoder_agrees_with_ezc3d(local):
-    from mocap.io.c3d import ezc3d_refusal, read_c3d
-    from mocap.io.c3d_header import inspect_c3d
+    from mocap.io.c3d.read import ezc3d_refusal, read_c3d
+    from mocap.io.c3d.layout import inspect_c3d
 
     path = realdata_path(local)
     assert ezc3d_refusal(inspect_c3d(path)) == ""
@@ -219,7 +219,7 @@ def test_own_decoder_agrees_with_ezc3d(local):
                                    "c3dorg_via_c3dio/sample_02/sgi_int.c3d",
                                    "c3dorg_via_c3dio/sample_10/TYPE-2.C3D"])
 def test_ezc3d_engine_refuses_files_it_would_misread(local):
-    from mocap.io.c3d import read_c3d
+    from mocap.io.c3d.read import read_c3d
 
     with pytest.raises(MocapError, match="not read with ezc3d"):
         read_c3d(realdata_path(local), engine="ezc3d")

@@ -88,7 +88,7 @@ def test_zero_marker_is_missing_in_every_text_format(tmp_path):
 
 
 def test_c3d_written_by_us_is_read_identically_by_ezc3d_and_our_decoder(tmp_path):
-    from mocap.io.c3d_header import decode_c3d_data, inspect_c3d
+    from mocap.io.c3d.layout import decode_c3d_data, inspect_c3d
 
     trial = synthetic_trial()
     path = tmp_path / "t.c3d"
@@ -102,7 +102,7 @@ def test_c3d_written_by_us_is_read_identically_by_ezc3d_and_our_decoder(tmp_path
     np.testing.assert_array_equal(valid, raw["data"]["meta_points"]["residuals"][0].T >= 0)
     np.testing.assert_array_equal(points[valid],
                                   raw["data"]["points"][:3].transpose(2, 1, 0)[valid])
-    from mocap.io.c3d import read_c3d
+    from mocap.io.c3d.read import read_c3d
 
     ours, theirs = read(path), read_c3d(path, engine="ezc3d")
     assert (ours.metadata["reader"], theirs.metadata["reader"]) == ("mocap", "ezc3d")

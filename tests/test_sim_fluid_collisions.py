@@ -4,14 +4,14 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dynamics.builders import particle_block
-from dynamics.collisions import Box, Capsule, Plane, Sphere
-from dynamics.fluid import FluidForce, equilibrium_beta, fluid_forces_bruteforce
-from dynamics.forces import Gravity
-from dynamics.integrators import advance
-from dynamics.particles import Particles
-from dynamics.springs import Springs
-from dynamics.system import System
+from dynamics.sim.builders import particle_block
+from dynamics.sim.collisions import Box, Capsule, Plane, Sphere
+from dynamics.sim.fluid import FluidForce, equilibrium_beta, fluid_forces_bruteforce
+from dynamics.sim.forces import Gravity
+from dynamics.sim.integrators import advance
+from dynamics.sim.particles import Particles
+from dynamics.sim.springs import Springs
+from dynamics.sim.system import System
 
 G = np.array([0.0, -9.81, 0.0])
 
@@ -144,7 +144,7 @@ def test_box_keeps_particles_inside():
 def test_cape_on_a_moving_torso_stays_outside_it(integrator, dt):
     # the humanoid use: a cloth pinned along its top edge to moving points, draped over a
     # moving capsule; no free particle may end inside the capsule
-    from dynamics.builders import cloth_grid
+    from dynamics.sim.builders import cloth_grid
     system = System()
     cape = cloth_grid([-0.2, 1.5, -0.16], [0.4, 0.7], [8, 12], 0.4,
                       {"structural": 400.0, "shear": 50.0, "bend": 5.0}, {"structural": 0.05},

@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from dynamics.builders import cloth_grid, rope
-from dynamics.forces import Drag, Gravity
-from dynamics.integrators import SimulationUnstable, advance, stability_limit
-from dynamics.particles import Particles
-from dynamics.springs import Springs, spring_forces
-from dynamics.system import System
+from dynamics.sim.builders import cloth_grid, rope
+from dynamics.sim.forces import Drag, Gravity
+from dynamics.sim.integrators import SimulationUnstable, advance, stability_limit
+from dynamics.sim.particles import Particles
+from dynamics.sim.springs import Springs, spring_forces
+from dynamics.sim.system import System
 
 G = np.array([0.0, -9.81, 0.0])
 
@@ -238,7 +238,7 @@ def test_driving_pins_keeps_the_implicit_factorisation():
 
 
 def test_wind_drag_reaches_the_wind_speed_and_callbacks_add_forces():
-    from dynamics.forces import ForceCallback, Wind
+    from dynamics.sim.forces import ForceCallback, Wind
     system = System()
     system.add(Particles([[0, 0, 0]], 0.0, 0.5, False))
     system.add_force(Wind([2.0, 0.0, 0.0], coefficient=1.0))

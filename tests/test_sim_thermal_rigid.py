@@ -5,13 +5,13 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from dynamics.builders import lattice_block, rope
-from dynamics.forces import Gravity
-from dynamics.integrators import advance
-from dynamics.rigid import (RigidBody, box_inertia, box_mesh, inertia_from_points, mesh_inertia,
+from dynamics.sim.builders import lattice_block, rope
+from dynamics.sim.forces import Gravity
+from dynamics.sim.integrators import advance
+from dynamics.sim.rigid import (RigidBody, box_inertia, box_mesh, inertia_from_points, mesh_inertia,
                             newton_euler_step)
-from dynamics.system import System
-from dynamics.thermal import HeatModel, HeatSource, thermoelastic_stiffness
+from dynamics.sim.system import System
+from dynamics.sim.thermal import HeatModel, HeatSource, thermoelastic_stiffness
 
 
 def test_heat_diffusion_on_a_rod_matches_the_fourier_series():
@@ -46,7 +46,7 @@ def test_heated_block_melts_and_slumps():
     system = System()
     system.add(lattice_block([0, 0, 0], [0.1, 0.1, 0.1], [4, 4, 4], 0.5, 800.0, 0.5))
     system.add_force(Gravity([0, -9.81, 0]))
-    from dynamics.collisions import Plane
+    from dynamics.sim.collisions import Plane
     system.add_collider(Plane())
     system.heat = HeatModel(conductivity=0.01, capacity=1.0, soften=330.0, melt=360.0,
                             sources=[HeatSource([-1, -1, -1], [1, 0.005, 1], temperature=600.0)])

@@ -140,7 +140,7 @@ def test_marker_csv_with_dotted_axis_names_is_read_as_markers(tmp_path):
     """``PELO.x,PELO.y,PELO.z`` parses as angles in the sequence xyz; with a marker set whose
     markers those are, it is a marker CSV."""
     from mocap import io
-    from mocap.markerset import load_markerset
+    from mocap.markersets.model import load_markerset
     from mocap.synthetic import synthesize_trial
     from synthesis.tensor import read_trial_angles
 
@@ -162,7 +162,7 @@ def test_bvh_corpus_gives_the_marker_corpus_angles(tmp_path):
     """The same trials as C3D markers and as BVH motions (mocap.skeleton) give one tensor."""
     from mocap import io
     from mocap.io.bvh import write_bvh
-    from mocap.markerset import load_markerset
+    from mocap.markersets.model import load_markerset
     from mocap.skeleton import motion_from_trial
     from mocap.synthetic import synthesize_trial
 

@@ -28,7 +28,7 @@ import numpy as np
 
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
-from mocap.io.c3d import infer_unit_factor, unique_labels, unit_factor
+from mocap.io.c3d.read import infer_unit_factor, unique_labels, unit_factor
 from mocap.io.text_table import format_rows, mark_missing, parse_numeric_rows, read_lines
 from mocap.trial import Trial
 

@@ -1,0 +1,195 @@
+"""Pictures of motions: stick-figure animations (with cloth and rope) and check plots.
+
+Animations are drawn with matplotlib's 3-D axes: the motion's Y (up) goes on the plot's
+vertical axis, the floor is a grid at y = 0. GIF through Pillow; MP4 through ffmpeg when it
+is on the PATH (otherwise a clear error, never a half-written file).
+"""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from dynamics.viz.render import check_animation_path, save_animation
+from mocap.atomic import atomic_path
+from mocap.errors import MocapError
+
+
+def _plot_axes(points: np.ndarray) -> np.ndarray:
+    """Y-up world (x, y, z) → plot (x, z, y) so the figure stands upright."""
+    return points[..., [0, 2, 1]]
+
+
+def _grid_lines(shape: tuple[int, int]) -> np.ndarray:
+    """Row and column neighbour pairs of a (rows, columns) particle grid, (lines, 2)."""
+    rows, columns = shape
+    index = np.arange(rows * columns).reshape(rows, columns)
+    across = np.stack([index[:, :-1].ravel(), index[:, 1:].ravel()], axis=1)
+    down = np.stack([index[:-1, :].ravel(), index[1:, :].ravel()], axis=1)
+    return np.concatenate([across, down])
+
+
+def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float | None = None,
+                   max_frames: int = 200, dpi: int = 80, size: tuple[float, float] = (5.0, 5.0),
+                   title: str = "") -> int:
+    """Write a stick-figure animation of a motion (GIF or MP4); returns frames drawn.
+
+    Parameters
+    ----------
+    motion : mocap.skeleton.Motion
+        Drawn as lines from each joint to its parent and to its end site.
+    path : str or PathLike
+        ``.gif`` (Pillow) or ``.mp4`` (needs ffmpeg on the PATH).
+    secondary : dynamics.secondary.SecondaryMotion, optional
+        Cape (grid lines) and rope (polyline) drawn with the figure.
+    fps : float, optional
+        Animation frame rate; default the motion's rate divided by the frame stride.
+    max_frames : int
+        Frames are subsampled evenly down to at most this many.
+    dpi : int
+    size : (width, height) inches
+    title : str
+
+    Raises
+    ------
+    MocapError
+        Unknown suffix, or MP4 without ffmpeg.
+    """
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection
+
+    path = check_animation_path(path)
+    world = motion.forward_kinematics()
+    joints = world[1]
+    end_index, ends = motion.end_site_positions(world)
+    points = np.concatenate([joints, ends], axis=1)                    # (F, J+E, 3)
+    sk = motion.skeleton
+    bones = [(i, p) for i, p in enumerate(sk.parents) if p >= 0]
+    bones += [(sk.count + k, j) for k, j in enumerate(end_index)]
+    bones = np.array(bones, dtype=int).reshape(-1, 2)
+    chosen = np.unique(np.linspace(0, motion.frames - 1,
+                                   min(max_frames, motion.frames)).astype(int))
+    stride = chosen[1] - chosen[0] if chosen.size > 1 else 1
+    fps = float(fps) if fps else max(1.0, motion.rate / stride)
+
+    cloth_lines = rope = cape = None
+    if secondary is not None:
+        if secondary.cape is not None:
+            cape = secondary.cape
+            cloth_lines = _grid_lines(secondary.cape_shape)
+        rope = secondary.rope
+
+    # View box: a cube that follows the figure across the floor (so a walk across a lab
+    # stays large in the picture), tall enough for the highest point drawn.
+    parts = [points[chosen].reshape(-1, 3)]
+    if cape is not None:
+        parts.append(cape[chosen].reshape(-1, 3))
+    if rope is not None:
+        parts.append(rope[chosen].reshape(-1, 3))
+    every = np.concatenate(parts)
+    every = every[np.isfinite(every).all(axis=1)]
+    top = max(float(every[:, 1].max()) * 1.05, 1.0)
+    per_frame = points[chosen]
+    reach = np.nanmax(np.ptp(per_frame[..., [0, 2]], axis=1)) if per_frame.size else 1.0
+    half = max(top / 2, float(reach) / 2 * 1.2, 0.5)
+    root_path = points[:, 0, :]
+    spacing = 0.25
+
+    figure = plt.figure(figsize=size, dpi=dpi)
+    axes = figure.add_subplot(projection="3d")
+    axes.set_xlabel("x (m)")
+    axes.set_ylabel("z (m)")
+    axes.set_zlabel("y up (m)")
+    axes.set_zlim(0.0, 2 * half)
+    try:
+        axes.set_box_aspect((1, 1, 1))
+    except AttributeError:          # matplotlib < 3.3
+        pass
+    axes.view_init(elev=15, azim=-60)
+    floor_artist = Line3DCollection([], colors="0.55", linewidths=0.5)
+    axes.add_collection3d(floor_artist, autolim=False)
+
+    def floor_lines(cx: float, cz: float) -> list:
+        """World-fixed grid lines (every 25 cm) inside the current view square."""
+        xs = np.arange(np.ceil((cx - half) / spacing), np.floor((cx + half) / spacing) + 1)
+        zs = np.arange(np.ceil((cz - half) / spacing), np.floor((cz + half) / spacing) + 1)
+        lines = [[(x * spacing, cz - half, 0), (x * spacing, cz + half, 0)] for x in xs]
+        lines += [[(cx - half, z * spacing, 0), (cx + half, z * spacing, 0)] for z in zs]
+        return lines
+
+    skeleton_lines = Line3DCollection([], colors="tab:blue", linewidths=2.0)
+    axes.add_collection3d(skeleton_lines, autolim=False)
+    cloth_artist = Line3DCollection([], colors="tab:red", linewidths=0.6)
+    axes.add_collection3d(cloth_artist, autolim=False)
+    (rope_artist,) = axes.plot([], [], [], color="tab:brown", linewidth=1.5)
+    (joint_artist,) = axes.plot([], [], [], "o", color="navy", markersize=2)
+    label = axes.set_title(title)
+
+    def draw(frame: int):
+        cx, cz = root_path[frame, 0], root_path[frame, 2]
+        axes.set_xlim(cx - half, cx + half)
+        axes.set_ylim(cz - half, cz + half)
+        floor_artist.set_segments(floor_lines(cx, cz))
+        p = _plot_axes(points[frame])
+        skeleton_lines.set_segments(p[bones])
+        joint_artist.set_data_3d(p[: sk.count, 0], p[: sk.count, 1], p[: sk.count, 2])
+        if cape is not None:
+            cloth_artist.set_segments(_plot_axes(cape[frame])[cloth_lines])
+        if rope is not None:
+            r = _plot_axes(rope[frame])
+            rope_artist.set_data_3d(r[:, 0], r[:, 1], r[:, 2])
+        label.set_text(f"{title}  t = {frame / motion.rate:.2f} s".strip())
+        return skeleton_lines, joint_artist, cloth_artist, rope_artist, floor_artist
+
+    save_animation(figure, draw, chosen, path, fps, dpi)
+    return int(chosen.size)
+
+
+def plot_check(report, path: str | os.PathLike, dpi: int = 100) -> None:
+    """Plot a :class:`dynamics.humanoid.CheckReport`: residuals, ground reactions, joint
+    torques and the lowest body point over time (PNG, PDF or SVG by suffix)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    if path.suffix.lower() not in (".png", ".pdf", ".svg"):
+        raise MocapError("the plot must be a .png, .pdf or .svg file", path)
+    t = report.times
+    weight = report.weight
+    figure, axes = plt.subplots(4, 1, figsize=(8, 10), sharex=True)
+    force = 100.0 * np.linalg.norm(report.residual_force, axis=1) / weight
+    axes[0].plot(t, force, label="residual force (% BW)")
+    axes[0].plot(t, np.linalg.norm(report.residual_torque, axis=1),
+                 label="residual torque about the COM (N·m)")
+    axes[0].axhline(report.thresholds.residual_rms_pct_bw, color="0.6", linestyle=":",
+                    label="RMS limit (% BW)")
+    import textwrap
+    verdict = f"{report.verdict}: " + ("; ".join(report.reasons) or "no problems")
+    axes[0].set_title(textwrap.fill(verdict, 110), fontsize=8)
+    axes[0].legend(fontsize=7)
+    feet = {}
+    for k, name in enumerate(report.contact_names):
+        feet.setdefault(name.split(".")[0], []).append(k)
+    for foot, points in feet.items():
+        axes[1].plot(t, report.contact_forces[:, points, 1].sum(axis=1) / weight,
+                     label=f"{foot} vertical reaction (BW)")
+    axes[1].legend(fontsize=7)
+    magnitude = np.linalg.norm(report.joint_torques, axis=2)
+    for j, name in enumerate(report.joint_names):
+        axes[2].plot(t, magnitude[:, j], label=name, linewidth=0.8)
+    axes[2].set_ylabel("joint torque (N·m)")
+    axes[2].legend(fontsize=6, ncol=4)
+    axes[3].plot(t, report.lowest_point_mm, color="tab:green")
+    axes[3].axhline(0.0, color="0.3", linewidth=0.8)
+    axes[3].set_ylabel("lowest point (mm)")
+    axes[3].set_xlabel("time (s)")
+    figure.tight_layout()
+    try:
+        with atomic_path(path) as tmp:
+            figure.savefig(tmp, dpi=dpi, format=path.suffix.lower()[1:])
+    finally:
+        plt.close(figure)

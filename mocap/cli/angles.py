@@ -1,0 +1,205 @@
+"""``mocap angles`` (marker files to joint-angle CSV) and ``mocap generate``."""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import warnings
+from pathlib import Path
+
+from mocap.errors import MocapError
+
+#: Suffixes ``mocap angles`` picks up when given a folder.
+MARKER_SUFFIXES = (".c3d", ".trc", ".csv")
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``angles`` and ``generate`` to ``subparsers``."""
+    parser = subparsers.add_parser(
+        "angles", help="joint angles from marker files, as CSV (time, <segment>.<axis> in degrees)",
+        description="Compute segment frames from three markers per segment and write the "
+                    "joint angles (child relative to parent, the root relative to the lab) "
+                    "as CSV: time in seconds, then <segment>.<axis> in degrees, continuous. "
+                    "Frames where a segment's markers are missing give empty cells, unless "
+                    "--fill-gaps fills them.",
+        epilog="Examples: mocap angles walk.c3d --markerset plugingait-lower --sequence YXZ "
+               "-o walk.csv --plot walk.png;  mocap angles corpus/ --markerset synthetic15 "
+               "-o angles/")
+    parser.add_argument("inputs", nargs="+", metavar="IN",
+                        help="marker file(s) (.c3d, .trc, .csv) or folders of them")
+    parser.add_argument("--markerset", "-m", required=True, metavar="SET",
+                        help="marker set: a preset name (plugingait-lower, synthetic15) or a "
+                             "TOML file defining segments and virtual markers")
+    parser.add_argument("--sequence", "-s", default="ZXY", metavar="SEQ",
+                        help="Euler sequence as in scipy: upper case intrinsic (ZXY, YXZ, ZYZ "
+                             "...), lower case extrinsic (zxy ...); 24 in all (default ZXY)")
+    parser.add_argument("--fill-gaps", type=float, metavar="SECONDS",
+                        help="fill gaps up to this long with a cubic spline before computing "
+                             "angles; longer gaps, and gaps at either end, stay empty and are "
+                             "reported")
+    parser.add_argument("--lowpass", type=float, metavar="HZ",
+                        help="zero-lag Butterworth low-pass of the markers at this cutoff "
+                             "(after gap filling); must be below half the sampling rate")
+    parser.add_argument("--order", type=int, default=4,
+                        help="order of the Butterworth filter of --lowpass (default 4; run "
+                             "forward and backward, so the response is squared)")
+    parser.add_argument("--short-runs", choices=("error", "keep", "drop"), default="error",
+                        help="with --lowpass, what to do with runs of valid frames too short "
+                             "to filter: stop with an error (default), keep them unfiltered, "
+                             "or drop them (empty cells)")
+    parser.add_argument("-o", "--output", required=True, metavar="OUT",
+                        help="output CSV; with several inputs (or a folder) an output folder "
+                             "that receives <input name>.csv per input")
+    parser.add_argument("--plot", metavar="OUT.png",
+                        help="also draw the angle curves, one panel per segment, to this PNG "
+                             "(with several inputs: a folder receiving <input name>.png)")
+    parser.set_defaults(func=run_angles)
+
+    from mocap.cli.generate import register as register_generate
+    register_generate(subparsers)
+
+
+def _expand_inputs(inputs: list[str]) -> list[Path]:
+    files: list[Path] = []
+    for item in inputs:
+        path = Path(item)
+        if path.is_dir():
+            found = sorted(p for p in path.iterdir()
+                           if p.is_file() and p.suffix.lower() in MARKER_SUFFIXES)
+            if not found:
+                raise MocapError("folder holds no .c3d, .trc or .csv files", path)
+            files.extend(found)
+        elif path.exists():
+            files.append(path)
+        else:
+            raise MocapError("file not found", path)
+    return files
+
+
+def run_angles(args: argparse.Namespace) -> int:
+    """Handler of ``mocap angles``; returns the exit status."""
+    from mocap.angles import check_sequence
+    from mocap.markersets.model import load_markerset
+    from mocap.progress import progress
+
+    check_sequence(args.sequence)
+    markerset = load_markerset(args.markerset)
+    if args.fill_gaps is not None and not args.fill_gaps >= 0:
+        raise MocapError(f"--fill-gaps must be a duration >= 0 seconds, not {args.fill_gaps}")
+    if args.lowpass is not None and not args.lowpass > 0:
+        raise MocapError(f"--lowpass must be a positive frequency in Hz, not {args.lowpass}")
+    if args.order < 1:
+        raise MocapError(f"--order must be a positive whole number, not {args.order}")
+    files = _expand_inputs(args.inputs)
+    output = Path(args.output)
+    folder_mode = (len(files) > 1 or any(Path(i).is_dir() for i in args.inputs)
+                   or output.is_dir() or args.output.endswith(os.sep))
+    if not folder_mode:
+        jobs = [(files[0], output, Path(args.plot) if args.plot else None)]
+    else:
+        if output.exists() and not output.is_dir():
+            raise MocapError("with several inputs, -o must be a folder", output)
+        stems = [f.stem for f in files]
+        clash = sorted({s for s in stems if stems.count(s) > 1})
+        if clash:
+            raise MocapError(f"several inputs are named {', '.join(clash)}: their outputs "
+                             f"would overwrite each other in {output}")
+        plot_folder = Path(args.plot) if args.plot else None
+        jobs = [(f, output / f"{f.stem}.csv",
+                 plot_folder / f"{f.stem}.png" if plot_folder else None) for f in files]
+
+    failures = 0
+    for source, target, plot in progress(jobs, "joint angles", total=len(jobs)):
+        try:
+            _angles_one(source, target, plot, markerset, args)
+        except MocapError as error:
+            if len(jobs) == 1:
+                raise
+            failures += 1
+            print(f"mocap angles: error: {error}", file=sys.stderr)
+    if failures:
+        print(f"mocap angles: {failures} of {len(jobs)} input(s) failed", file=sys.stderr)
+        return 2
+    return 0
+
+
+def _angles_one(source: Path, target: Path, plot: Path | None, markerset,
+                args: argparse.Namespace) -> None:
+    from mocap.angles import GimbalLockWarning, joint_angles, write_angles_csv
+    from mocap.clean import fill_gaps, lowpass
+    from mocap.io import read
+    from mocap.trial import Trial
+
+    trial = read(source)
+    markerset.check_trial(trial)
+    # clean only what the marker set reads (Plug-in Gait files carry hundreds of
+    # model outputs stored as "markers")
+    used = markerset.used_labels(trial.labels)
+    columns = [trial.labels.index(label) for label in used]
+    trial = Trial(used, trial.points[:, columns, :], trial.rate, trial.units, trial.path,
+                  trial.format, metadata=dict(trial.metadata))
+    if args.fill_gaps is not None:
+        trial, report = fill_gaps(trial, max_gap_seconds=args.fill_gaps,
+                                  donors=markerset.donors(trial.labels))
+        if report.unfilled:
+            lines = report.summary().splitlines()
+            shown = lines[:11] + ([f"  … {len(lines) - 11} more marker(s)"]
+                                  if len(lines) > 11 else [])
+            print(f"mocap angles: {source}: " + "\n".join(shown), file=sys.stderr)
+    if args.lowpass is not None:
+        trial = lowpass(trial, args.lowpass, order=args.order, short_runs=args.short_runs)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", GimbalLockWarning)
+        angles = joint_angles(trial, markerset, args.sequence)
+    for warning in caught:
+        if issubclass(warning.category, GimbalLockWarning):
+            print(f"mocap angles: warning: {warning.message}", file=sys.stderr)
+        else:
+            warnings.showwarning(warning.message, warning.category, warning.filename,
+                                 warning.lineno)
+    write_angles_csv(angles, target)
+    if plot is not None:
+        plot_angles(angles, plot, title=f"{source.name} ({markerset.name}, {args.sequence})")
+
+
+def plot_angles(angles, path: str | os.PathLike, title: str = "") -> None:
+    """Draw the angle curves, one panel per segment, to a PNG (matplotlib Agg).
+
+    Parameters
+    ----------
+    angles : JointAngles
+    path : path-like
+        Written all-or-nothing.
+    title : str
+    """
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from mocap.angles import axis_names
+    from mocap.atomic import atomic_path
+
+    count = len(angles.segments)
+    columns = min(3, count)
+    rows = -(-count // columns)
+    figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 2.6 * rows),
+                                sharex=True, squeeze=False)
+    names = axis_names(angles.sequence)
+    for k, segment in enumerate(angles.segments):
+        axis = axes[k // columns][k % columns]
+        for j, name in enumerate(names):
+            axis.plot(angles.times, angles.values[:, k, j], label=name, linewidth=1.2)
+        axis.set_title(segment, fontsize=10)
+        axis.set_ylabel("degrees")
+        axis.grid(alpha=0.3)
+        axis.legend(fontsize=7, loc="best")
+    for k in range(count, rows * columns):
+        axes[k // columns][k % columns].set_visible(False)
+    for axis in axes[-1]:
+        axis.set_xlabel("time (s)")
+    if title:
+        figure.suptitle(title, fontsize=11)
+    figure.tight_layout()
+    with atomic_path(path) as tmp:
+        figure.savefig(tmp, dpi=100, format="png")
+    plt.close(figure)

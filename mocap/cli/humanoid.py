@@ -1,0 +1,283 @@
+"""``mocap check``, ``mocap export`` and ``mocap animate``: motions given a body.
+
+MOTION may be a BVH file, an AMC file (its ASF found beside it or given with ``--asf``),
+a joint-angle CSV (DESIGN 3.2, played on the default body) or a marker trial
+(C3D/TRC/CSV) with ``--markerset``.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from mocap.errors import MocapError
+
+#: Formats of ``mocap export``.
+EXPORT_FORMATS = ("bvh", "csv", "c3d", "trc", "mot", "json")
+
+
+def _motion_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("motion", metavar="MOTION",
+                        help="motion file: .bvh, .amc (with its .asf), a joint-angle .csv, or a "
+                             "marker trial (.c3d, .trc, .csv) with --markerset")
+    parser.add_argument("--asf", metavar="ASF",
+                        help="ASF skeleton of an AMC motion (default: <name>.asf or "
+                             "<subject>.asf beside it, as in the CMU database)")
+    parser.add_argument("--markerset", "-m", metavar="SET",
+                        help="marker set of a marker trial: preset name (synthetic15, "
+                             "plugingait-lower) or TOML file")
+    parser.add_argument("--units", choices=("m", "cm", "mm", "in", "cmu"),
+                        help="length unit of a BVH (or ASF) file; detected from the figure's "
+                             "size when not given")
+    parser.add_argument("--rate", type=float, default=120.0, metavar="HZ",
+                        help="frame rate of an AMC motion, which does not store it "
+                             "(default 120, as CMU and HDM05)")
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``check``, ``export`` and ``animate`` to ``subparsers``."""
+    check = subparsers.add_parser(
+        "check", help="physical plausibility of a motion (Pinocchio inverse dynamics)",
+        description="Inverse dynamics of the motion on a 15-segment body (de Leva 1996 "
+                    "inertias scaled to the skeleton and --mass): residual force and torque "
+                    "at the root that ground reactions inside friction cones cannot supply, "
+                    "foot skating, floor penetration, floating, peak joint torques, and a "
+                    "verdict with reasons. The floor is y = 0, Y up (z = 0 of a "
+                    "Z-up marker lab). A lower-body marker set is enough: the trunk, head "
+                    "and arms are then carried rigidly by the pelvis. In --json, joint "
+                    "torques are named by the segment the joint moves (l_thigh: left hip, "
+                    "l_shank: left knee, l_foot: left ankle).",
+        epilog="Examples: mocap check walk.bvh --mass 70 --json;  "
+               "mocap check 01_01.amc --plot check.png;  "
+               "mocap check walk.c3d --markerset synthetic15")
+    _motion_options(check)
+    check.add_argument("--mass", type=float, default=75.0, metavar="KG",
+                       help="body mass in kg (default 75)")
+    check.add_argument("--sex", choices=("male", "female"), default="male",
+                       help="which de Leva table of segment parameters (default male)")
+    check.add_argument("--mu", type=float, default=0.8,
+                       help="floor friction coefficient (default 0.8)")
+    check.add_argument("--max-residual", type=float, default=5.0, metavar="PCT",
+                       help="RMS residual force above which the motion is implausible, in %% "
+                            "of body weight (default 5; captured walking on a lower-body "
+                            "marker set scores about 2.5-7)")
+    check.add_argument("--max-penetration", type=float, default=20.0, metavar="MM",
+                       help="deepest floor penetration allowed, mm (default 20)")
+    check.add_argument("--floor", default="0", metavar="Y|auto",
+                       help="height of the floor in the motion file, metres along the up "
+                            "axis (default 0), or 'auto': where the feet stand still")
+    check.add_argument("--json", action="store_true",
+                       help="print one JSON object instead of text (keys as in the README)")
+    check.add_argument("--plot", metavar="OUT.png",
+                       help="also plot residuals, ground reactions, joint torques and the "
+                            "lowest point over time (.png, .pdf, .svg)")
+    check.set_defaults(func=run_check)
+
+    export = subparsers.add_parser(
+        "export", help="write a motion as BVH, angle CSV, C3D/TRC joint markers, .mot or JSON",
+        description="Convert a motion: bvh (hierarchy + channels, centimetres), csv (joint "
+                    "angles as mocap angles writes them, in a Z-up lab), c3d/trc (one marker per joint and "
+                    "end site, Z-up lab, metres), mot (OpenSim storage: root translation and "
+                    "joint Euler angles in degrees), json (skeleton, root translation, joint "
+                    "quaternions and joint positions).",
+        epilog="Examples: mocap export 01_01.amc --format bvh -o 01_01.bvh;  "
+               "mocap export walk.bvh --format mot -o walk.mot")
+    _motion_options(export)
+    export.add_argument("--format", "-f", required=True, choices=EXPORT_FORMATS,
+                        help="output format")
+    export.add_argument("-o", "--output", required=True, metavar="OUT",
+                        help="output file")
+    export.add_argument("--body", action="store_true",
+                        help="map the skeleton onto the 15-segment body first (pelvis, "
+                             "thorax, head, arms, legs)")
+    export.add_argument("--sequence", default="ZXY", metavar="SEQ",
+                        help="Euler sequence of csv and mot angles, scipy convention "
+                             "(default ZXY)")
+    export.set_defaults(func=run_export)
+
+    animate = subparsers.add_parser(
+        "animate", help="stick-figure animation of a motion (cape, rope, physics)",
+        description="Draw the motion as a stick figure over the floor, optionally with a cape "
+                    "pinned to the shoulders and a rope at the head (mass-spring cloth driven "
+                    "by the skeleton, colliding with the body), or replayed under physics "
+                    "(forward dynamics with PD tracking and ground contact).",
+        epilog="Examples: mocap animate walk.bvh --cape -o walk.gif;  "
+               "mocap animate walk.bvh --physics --rope -o physics.gif")
+    _motion_options(animate)
+    animate.add_argument("--cape", action="store_true", help="add a cloth cape")
+    animate.add_argument("--rope", action="store_true", help="add a rope at the head")
+    animate.add_argument("--physics", action="store_true",
+                         help="replay the motion under physics (ABA, PD servos, penalty "
+                              "ground contact) and print how well it tracked")
+    animate.add_argument("--mass", type=float, default=75.0, metavar="KG",
+                         help="body mass for --physics (default 75)")
+    animate.add_argument("--max-frames", type=int, default=200, metavar="N",
+                         help="draw at most N frames, evenly spaced (default 200)")
+    animate.add_argument("--dpi", type=int, default=80, help="resolution (default 80)")
+    animate.add_argument("-o", "--output", required=True, metavar="OUT",
+                         help="animation file: .gif (or .mp4 when ffmpeg is installed)")
+    animate.set_defaults(func=run_animate)
+
+
+# ----------------------------------------------------------------------------------------
+def _load(args: argparse.Namespace):
+    from mocap.skeleton import load_motion
+
+    return load_motion(args.motion, asf=args.asf, markerset=args.markerset,
+                       units=args.units, rate=args.rate)
+
+
+def run_check(args: argparse.Namespace) -> int:
+    """Handler of ``mocap check``."""
+    from dynamics.humanoid.core import Thresholds, check_motion
+
+    if not args.mass > 0:
+        raise MocapError(f"--mass must be positive, got {args.mass}")
+    if not (args.max_residual > 0 and args.max_penetration >= 0):
+        raise MocapError("--max-residual must be positive and --max-penetration not negative")
+    if args.plot and Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg"):
+        raise MocapError("the plot must be a .png, .pdf or .svg file", args.plot)
+    motion = _load(args)
+    if args.floor == "auto":
+        floor: float | str = "auto"
+    else:
+        try:
+            floor = float(args.floor)
+        except ValueError:
+            raise MocapError(f"--floor must be a height in metres or 'auto', got "
+                             f"{args.floor!r}") from None
+    limits = Thresholds(residual_rms_pct_bw=args.max_residual,
+                        penetration_mm=args.max_penetration)
+    report = check_motion(motion, body_mass=args.mass, sex=args.sex, mu=args.mu,
+                          thresholds=limits, floor=floor)
+    summary = {"path": str(args.motion), **report.summary()}
+    if args.plot:
+        from dynamics.viz.animate import plot_check
+        plot_check(report, args.plot)
+    if args.json:
+        print(json.dumps(summary))
+        return 0
+    print(f"{args.motion}: {summary['verdict']}  ({report.frames} frames at "
+          f"{report.rate:g} Hz, {report.mass_kg:g} kg)")
+    print(f"  residual force   RMS {summary['residual_force_rms_N']:8.1f} N "
+          f"({summary['residual_force_rms_pct_bw']:.1f} % BW), peak "
+          f"{summary['residual_force_peak_N']:.1f} N ({summary['residual_force_peak_pct_bw']:.1f} % BW)")
+    print(f"  residual torque  RMS {summary['residual_torque_rms_Nm']:8.1f} N·m, peak "
+          f"{summary['residual_torque_peak_Nm']:.1f} N·m (about the centre of mass)")
+    print(f"  foot skating     {summary['foot_skate_mm']:.1f} mm per frame in contact "
+          f"(skating ratio {summary['skating_ratio']:.2f})")
+    print(f"  penetration      {summary['penetration_mm']:.1f} mm   floating "
+          f"{summary['floating_mm']:.1f} mm ({summary['floating_frames']} frames unsupported)")
+    from mocap.body.anthropometry import segment_kind
+    from dynamics.humanoid.core import JOINT_OF_SEGMENT
+
+    def joint(segment: str) -> str:
+        side = segment[:2] if segment[:2] in ("l_", "r_") else ""
+        return side + JOINT_OF_SEGMENT.get(segment_kind(segment), segment)
+
+    print("  peak joint torques (N·m): " + ", ".join(
+        f"{joint(name)} {value:.0f}" for name, value in summary["peak_joint_torque_Nm"].items()))
+    if summary["floor_m"]:
+        print(f"  (floor taken at {summary['floor_m'] * 1000:.0f} mm)")
+    if summary["lumped_segments"]:
+        print("  (no markers for " + ", ".join(summary["lumped_segments"]) + ": carried "
+              "rigidly by the pelvis)")
+    for reason in summary["reasons"]:
+        print(f"  - {reason}")
+    return 0
+
+
+def run_export(args: argparse.Namespace) -> int:
+    """Handler of ``mocap export``."""
+    from mocap.skeleton import reduce_to_segments
+
+    motion = _load(args)
+    if args.body:
+        motion = reduce_to_segments(motion)
+    export_motion(motion, args.output, args.format, sequence=args.sequence)
+    print(f"wrote {args.output} ({args.format}, {motion.frames} frames)", file=sys.stderr)
+    return 0
+
+
+def export_motion(motion, path: str | Path, file_format: str, sequence: str = "ZXY") -> None:
+    """Write a motion in one of :data:`EXPORT_FORMATS` (all-or-nothing)."""
+    import numpy as np
+
+    from mocap.atomic import atomic_path
+
+    if file_format == "bvh":
+        from mocap.io.bvh import write_bvh
+        write_bvh(motion, path)
+    elif file_format == "mot":
+        from mocap.io.mot import write_motion_mot
+        write_motion_mot(motion, path, sequence=sequence)
+    elif file_format == "csv":
+        from mocap.angles import JointAngles, matrices_to_angles, unwrap_angles, write_angles_csv
+        from mocap.skeleton import motion_to_lab
+        rotations, _ = motion_to_lab(motion)
+        values = unwrap_angles(matrices_to_angles(rotations, sequence), sequence)
+        angles = JointAngles(motion.times, values, list(motion.names), sequence,
+                             list(motion.skeleton.parents))
+        write_angles_csv(angles, path)
+    elif file_format in ("c3d", "trc"):
+        from mocap.io import write
+        from mocap.skeleton import Z_UP_TO_Y_UP
+        from mocap.trial import Trial
+        world = motion.forward_kinematics()
+        index, ends = motion.end_site_positions(world)
+        points = np.concatenate([world[1], ends], axis=1) @ Z_UP_TO_Y_UP   # Y up → Z-up lab
+        labels = list(motion.names) + [f"{motion.names[i]}_end" for i in index]
+        trial = Trial(labels, points, motion.rate, units="m", format=file_format)
+        write(trial, path)
+    elif file_format == "json":
+        from scipy.spatial.transform import Rotation
+        sk = motion.skeleton
+        quats = Rotation.from_matrix(motion.rotations.reshape(-1, 3, 3)).as_quat()
+        positions = motion.forward_kinematics()[1]
+        document = {
+            "rate_hz": motion.rate, "frames": motion.frames, "up": "y", "units": "m",
+            "joints": list(sk.names), "parents": list(sk.parents),
+            "offsets": np.round(sk.offsets, 6).tolist(),
+            "end_sites": [None if not np.isfinite(e).all() else np.round(e, 6).tolist()
+                          for e in sk.end_sites],
+            "root_translation": np.round(motion.root_translation, 6).tolist(),
+            "rotations_xyzw": np.round(quats.reshape(motion.frames, sk.count, 4), 7).tolist(),
+            "positions": np.round(positions, 6).tolist(),
+        }
+        with atomic_path(path) as tmp:
+            tmp.write_text(json.dumps(document), encoding="utf-8")
+    else:
+        raise MocapError(f"unknown export format {file_format!r}: use one of "
+                         + ", ".join(EXPORT_FORMATS))
+
+
+def run_animate(args: argparse.Namespace) -> int:
+    """Handler of ``mocap animate``."""
+    from dynamics.viz.animate import animate_motion
+
+    output = Path(args.output)
+    if output.suffix.lower() not in (".gif", ".mp4"):
+        raise MocapError("the animation must be a .gif or .mp4 file", output)
+    if args.max_frames < 1:
+        raise MocapError(f"--max-frames must be at least 1, got {args.max_frames}")
+    motion = _load(args)
+    title = Path(args.motion).stem
+    if args.physics:
+        from dynamics.humanoid.tracking import simulate_tracking
+        result = simulate_tracking(motion, body_mass=args.mass)
+        motion = result.motion
+        weight = args.mass * 9.81
+        print(f"physics: mean joint error {result.joint_error_deg.mean():.1f}°, root drift "
+              f"{result.root_error_m.max() * 1000:.0f} mm, root assist "
+              f"{100 * result.assist_force.mean() / weight:.0f} % BW on average",
+              file=sys.stderr)
+        title += " (physics)"
+    secondary = None
+    if args.cape or args.rope:
+        from dynamics.secondary import simulate_secondary
+        secondary = simulate_secondary(motion, cape=args.cape, rope=args.rope)
+    frames = animate_motion(motion, output, secondary=secondary, max_frames=args.max_frames,
+                            dpi=args.dpi, title=title)
+    print(f"wrote {output} ({frames} frames)", file=sys.stderr)
+    return 0

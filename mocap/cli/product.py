@@ -1,0 +1,92 @@
+"""``mocap demo`` (the whole product on generated data) and ``mocap batch`` (corpora in parallel)."""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from mocap.errors import MocapError
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``demo`` and ``batch`` to ``subparsers``."""
+    demo = subparsers.add_parser(
+        "demo", help="run the whole pipeline on generated data and write an HTML report",
+        description="Generate a people × actions corpus (or use --data), extract joint angles, "
+                    "decompose with the N-mode SVD, synthesise a held-out walk from the "
+                    "person's other actions, check it with the Pinocchio humanoid, animate it "
+                    "with a cloth cape, export BVH and CSV, and write OUT/index.html.")
+    demo.add_argument("-o", "--out", default="mocap-demo",
+                      help="output folder (default: mocap-demo)")
+    demo.add_argument("--data", metavar="DIR",
+                      help="use this corpus of <person>_<action> marker files instead of "
+                           "generating one (needs the synthetic15 markers, or --markerset)")
+    demo.add_argument("--markerset", "-m", default="synthetic15",
+                      help="marker set for --data (default synthetic15)")
+    demo.add_argument("--people", type=int, default=6, help="people to generate (default 6)")
+    demo.add_argument("--seed", type=int, default=0, help="random seed of the corpus (default 0)")
+    demo.add_argument("--hold-out", metavar="PERSON",
+                      help="person whose walk is held out and synthesised (default: the first)")
+    demo.add_argument("--no-animation", action="store_true",
+                      help="skip the GIF with the cloth cape (the slowest step)")
+    demo.set_defaults(func=run_demo)
+
+    batch = subparsers.add_parser(
+        "batch", help="analyse every trial of a corpus in parallel into one table",
+        description="Read every marker file of CORPUS (a folder, or files), summarise it "
+                    "(rate, frames, missing data), extract joint-angle ranges of motion with "
+                    "--markerset and run the dynamics check with --check, in parallel worker "
+                    "processes or on a Dask cluster. Failed trials are listed with their "
+                    "errors; the others still finish. Exit status 1 when any trial failed.")
+    batch.add_argument("corpus", nargs="+", metavar="CORPUS",
+                       help="folder of marker files (.c3d/.trc/.csv) or individual files")
+    batch.add_argument("-o", "--output", metavar="TABLE.csv",
+                       help="write the table here (default: print it)")
+    batch.add_argument("--jobs", "-j", type=int, default=1,
+                       help="worker processes, or LocalCluster workers with --dask (default 1)")
+    batch.add_argument("--markerset", "-m", help="marker set preset or TOML file for joint angles")
+    batch.add_argument("--sequence", default="ZXY", help="Euler sequence (default ZXY)")
+    batch.add_argument("--check", action="store_true",
+                       help="also run the humanoid dynamics check (full-body marker sets)")
+    batch.add_argument("--mass", type=float, default=75.0, help="body mass in kg for --check")
+    batch.add_argument("--dask", action="store_true",
+                       help="run on Dask distributed: a LocalCluster of --jobs workers")
+    batch.add_argument("--scheduler", metavar="ADDRESS",
+                       help="address of a running Dask scheduler (tcp://host:8786); implies --dask")
+    batch.add_argument("--json", action="store_true", help="print the rows as JSON instead of CSV")
+    batch.set_defaults(func=run_batch_command)
+
+
+def run_batch_command(args: argparse.Namespace) -> int:
+    """Run the batch and write or print the table; list failures on stderr."""
+    from mocap.atomic import atomic_path
+    from mocap.batch import find_trials, rows_to_csv, run_batch
+
+    if args.check and not args.markerset:
+        raise MocapError("--check needs --markerset (a full-body marker set such as synthetic15)")
+    paths = [p for corpus in args.corpus for p in find_trials(corpus)]
+    rows = run_batch(paths, jobs=args.jobs, markerset=args.markerset, sequence=args.sequence,
+                     check=args.check, mass_kg=args.mass, dask=args.dask,
+                     scheduler=args.scheduler)
+    text = json.dumps(rows, indent=1) + "\n" if args.json else rows_to_csv(rows)
+    if args.output:
+        with atomic_path(args.output) as tmp:
+            tmp.write_text(text)
+    else:
+        sys.stdout.write(text)
+    failed = [row for row in rows if row["status"] != "ok"]
+    for row in failed:
+        print(f"failed: {row['error']}", file=sys.stderr)
+    print(f"{len(rows) - len(failed)} of {len(rows)} trials analysed"
+          + (f", {len(failed)} failed" if failed else "")
+          + (f"; table in {args.output}" if args.output else ""), file=sys.stderr)
+    return 1 if failed else 0
+
+
+def run_demo(args: argparse.Namespace) -> int:
+    """The whole product on generated data (see :mod:`mocap.cli.demo`)."""
+    from mocap.cli.demo import run_demo as demo
+
+    demo(out_dir=args.out, data=args.data, markerset=args.markerset, people=args.people,
+         seed=args.seed, hold_out=args.hold_out, animation=not args.no_animation)
+    return 0

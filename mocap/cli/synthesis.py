@@ -1,0 +1,386 @@
+"""Sub-commands of the synthesis package: decompose, synthesize, recognize, evaluate.
+
+``mocap decompose CORPUS --markerset SET -o model.npz``
+``mocap synthesize model.npz --person P --action A -o OUT.csv|OUT.bvh``
+``mocap recognize model.npz TRIAL [--json]``
+``mocap evaluate CORPUS --markerset SET --leave-one-out [--plot OUT.png]``
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+
+from mocap.errors import MocapError
+
+OUTPUT_SUFFIXES = (".csv", ".bvh")
+
+
+# --------------------------------------------------------------------------- option groups
+
+def _rank(text: str):
+    """A mode rank on the command line: an integer count, a fraction in (0, 1], or 'full'."""
+    if text.lower() in ("full", "none", "auto"):
+        return None
+    try:
+        if text.isdigit():
+            value = int(text)
+            if value < 1:
+                raise ValueError
+            return value
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"{text!r} is not a rank: give a count (e.g. 4), a kept-energy fraction in (0, 1] "
+            f"(e.g. 0.99) or 'full'") from None
+    if not 0.0 < value <= 1.0:
+        raise argparse.ArgumentTypeError(f"energy fraction {text} must be in (0, 1]")
+    return value
+
+
+def _ridge(text: str):
+    if text.lower() == "auto":
+        return "auto"
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"ridge must be 'auto' or a number ≥ 0, got {text!r}") \
+            from None
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"ridge must be ≥ 0, got {text}")
+    return value
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 2:
+        raise argparse.ArgumentTypeError(f"need at least 2 samples, got {value}")
+    return value
+
+
+def _names(text: str) -> list[str]:
+    return [name.strip() for name in text.split(",") if name.strip()]
+
+
+def _add_corpus_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("corpus", nargs="?", metavar="CORPUS",
+                        help="folder of trials named <person>_<action>[_anything].<c3d|csv|trc|"
+                             "bvh|amc> (sub-folders are ignored); angle CSVs (from mocap angles) are "
+                             "read as they are; an AMC needs <person>.asf beside it")
+    parser.add_argument("--manifest", metavar="FILE.csv",
+                        help="CSV with columns path,person,action listing the trials instead of "
+                             "a folder (relative paths from the manifest's folder)")
+    parser.add_argument("--markerset", "-m", metavar="SET",
+                        help="marker set (preset name such as synthetic15, or a TOML file) that "
+                             "turns marker trials into joint angles")
+    parser.add_argument("--sequence", default="ZXY", metavar="SEQ",
+                        help="Euler sequence of the joint angles, scipy convention "
+                             "(default: ZXY)")
+    parser.add_argument("--samples", type=_positive_int, default=100, metavar="N",
+                        help="frames of each time-normalised cycle (default: 100)")
+    parser.add_argument("--cycles", action="store_true",
+                        help="detect gait cycles in each trial (maxima of the most-moving "
+                             "angle) and average them; default: each trial is one cycle")
+    parser.add_argument("--cycle-angle", metavar="COLUMN",
+                        help="angle column whose maxima cut the cycles (e.g. r_thigh.Y); "
+                             "default: the angle that moves most over the corpus")
+    parser.add_argument("--fill-gaps", type=int, default=None, metavar="FRAMES",
+                        help="fill marker gaps of up to FRAMES frames (cubic spline) before the "
+                             "angles; the model remembers it for later trials")
+    parser.add_argument("--lowpass", type=float, default=None, metavar="HZ",
+                        help="zero-lag Butterworth low-pass of the markers at HZ before the "
+                             "angles (e.g. 6); the model remembers it for later trials")
+    parser.add_argument("--people", type=_names, metavar="P1,P2,…",
+                        help="use only these people")
+    parser.add_argument("--actions", type=_names, metavar="A1,A2,…",
+                        help="use only these actions")
+
+
+def _add_model_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--people-rank", type=_rank, default=None, metavar="R",
+                        help="signature dimensions kept: a count, a kept-energy fraction, or "
+                             "'full' (default: numerical rank)")
+    parser.add_argument("--action-rank", type=_rank, default=None, metavar="R",
+                        help="action-parameter dimensions kept (count, fraction or 'full')")
+    parser.add_argument("--feature-rank", type=_rank, default=None, metavar="R",
+                        help="eigenmotions kept in the joint-angle mode (count, fraction or "
+                             "'full')")
+    parser.add_argument("--ridge", type=_ridge, default="auto", metavar="ALPHA",
+                        help="relative ridge of signature fits, or 'auto' to choose it by "
+                             "leave-one-out (default)")
+
+
+def _load_corpus(args: argparse.Namespace):
+    from mocap.progress import progress
+    from synthesis.tensor import load_corpus
+
+    if args.corpus is None and args.manifest is None:
+        raise MocapError("give a corpus folder or --manifest FILE.csv")
+    if args.corpus is not None and args.manifest is not None:
+        raise MocapError("give either a corpus folder or --manifest, not both")
+    corpus = load_corpus(args.corpus, args.manifest, markerset=args.markerset,
+                         sequence=args.sequence, samples=args.samples, cycles=args.cycles,
+                         cycle_column=args.cycle_angle, lowpass_hz=args.lowpass,
+                         max_gap_frames=args.fill_gaps, progress=progress)
+    if args.people or args.actions:
+        corpus = corpus.subset(args.people, args.actions)
+    return corpus
+
+
+def _model_options(args: argparse.Namespace) -> dict:
+    return {"people_rank": args.people_rank, "action_rank": args.action_rank,
+            "feature_rank": args.feature_rank, "ridge": args.ridge}
+
+
+def _plain(value):
+    """JSON-safe copy: NaN and infinities become null (strict JSON has no NaN)."""
+    if isinstance(value, dict):
+        return {key: _plain(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(item) for item in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def _print_json(value) -> None:
+    print(json.dumps(_plain(value), indent=2, allow_nan=False))
+
+
+def _check_output(path: str, suffixes=(".npz",)) -> None:
+    if Path(path).suffix.lower() not in suffixes:
+        raise MocapError(f"output must end in {' or '.join(suffixes)}", path)
+
+
+# --------------------------------------------------------------------------- handlers
+
+def decompose(args: argparse.Namespace) -> int:
+    """``mocap decompose``: corpus → N-mode SVD motion model (.npz)."""
+    from synthesis.model import MotionModel
+
+    _check_output(args.output)
+    corpus = _load_corpus(args)
+    model = MotionModel(**_model_options(args)).fit(corpus)
+    model.save(args.output)
+    summary = model.summary()
+    if args.json:
+        _print_json(summary)
+        return 0
+    ranks = summary["ranks"]
+    print(f"wrote {args.output}: {len(model.people)} people × {len(model.actions)} actions × "
+          f"{model.samples} samples × {len(model.columns)} angles")
+    print(f"  ranks people/actions/features: {ranks[0]}/{ranks[1]}/{ranks[2]} "
+          f"(kept energy {', '.join(f'{100 * e:.1f} %' for e in summary['energy'])})")
+    if summary["imputed_people_rank"]:
+        print(f"  fewer than 2 complete people: missing cells imputed with a people rank of "
+              f"{summary['imputed_people_rank']} (cross-validated) before the bases; missing "
+              f"cells: {', '.join(summary['missing_cells'])}")
+    else:
+        print(f"  bases from {len(summary['basis_people'])} complete people; missing cells: "
+              f"{', '.join(summary['missing_cells']) or 'none'}")
+    loo = summary["loo_rms_deg"]
+    caveat = " (optimistic: imputed cells saw everyone; use 'mocap evaluate')" \
+        if summary["imputed_people_rank"] else ""
+    print(f"  signature dimensions {ranks[0]}, ridge α = {summary['ridge_alpha']:g}; "
+          "leave-one-out synthesis RMS "
+          + (f"{loo:.2f}°{caveat}" if loo == loo else "n/a (too few people)"))
+    return 0
+
+
+def _trial_action(model, path: str, curve, duration, given: str | None) -> str:
+    """The action of a --from trial: given, from its file name, or recognised."""
+    if given is not None:
+        model.action_index(given)
+        return given
+    parts = Path(path).stem.split("_")
+    if len(parts) >= 2 and parts[1] in model.actions:
+        return parts[1]
+    action = model.recognize(curve).action
+    print(f"mocap synthesize: {path}: action not given, recognised as {action!r} "
+          f"(use --from-action to set it)", file=sys.stderr)
+    return action
+
+
+def synthesize(args: argparse.Namespace) -> int:
+    """``mocap synthesize``: one cycle of a (known, blended or new) person doing an action."""
+    from synthesis.model import MotionModel
+
+    suffix = Path(args.output).suffix.lower()
+    if suffix not in OUTPUT_SUFFIXES:
+        raise MocapError("output must be an angle CSV (.csv) or a BVH file (.bvh)", args.output)
+    if (args.person is None) == (not args.trials):
+        raise MocapError("give either --person P (optionally --to P2 --weight W) or "
+                         "--from TRIAL for a new person")
+    if args.to is not None and args.person is None:
+        raise MocapError("--to blends two known people: give --person too")
+    model = MotionModel.load(args.model)
+    model.action_index(args.action)
+    if args.person is not None:
+        if args.to is not None:
+            signature = model.interpolate(args.person, args.to, args.weight)
+            who = f"{args.person}→{args.to} at {args.weight:g}"
+        else:
+            signature = model.signature(args.person)
+            who = args.person
+    else:
+        actions = list(args.from_actions or [])
+        if len(actions) > len(args.trials):
+            raise MocapError("more --from-action than --from trials")
+        observations = []
+        for k, path in enumerate(args.trials):
+            curve, duration = model.read_trial(path)
+            action = _trial_action(model, path, curve, duration,
+                                   actions[k] if k < len(actions) else None)
+            observations.append((action, curve, duration))
+        signature = model.signature_from(observations)
+        who = "new person from " + ", ".join(Path(p).name for p in args.trials)
+    angles = model.synthesize_angles(None, args.action, signature=signature,
+                                     samples=args.samples)
+    if suffix == ".csv":
+        from mocap.angles import write_angles_csv
+        write_angles_csv(angles, args.output)
+    else:
+        # The cycle on the default body, its root path planted on the feet (the model
+        # knows joint angles, not where the body is in the room).
+        from dynamics.humanoid.plant import motion_from_cycle
+        from mocap.io.bvh import write_bvh
+        from mocap.skeleton import load_motion
+
+        skeleton = (load_motion(args.skeleton, markerset=model.markerset).skeleton
+                    if args.skeleton else None)
+        try:
+            motion = motion_from_cycle(angles, skeleton, cycles=args.cycles, up="z")
+        except MocapError as error:
+            raise MocapError(f"cannot build a BVH skeleton for these segments: {error.problem}",
+                             args.output) from None
+        write_bvh(motion, args.output)
+    if suffix == ".csv":
+        print(f"wrote {args.output}: {who} doing {args.action}, {angles.frames} frames over "
+              f"{angles.times[-1]:.3f} s")
+    else:
+        print(f"wrote {args.output}: {who} doing {args.action}, {args.cycles} cycle(s) of "
+              f"{angles.times[-1]:.3f} s, {motion.frames} frames, feet planted")
+    return 0
+
+
+def recognize(args: argparse.Namespace) -> int:
+    """``mocap recognize``: most likely person (and action) of a trial."""
+    from synthesis.model import MotionModel
+
+    model = MotionModel.load(args.model)
+    curve, duration = model.read_trial(args.trial)
+    result = model.recognize(curve, args.action)
+    if args.json:
+        _print_json(result.to_json())
+        return 0
+    print(f"{args.trial}: {result.person} doing {result.action}")
+    for person in sorted(result.scores, key=result.scores.get, reverse=True):
+        print(f"  {person:<16} score {result.scores[person]:.3f}   "
+              f"distance {result.distances[person]:.2f}°")
+    return 0
+
+
+def evaluate(args: argparse.Namespace) -> int:
+    """``mocap evaluate``: leave-one-cell-out synthesis error and recognition accuracy."""
+    from mocap.progress import progress
+    from synthesis.evaluate import leave_one_out, plot_evaluation
+
+    if not args.leave_one_out:
+        raise MocapError("choose an evaluation: --leave-one-out")
+    if args.plot is not None:
+        _check_output(args.plot, (".png", ".pdf", ".svg"))
+    corpus = _load_corpus(args)
+    result = leave_one_out(corpus, progress=progress, **_model_options(args))
+    if args.plot is not None:
+        plot_evaluation(result, args.plot)
+    if args.json:
+        _print_json(result.to_json())
+    else:
+        print(result.table())
+        if args.plot is not None:
+            print(f"wrote {args.plot}")
+    return 0
+
+
+# --------------------------------------------------------------------------- registration
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add this package's sub-commands to ``subparsers``."""
+    parser = subparsers.add_parser(
+        "decompose", help="build an N-mode SVD motion model from a people × actions corpus",
+        description="Read a corpus of trials (one person doing one action each), time-normalise "
+                    "every cycle, and decompose the people × actions × joint-angle tensor with "
+                    "the N-mode SVD into motion signatures and action bases (Vasilescu 2002).")
+    _add_corpus_options(parser)
+    _add_model_options(parser)
+    parser.add_argument("-o", "--output", required=True, metavar="MODEL.npz",
+                        help="model file to write")
+    parser.add_argument("--json", action="store_true", help="print the model summary as JSON")
+    parser.set_defaults(func=decompose)
+
+    parser = subparsers.add_parser(
+        "synthesize", help="synthesise one cycle of a person doing an action",
+        description="Synthesise one cycle of joint angles whose time column spans the "
+                    "predicted duration: a known person doing any action (also one never "
+                    "captured), a blend of two people, or a new person from captured trials.")
+    parser.add_argument("model", metavar="MODEL.npz", help="model from 'mocap decompose'")
+    parser.add_argument("--person", metavar="P", help="known person whose signature to use")
+    parser.add_argument("--to", metavar="P2",
+                        help="second person: blend the signatures of --person and --to")
+    parser.add_argument("--weight", type=float, default=0.5, metavar="W",
+                        help="blend weight of --to (0 = --person, 1 = --to; default 0.5)")
+    parser.add_argument("--from", dest="trials", action="append", metavar="TRIAL",
+                        help="captured trial of a new person (repeat for several actions); its "
+                             "signature is fitted to it")
+    parser.add_argument("--from-action", dest="from_actions", action="append", metavar="A",
+                        help="action of each --from trial, in order (default: from its file "
+                             "name <person>_<action>, else recognised)")
+    parser.add_argument("--action", required=True, metavar="A", help="action to synthesise")
+    parser.add_argument("--samples", type=_positive_int, default=None, metavar="N",
+                        help="frames of the cycle written (default: the model's sample count)")
+    parser.add_argument("--cycles", type=_positive_int, default=1, metavar="N",
+                        help="BVH output: cycles to write, the root path planted on the feet "
+                             "(default 1)")
+    parser.add_argument("--skeleton", metavar="TRIAL",
+                        help="BVH output: take the body (segment lengths) from this marker "
+                             "trial (read with the model's marker set) or BVH file, e.g. a "
+                             "trial of the same person; the angles only fit the body they "
+                             "came from (default: a generic 1.75 m body)")
+    parser.add_argument("-o", "--output", required=True, metavar="OUT.csv|OUT.bvh",
+                        help="joint-angle CSV (as mocap angles writes) or BVH file to write")
+    parser.set_defaults(func=synthesize)
+
+    parser = subparsers.add_parser(
+        "recognize", help="recognise the person (and action) of a trial",
+        description="Compare a trial with every person's model motion and print the most "
+                    "likely person and action with scores.")
+    parser.add_argument("model", metavar="MODEL.npz", help="model from 'mocap decompose'")
+    parser.add_argument("trial", metavar="TRIAL",
+                        help="marker trial (read with the model's marker set), angle CSV, "
+                             "BVH or AMC")
+    parser.add_argument("--action", metavar="A",
+                        help="the trial's action when known (otherwise recognised too)")
+    parser.add_argument("--json", action="store_true",
+                        help='print {"person": …, "action": …, "scores": {person: score}} '
+                             "as JSON")
+    parser.set_defaults(func=recognize)
+
+    parser = subparsers.add_parser(
+        "evaluate", help="leave-one-out synthesis error and recognition accuracy of a corpus",
+        description="Hold out each (person, action) cell in turn, synthesise it from the "
+                    "person's other actions, and report the RMS joint-angle error per cell and "
+                    "overall beside the baseline 'mean of the other people for that action', "
+                    "plus person-recognition accuracy.")
+    _add_corpus_options(parser)
+    _add_model_options(parser)
+    parser.add_argument("--leave-one-out", action="store_true",
+                        help="hold out every captured cell in turn (the evaluation performed)")
+    parser.add_argument("--plot", metavar="OUT.png",
+                        help="draw synthesised vs captured curves of some cells")
+    parser.add_argument("--json", action="store_true", help="print the results as JSON")
+    parser.set_defaults(func=evaluate)

@@ -1,0 +1,497 @@
+"""C3D marker files: read (structure check, then a vectorised decoder) and write (ezc3d).
+
+Reading goes in two steps:
+
+1. :func:`mocap.io.c3d.layout.inspect_c3d` checks the header, walks the parameter
+   section with bounds checks and matches the data size against the file size,
+   in pure Python. Damaged files stop here with a :class:`MocapError`.
+2. :func:`mocap.io.c3d.layout.decode_c3d_data` decodes the data section of the
+   checked layout with numpy (Intel, DEC and SGI/MIPS; integer and float).
+
+Why our own decoder rather than ezc3d or the ``c3d`` package (the design's first
+plan was ezc3d, with the ``c3d`` package as fallback), measured on this project's
+real files and on seeded damage of them:
+
+- ezc3d misreads valid files silently: the three BTS files of c3d.org sample 28
+  (no ANALOG:RATE, so it skips the 6 analog words per frame and scrambles the
+  points: median change per axis between frames 575 mm instead of 1.6 mm) and
+  the KINARM sample (it opens it only with ``ignore_bad_formatting``, then with
+  blank labels and constant values);
+- ezc3d refuses SGI/MIPS files and stalls 30-55 s on the KINARM sample before
+  raising; one flipped bit in a description length stalled it 20-35 s, and
+  one flipped bit in a group id crashed the process (segmentation fault),
+  both in files our structure check had accepted;
+- ezc3d is 5-11× slower in process (benchmarks/io.py) and a child-process guard
+  against its crashes would cost 7-58× (Python and ezc3d start-up per file);
+- the ``c3d`` package refuses 13 of the 100 valid real C3D files with assertion
+  errors (scale-factor and analog-count consistency checks, parameter types).
+
+Our decoder gives the same points and validity as ezc3d on the files ezc3d
+reads correctly, and the same as the ``c3d`` package on the files ezc3d cannot
+read (tests/test_io_realdata.py checks both). ezc3d writes C3D files here, and
+``read_c3d(path, engine="ezc3d")`` still reads with it, for files
+:func:`ezc3d_refusal` finds safe for it.
+
+Every reading ends in the same :class:`~mocap.trial.Trial`: points in metres,
+NaN where the residual is negative, the coordinates are not finite, or the
+point sits exactly at (0, 0, 0) (how some Qualisys files mark gaps). Points that
+a modelling package computed (POINT:ANGLES, FORCES, MOMENTS, POWERS, SCALARS,
+REACTIONS, such as Plug-in Gait's ``LKneeAngles``) are not markers: they are
+kept in ``trial.metadata["modelled"]`` instead (``labels``, ``kinds`` and
+``values`` of shape (frames, n, 3) in the file's units for each kind, e.g.
+degrees for angles, NaN where invalid). ``metadata["parameters"]`` holds every
+C3D parameter (``{group: {name: value}}``, e.g. FORCE_PLATFORM for the analogs),
+``metadata["events"]`` the EVENT group (label, context, time, frame).
+
+Units: POINT:UNITS ``mm``/``cm``/``m`` (and their long spellings) are honoured.
+When the file has no usable unit, the unit is inferred from the magnitude of
+the valid coordinates: a 99th percentile above 20 means millimetres (no capture
+volume is 20 m wide, while a marker 20 mm from the origin for 99 % of a trial is
+implausible), otherwise metres; the inference is recorded in
+``metadata["warnings"]``.
+"""
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from mocap.atomic import atomic_path
+from mocap.errors import MocapError
+from mocap.io.c3d.layout import C3DLayout, count_parameter, decode_c3d_data, inspect_c3d
+from mocap.trial import Trial
+
+#: POINT parameters listing computed (non-marker) points, as Vicon and others write them.
+MODELLED_KINDS = ("ANGLES", "FORCES", "MOMENTS", "POWERS", "SCALARS", "REACTIONS")
+
+_UNIT_FACTORS = {
+    "mm": 1e-3, "millimeter": 1e-3, "millimeters": 1e-3, "millimetre": 1e-3,
+    "millimetres": 1e-3, "cm": 1e-2, "centimeter": 1e-2, "centimeters": 1e-2,
+    "centimetre": 1e-2, "centimetres": 1e-2, "m": 1.0, "meter": 1.0, "meters": 1.0,
+    "metre": 1.0, "metres": 1.0, "dm": 0.1, "in": 0.0254, "inch": 0.0254,
+    "inches": 0.0254,
+}
+#: 99th-percentile |coordinate| above which a file without units is taken as millimetres.
+INFER_MM_ABOVE = 20.0
+
+
+def unit_factor(units: str) -> float | None:
+    """Metres per file unit for a unit string (``"mm"`` → 0.001), None if unknown."""
+    return _UNIT_FACTORS.get(units.strip().lower().rstrip("."))
+
+
+def infer_unit_factor(values: np.ndarray) -> tuple[str, float]:
+    """Guess the unit of coordinates with no stated unit, from their magnitude.
+
+    Parameters
+    ----------
+    values : ndarray
+        Coordinates in the unknown unit, NaN where missing.
+
+    Returns
+    -------
+    (unit, metres per unit) : ``("mm", 0.001)`` or ``("m", 1.0)``.
+    """
+    finite = np.abs(values[np.isfinite(values)])
+    if finite.size and np.percentile(finite, 99) > INFER_MM_ABOVE:
+        return "mm", 1e-3
+    return "m", 1.0
+
+
+def _string_list(value) -> list[str]:
+    if value is None:
+        return []
+    if isinstance(value, str):
+        return [value] if value else []
+    if isinstance(value, list):
+        return [str(v) for v in value]
+    return []
+
+
+def _group_labels(group: dict, count: int) -> list[str]:
+    """A group's LABELS, LABELS2 … joined, stripped, padded with "" or cut to ``count``."""
+    labels = _string_list(group.get("LABELS"))
+    index = 2
+    while f"LABELS{index}" in group:
+        labels += _string_list(group[f"LABELS{index}"])
+        index += 1
+    labels = [label.strip() for label in labels[:count]]
+    return labels + [""] * (count - len(labels))
+
+
+def _point_labels(layout: C3DLayout) -> list[str]:
+    """POINT:LABELS, LABELS2 … joined, padded or cut to the point count."""
+    return _group_labels(layout.parameters.get("POINT", {}), layout.point_count)
+
+
+def _analog_labels(layout: C3DLayout) -> list[str]:
+    labels = _group_labels(layout.parameters.get("ANALOG", {}), layout.analog_channels)
+    return unique_labels(labels, prefix="A")[0]      # blank → A001…, repeats → _2
+
+
+def unique_labels(labels: list[str], prefix: str = "M") -> tuple[list[str], list[str]]:
+    """Make labels non-empty and unique, saying what was changed.
+
+    Blank labels become ``M001``… (1-based column); the second and later
+    copies of a repeated label get ``_2``, ``_3``… appended (``RKNE``,
+    ``RKNE_2``), so every marker stays addressable by name.
+
+    Returns
+    -------
+    (labels, notes) : the new labels and at most one note per kind of change.
+    """
+    result = []
+    seen: dict[str, int] = {}
+    renamed = []
+    blank = 0
+    taken = set(labels)
+    for i, label in enumerate(labels):
+        if not label:
+            label = f"{prefix}{i + 1:03d}"
+            blank += 1
+        if label in seen:
+            count = seen[label] + 1
+            while f"{label}_{count}" in taken or f"{label}_{count}" in seen:
+                count += 1
+            seen[label] = count
+            candidate = f"{label}_{count}"
+            renamed.append(candidate)
+            label = candidate
+        seen.setdefault(label, 1)
+        result.append(label)
+    notes = []
+    if blank:
+        notes.append(f"{blank} blank label(s) named after their column ({prefix}001…)")
+    if renamed:
+        shown = ", ".join(renamed[:6]) + (", …" if len(renamed) > 6 else "")
+        notes.append(f"{len(renamed)} repeated label(s) renamed with a numbered suffix: "
+                     f"{shown}")
+    return result, notes
+
+
+def ezc3d_refusal(layout: C3DLayout) -> str:
+    """Why ezc3d must not read this checked file ('' when it may).
+
+    ezc3d trusts POINT:FRAMES, POINT:USED and ANALOG:RATE / POINT:RATE over the
+    header; where those disagree with the layout the file size confirms, it
+    misreads the data. It refuses SGI/MIPS files, and a parameter section with
+    oddities (a group defined twice, a parameter of an undefined group, a
+    description overrunning its entry, unprintable names) has crashed it or
+    kept it busy for tens of seconds in the damage tests.
+    """
+    if layout.processor == "mips":
+        return "ezc3d does not read SGI/MIPS files"
+    if layout.warnings:
+        return "; ".join(layout.warnings)
+    if layout.anomalies:
+        return "parameter section: " + "; ".join(layout.anomalies[:3])
+    parameters = layout.parameters
+    point = parameters.get("POINT", {})
+    if "USED" not in point:
+        return "no POINT:USED parameter"
+    if count_parameter(parameters, "POINT", "FRAMES") != layout.frames:
+        return "POINT:FRAMES does not give the frame count the file holds"
+    if len(_string_list(point.get("LABELS"))) < min(layout.point_count, 255):
+        return "fewer POINT:LABELS than points"
+    analog = parameters.get("ANALOG", {})
+    if layout.analog_channels:
+        rate = analog.get("RATE")
+        if not isinstance(rate, np.ndarray) or rate.size == 0 or layout.rate <= 0 \
+                or not np.isfinite(rate.reshape(-1)[0]):
+            return "no ANALOG:RATE: ezc3d would skip the analog words and shift the points"
+        if int(float(rate.reshape(-1)[0]) / layout.rate) != layout.analog_samples_per_frame:
+            return "ANALOG:RATE / POINT:RATE disagrees with the stored analog samples"
+        for name in ("SCALE", "OFFSET", "LABELS"):
+            value = analog.get(name)
+            size = len(value) if isinstance(value, list) else getattr(value, "size", 0)
+            if size < min(layout.analog_channels, 255):
+                return f"fewer ANALOG:{name} entries than channels"
+    return ""
+
+
+def _read_ezc3d(layout: C3DLayout):
+    import ezc3d
+
+    c3d = ezc3d.c3d(layout.path, extract_forceplat_data=False)
+    data = c3d["data"]
+    points = np.asarray(data["points"])[:3].transpose(2, 1, 0)
+    residuals = np.asarray(data["meta_points"]["residuals"])[0].T
+    analogs = np.asarray(data["analogs"])[0].T
+    return points, residuals, analogs
+
+
+def _analog_transform(layout: C3DLayout, raw: np.ndarray) -> np.ndarray:
+    """Apply ANALOG:OFFSET, SCALE and GEN_SCALE to raw stored analog values."""
+    channels = layout.analog_channels
+    group = layout.parameters.get("ANALOG", {})
+
+    def per_channel(name: str, default: float) -> np.ndarray:
+        value = group.get(name)
+        out = np.full(channels, default, dtype=float)
+        if isinstance(value, np.ndarray):
+            flat = value.reshape(-1)[:channels].astype(float)
+            out[:flat.size] = flat
+        return out
+
+    offsets = per_channel("OFFSET", 0.0)
+    if "OFFSET" not in group:
+        offsets = per_channel("OFFSETS", 0.0)
+    scales = per_channel("SCALE", 1.0)
+    gen_scale = group.get("GEN_SCALE")
+    gen = float(gen_scale.reshape(-1)[0]) if isinstance(gen_scale, np.ndarray) \
+        and gen_scale.size else 1.0
+    values = raw
+    if not layout.is_float and str(group.get("FORMAT", "")).strip().upper() == "UNSIGNED":
+        values = np.where(values < 0, values + 65536, values)
+    return (values - offsets) * scales * gen
+
+
+def _read_own(layout: C3DLayout):
+    points, residuals, raw_analogs = decode_c3d_data(layout)
+    analogs = _analog_transform(layout, raw_analogs) if layout.analog_channels else \
+        np.zeros((0, 0))
+    return points, residuals, analogs
+
+
+def _shape_ok(layout: C3DLayout, points: np.ndarray, residuals: np.ndarray) -> bool:
+    return (points.shape == (layout.frames, layout.point_count, 3)
+            and residuals.shape == (layout.frames, layout.point_count))
+
+
+def read_c3d(path: str | os.PathLike, engine: str = "mocap") -> Trial:
+    """Read a C3D file into a :class:`Trial` (metres, NaN for missing samples).
+
+    Parameters
+    ----------
+    path : str or PathLike
+    engine : {"mocap", "ezc3d"}
+        Who decodes the data section once the file has passed the structure
+        check: our vectorised decoder (default), or ezc3d, which is refused
+        (MocapError) for files it is known to misread or stall on. ezc3d is not
+        otherwise guarded: it still stalls 30-55 s on the KINARM sample of
+        c3d.org (sample 22) before raising, for a reason not found.
+
+    Returns
+    -------
+    Trial
+        ``points`` (frames, markers, 3) in metres; ``units`` as stored in the
+        file (``""`` when absent); ``metadata`` holds ``reader`` (``"mocap"`` or
+        ``"ezc3d"``), ``processor``, ``first_frame``, ``warnings`` (list of str)
+        and ``modelled`` (computed points, see the module docstring).
+
+    Raises
+    ------
+    MocapError
+        Missing, damaged or unreadable file.
+
+    Examples
+    --------
+    >>> trial = read_c3d("walk.c3d")                   # doctest: +SKIP
+    >>> trial.points.shape, trial.rate
+    ((580, 51, 3), 100.0)
+    """
+    layout = inspect_c3d(path)
+    notes = list(layout.warnings)
+    if engine == "ezc3d":
+        problem = ezc3d_refusal(layout)
+        if problem:
+            raise MocapError(f"not read with ezc3d: {problem}", layout.path)
+        reader = _read_ezc3d
+    elif engine == "mocap":
+        reader = _read_own
+    else:
+        raise ValueError(f"unknown C3D engine {engine!r}")
+    try:
+        points, residuals, analogs = reader(layout)
+    except MemoryError:
+        raise MocapError("file too large to read into memory", layout.path) from None
+    except (RuntimeError, OSError, ValueError, IndexError) as error:
+        if engine != "ezc3d":
+            raise           # our decoder failing on a checked layout is our bug
+        raise MocapError(f"ezc3d could not decode the data: {error}", layout.path) \
+            from None
+    if not _shape_ok(layout, points, residuals):
+        raise MocapError(f"{engine} read {points.shape[:2]} frames × points instead of "
+                         f"{(layout.frames, layout.point_count)}", layout.path)
+    return _to_trial(layout, engine, points, residuals, analogs, notes)
+
+
+def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.ndarray,
+              analogs: np.ndarray, notes: list[str]) -> Trial:
+    points = np.array(points, dtype=float)
+    invalid = ~(residuals >= 0) | ~np.isfinite(points).all(axis=2)
+    points[invalid] = np.nan
+
+    raw_labels = _point_labels(layout)
+    point_group = layout.parameters.get("POINT", {})
+    modelled_names = {}
+    for kind in MODELLED_KINDS:
+        for label in _string_list(point_group.get(kind)):
+            if label.strip():
+                modelled_names.setdefault(label.strip(), kind)
+    is_modelled = np.array([bool(label) and label in modelled_names for label in raw_labels],
+                           dtype=bool)
+    marker_columns = np.flatnonzero(~is_modelled)
+    labels, label_notes = unique_labels([raw_labels[i] for i in marker_columns])
+    notes += label_notes
+
+    units = point_group.get("UNITS", "")
+    units = units[0] if isinstance(units, list) and units else units
+    units = units.strip() if isinstance(units, str) else ""
+    factor = unit_factor(units) if units else None
+    markers = points[:, marker_columns, :]
+    markers[(markers == 0).all(axis=2)] = np.nan      # a gap coded as (0, 0, 0)
+    if factor is None and not np.isfinite(markers).any():
+        factor = 1.0            # nothing to convert: no valid coordinate
+    elif factor is None:
+        guess, factor = infer_unit_factor(markers)
+        notes.append(f"POINT:UNITS is {units!r}; {guess} inferred from the coordinates' "
+                     f"magnitude")
+    markers = markers * factor
+
+    metadata = {
+        "reader": reader,
+        "processor": layout.processor,
+        "first_frame": layout.first_frame,
+        "warnings": notes,
+        "parameters": layout.parameters,
+    }
+    if is_modelled.any():
+        columns = np.flatnonzero(is_modelled)
+        metadata["modelled"] = {
+            "labels": [raw_labels[i] for i in columns],
+            "kinds": [modelled_names[raw_labels[i]] for i in columns],
+            "values": points[:, columns, :],
+        }
+    events = _events(layout)
+    if events:
+        metadata["events"] = events
+    for group, key in (("MANUFACTURER", "COMPANY"), ("MANUFACTURER", "SOFTWARE"),
+                       ("SUBJECTS", "NAMES")):
+        value = layout.parameters.get(group, {}).get(key)
+        if isinstance(value, (str, list)) and value:
+            metadata[f"{group.lower()}_{key.lower()}"] = value
+    analog_labels = _analog_labels(layout) if layout.analog_channels else []
+    analog_rate = layout.rate * layout.analog_samples_per_frame if layout.analog_channels \
+        else None
+    if analogs.ndim != 2 or analogs.shape[1] != len(analog_labels):
+        analogs = None
+        analog_labels = []
+        analog_rate = None
+    return Trial(labels, markers, layout.rate, units, layout.path, "c3d",
+                 analogs if analog_labels else None, analog_labels, analog_rate, metadata)
+
+
+def _events(layout: C3DLayout) -> list[dict]:
+    """EVENT group as a list of ``{"label", "context", "time", "frame"}``, by time.
+
+    ``time`` is in seconds from the trial's first frame and ``frame`` the 0-based
+    index into ``points``; the file stores times from the start of the capture
+    (frame 1 at 0 s), as minutes and seconds. Events outside the trial are dropped.
+    """
+    group = layout.parameters.get("EVENT", {})
+    times = group.get("TIMES")
+    if not isinstance(times, np.ndarray) or times.ndim != 2 or times.shape[0] != 2 \
+            or layout.rate <= 0:
+        return []
+    used = count_parameter(layout.parameters, "EVENT", "USED")
+    count = min(times.shape[1], used if used is not None else times.shape[1])
+    labels = _string_list(group.get("LABELS"))
+    contexts = _string_list(group.get("CONTEXTS"))
+    events = []
+    for i in range(count):
+        absolute = 60.0 * float(times[0, i]) + float(times[1, i])
+        if not np.isfinite(absolute):
+            continue
+        frame = int(round(absolute * layout.rate)) + 1 - layout.first_frame
+        if 0 <= frame < layout.frames:
+            events.append({"label": labels[i] if i < len(labels) else "",
+                           "context": contexts[i] if i < len(contexts) else "",
+                           "time": frame / layout.rate, "frame": frame})
+    return sorted(events, key=lambda event: event["frame"])
+
+
+def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:
+    """Write a trial's markers (and analogs) to a C3D file with ezc3d.
+
+    Parameters
+    ----------
+    trial : Trial
+        ``points`` (frames, markers, 3) in metres, NaN where missing.
+    path : str or PathLike
+        Written all-or-nothing (temporary file, then rename).
+    units : {"mm", "cm", "m"}
+        Length unit stored in the file (POINT:UNITS); points are converted.
+
+    Missing samples are written as residual -1 with zero coordinates, the C3D
+    convention; the data are stored as 32-bit floats (POINT:SCALE -1). Analogs
+    (when their rate is a whole multiple of the point rate) and
+    ``metadata["events"]`` are written too.
+    """
+    import ezc3d
+
+    factor = unit_factor(units)
+    if factor is None or units not in ("mm", "cm", "m"):
+        raise MocapError(f"cannot write C3D in units {units!r} (use mm, cm or m)", path)
+    labels = list(trial.labels)
+    if len(set(labels)) != len(labels) or any(len(label) == 0 for label in labels):
+        raise MocapError("marker labels must be unique and non-empty to write C3D", path)
+    too_long = [label for label in labels if len(label.encode("utf-8")) > 255]
+    if too_long:
+        raise MocapError(f"C3D labels hold at most 255 bytes; {too_long[0][:40]!r}… is "
+                         f"longer", path)
+    if not (np.isfinite(trial.rate) and trial.rate > 0):
+        raise MocapError(f"cannot write C3D with rate {trial.rate} Hz", path)
+    frames, markers = trial.frames, len(labels)
+    if frames == 0:
+        raise MocapError("cannot write a C3D file without frames", path)
+    c3d = ezc3d.c3d()
+    c3d["parameters"]["POINT"]["RATE"]["value"] = [float(trial.rate)]
+    c3d["parameters"]["POINT"]["LABELS"]["value"] = labels
+    c3d.add_parameter("POINT", "UNITS", [units])
+    values = np.ones((4, markers, frames))
+    coordinates = trial.points.transpose(2, 1, 0) / factor
+    missing = ~np.isfinite(coordinates).all(axis=0)
+    values[:3] = np.where(missing[None], 0.0, coordinates)
+    for event in trial.metadata.get("events", []):
+        # Written files start at frame 1, time 0: an event's time is its frame / rate.
+        frame = int(event.get("frame", round(float(event.get("time", 0.0)) * trial.rate)))
+        if 0 <= frame < frames:
+            c3d.add_event([0, frame / trial.rate], context=str(event.get("context", "")),
+                          label=str(event.get("label", "")))
+    if frames > 65535:
+        # The header and POINT:FRAMES are 16-bit; TRIAL:ACTUAL_*_FIELD carry the
+        # frame range as two 16-bit words (low, high), as Vicon writes them.
+        def words(value: int) -> list[int]:
+            return [int(np.int16(np.uint16(value & 0xFFFF))),
+                    int(np.int16(np.uint16(value >> 16)))]
+
+        for name, frame in (("ACTUAL_START_FIELD", 1), ("ACTUAL_END_FIELD", frames)):
+            c3d.add_parameter("TRIAL", name, words(frame))
+            # ezc3d stores Python integers as floats; these are 16-bit integers.
+            c3d["parameters"]["TRIAL"][name]["type"] = ezc3d.ezc3d.INT
+            c3d["parameters"]["TRIAL"][name]["value"] = np.array(words(frame))
+    c3d["data"]["points"] = values
+    residuals = np.where(missing, -1.0, 0.0)[None]
+    c3d["data"]["meta_points"]["residuals"] = residuals
+    c3d["data"]["meta_points"]["camera_masks"] = np.zeros((7, markers, frames), dtype=bool)
+    if trial.analogs is not None and trial.analog_rate and len(trial.analog_labels):
+        per_frame = trial.analog_rate / trial.rate
+        if (abs(per_frame - round(per_frame)) < 1e-9 and per_frame >= 1
+                and trial.analogs.shape[0] == frames * round(per_frame)):
+            c3d["parameters"]["ANALOG"]["RATE"]["value"] = [float(trial.analog_rate)]
+            c3d["parameters"]["ANALOG"]["LABELS"]["value"] = list(trial.analog_labels)
+            c3d["data"]["analogs"] = np.asarray(trial.analogs, dtype=float).T[None]
+    with atomic_path(path) as tmp:
+        # ezc3d appends ".c3d" to any other suffix (".C3D" included).
+        ezc3d_name = tmp.with_suffix(".c3d")
+        try:
+            c3d.write(str(ezc3d_name))
+            os.replace(ezc3d_name, tmp)
+        except Exception as error:   # ezc3d reports write problems as RuntimeError/OSError
+            ezc3d_name.unlink(missing_ok=True)
+            raise MocapError(f"cannot write C3D: {error}", path) from None
+
+
+__all__ = ["read_c3d", "write_c3d", "unit_factor", "infer_unit_factor", "unique_labels",
+           "MODELLED_KINDS"]
