@@ -11,7 +11,7 @@ from mocap.cli import main
 from mocap.io.bvh import read_bvh, write_bvh
 from mocap.skeleton import Motion, default_skeleton
 
-DATA = Path(__file__).parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 DESIGN_KEYS = {"mass_kg", "frames", "residual_force_rms_N", "residual_force_peak_N",
                "residual_force_rms_pct_bw", "residual_torque_rms_Nm", "foot_skate_mm",
                "penetration_mm", "floating_mm", "peak_joint_torque_Nm", "verdict", "reasons"}

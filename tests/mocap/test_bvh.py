@@ -13,7 +13,7 @@ from mocap.io.bvh import detect_units, read_bvh, write_bvh
 from mocap.io.mot import write_mot, write_motion_mot
 from mocap.skeleton import BODY_SEGMENTS, Motion, default_skeleton, reduce_to_segments
 
-DATA = Path(__file__).parent / "data"
+DATA = Path(__file__).resolve().parents[1] / "data"
 
 CMU_STYLE = """HIERARCHY
 ROOT Hips

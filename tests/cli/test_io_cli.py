@@ -12,9 +12,9 @@ import pytest
 from mocap.cli import main
 from mocap.io import read, write
 from tests.conftest import realdata_path
-from tests.test_io_roundtrip import synthetic_trial
+from tests.mocap.test_io_roundtrip import synthetic_trial
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def run(argv: list[str], capsys) -> tuple[int, str, str]:

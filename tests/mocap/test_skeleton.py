@@ -151,7 +151,7 @@ def test_load_motion_reads_every_kind_and_gives_corpus_angles(tmp_path):
 
     from mocap.skeleton import load_motion, motion_joint_angles
 
-    data = Path(__file__).parent / "data"
+    data = Path(__file__).resolve().parents[1] / "data"
     bvh = load_motion(data / "mocapbank_walk.bvh")
     amc = load_motion(data / "cmu_lambada.amc")            # finds cmu_lambada.asf beside it
     assert bvh.frames == 10 and amc.frames == 4

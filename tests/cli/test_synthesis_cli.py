@@ -9,7 +9,7 @@ import pytest
 
 from mocap.angles import JointAngles, read_angles_csv, write_angles_csv
 from mocap.cli import main
-from tests.test_synthesis_model import SEGMENTS, multilinear_corpus
+from tests.synthesis.test_model import SEGMENTS, multilinear_corpus
 
 
 def write_corpus(folder, corpus, skip=()):
