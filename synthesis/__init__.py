@@ -8,9 +8,12 @@ person's motion of the action — also for actions they were never captured doin
 
 Modules
 -------
-tensor
-    Corpus → :class:`~synthesis.tensor.MotionCorpus` (reading, unwrapping, time
-    normalisation, cycle detection and averaging, missing cells).
+corpus
+    Corpus → :class:`~synthesis.corpus.MotionCorpus` (listing, reading trials' joint angles,
+    stacking and averaging cells, missing cells).
+cycles
+    Time normalisation of angle curves (unwrapping, gap bridging, resampling, cycle detection
+    and averaging, branch).
 nmode
     :func:`~synthesis.nmode.nmode_svd` (Gram-matrix HOSVD, ranks by count or kept energy).
 signature
@@ -23,8 +26,9 @@ model
     ``.npz`` persistence.
 evaluate
     Leave-one-cell-out evaluation against the "mean of the other people" baseline; plots.
-commands
-    ``mocap decompose | synthesize | recognize | evaluate``.
+
+The commands ``mocap decompose | synthesize | recognize | evaluate`` live in
+``mocap/cli/synthesis.py``.
 
 Examples
 --------
@@ -36,8 +40,8 @@ Examples
 from importlib import import_module
 
 #: Public names and their modules, imported on first use (keeps ``mocap --help`` fast).
-_EXPORTS = {"MotionModel": "synthesis.model", "MotionCorpus": "synthesis.tensor",
-            "load_corpus": "synthesis.tensor", "leave_one_out": "synthesis.evaluate",
+_EXPORTS = {"MotionModel": "synthesis.model", "MotionCorpus": "synthesis.corpus",
+            "load_corpus": "synthesis.corpus", "leave_one_out": "synthesis.evaluate",
             "nmode_svd": "synthesis.nmode"}
 
 __all__ = list(_EXPORTS)

@@ -20,7 +20,7 @@ import numpy as np
 
 from mocap.errors import MocapError
 from synthesis.model import MotionModel
-from synthesis.tensor import MotionCorpus
+from synthesis.corpus import MotionCorpus
 
 
 @dataclass

@@ -25,7 +25,8 @@ from mocap.errors import MocapError
 from synthesis.nmode import Rank
 from synthesis.regression import SignatureModel
 from synthesis.signature import interpolate_signatures, posterior_scores
-from synthesis.tensor import MotionCorpus, check_corpus_size, normalise_cycles, read_trial_angles
+from synthesis.corpus import MotionCorpus, check_corpus_size, read_trial_angles
+from synthesis.cycles import normalise_cycles
 
 #: File format version written into saved models.
 FORMAT_VERSION = 1

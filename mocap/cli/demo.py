@@ -101,7 +101,7 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
     from mocap.synthetic import generate_corpus
     from synthesis.model import MotionModel
     from mocap.io.discovery import parse_trial_name
-    from synthesis.tensor import load_corpus
+    from synthesis.corpus import load_corpus
 
     out = Path(out_dir)
     figures = out / "figures"

@@ -117,7 +117,7 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
 
 def _load_corpus(args: argparse.Namespace):
     from mocap.progress import progress
-    from synthesis.tensor import load_corpus
+    from synthesis.corpus import load_corpus
 
     if args.corpus is None and args.manifest is None:
         raise MocapError("give a corpus folder or --manifest FILE.csv")

@@ -7,7 +7,7 @@ import pytest
 from mocap.errors import MocapError
 from synthesis.evaluate import leave_one_out
 from synthesis.model import MotionModel
-from synthesis.tensor import MotionCorpus, angle_columns, load_corpus
+from synthesis.corpus import MotionCorpus, angle_columns, load_corpus
 
 SEGMENTS = ["pelvis", "thorax", "r_thigh", "r_shank"]
 

@@ -1,4 +1,4 @@
-"""Corpus → tensor: names, manifests, unwrapping, time normalisation, cycle detection."""
+"""Corpus → tensor: names, manifests, angle CSVs, BVH and marker corpora, missing cells."""
 from __future__ import annotations
 
 import numpy as np
@@ -6,9 +6,9 @@ import pytest
 
 from mocap.angles import JointAngles, write_angles_csv
 from mocap.errors import MocapError
-from synthesis.tensor import (angle_columns, detect_cycles, is_angle_csv, list_corpus_folder,
-                              load_corpus, normalise_cycles, parse_trial_name, read_manifest,
-                              resample, unwrap_degrees)
+from mocap.io.discovery import parse_trial_name
+from synthesis.corpus import (angle_columns, is_angle_csv, list_corpus_folder, load_corpus,
+                              read_manifest)
 
 
 def write_cycle(path, values, duration, segments=("pelvis", "r_thigh")):
@@ -47,58 +47,6 @@ def test_manifest_resolves_relative_paths(tmp_path):
         read_manifest(tmp_path / "bad.csv")
 
 
-def test_unwrap_across_the_wrap_point_with_missing_samples():
-    true = np.linspace(150.0, 230.0, 81)                     # crosses +180°
-    wrapped = (true + 180.0) % 360.0 - 180.0
-    wrapped[10:15] = np.nan
-    unwrapped = unwrap_degrees(wrapped[:, None])[:, 0]
-    valid = ~np.isnan(unwrapped)
-    assert np.allclose(unwrapped[valid], true[valid])
-    assert np.isnan(unwrapped[10:15]).all()
-
-
-def test_resample_is_exact_for_linear_signals():
-    times = np.sort(np.random.default_rng(0).uniform(0, 2, 50))
-    values = np.column_stack([3 * times + 1, -times])
-    out = resample(times, values, times[0], times[-1], 17)
-    instants = np.linspace(times[0], times[-1], 17)
-    assert np.allclose(out, np.column_stack([3 * instants + 1, -instants]))
-
-
-def test_one_cycle_normalisation_keeps_duration_fills_gaps_and_picks_the_branch():
-    times = np.arange(91) / 100.0                              # 0.90 s
-    angle = 200.0 + 10 * np.sin(2 * np.pi * times / 0.9)       # stored wrapped to (-180, 180]
-    values = np.column_stack([(angle + 180) % 360 - 180, 5 * times])
-    values[30:40, 1] = np.nan                                  # a gap in a linear angle
-    curve, duration, count = normalise_cycles(times, values, samples=10)
-    assert duration == pytest.approx(0.9) and count == 1
-    phase = np.linspace(0, 0.9, 10)
-    assert np.allclose(curve[:, 1], 5 * phase, atol=1e-9)
-    # Mean 200° is brought to the branch with mean in (-180, 180]: −160°.
-    expected = -160.0 + 10 * np.sin(2 * np.pi * phase / 0.9)
-    assert np.allclose(curve[:, 0], expected, atol=0.1)
-
-
-def test_cycle_detection_finds_the_period_and_averages_cycles():
-    rate, period = 100.0, 1.1
-    times = np.arange(int(3.6 * period * rate)) / rate
-    hip = 20 * np.cos(2 * np.pi * (times - 0.25) / period)    # maxima at 0.25 + k·1.1 s
-    knee = 30 + 25 * np.sin(2 * np.pi * (times - 0.25) / period) ** 2
-    bounds = detect_cycles(times, hip)
-    assert len(bounds) == 3
-    assert np.allclose(bounds[:, 0], 0.25 + period * np.arange(3), atol=2e-3)
-    assert np.allclose(bounds[:, 1] - bounds[:, 0], period, atol=2e-3)
-    curve, duration, count = normalise_cycles(times, np.column_stack([hip, knee]), 50,
-                                              cycles=True)
-    assert count == 3 and duration == pytest.approx(period, abs=2e-3)
-    u = np.linspace(0, 1, 50)
-    assert np.allclose(curve[:, 0], 20 * np.cos(2 * np.pi * u), atol=0.1)
-
-
-def test_cycle_detection_without_repetition_is_a_clear_error():
-    times = np.arange(100) / 100.0
-    with pytest.raises(MocapError, match="no complete cycle"):
-        normalise_cycles(times, np.column_stack([times ** 2]), cycles=True)
 
 
 def test_angle_csv_detection(tmp_path):
@@ -142,7 +90,7 @@ def test_marker_csv_with_dotted_axis_names_is_read_as_markers(tmp_path):
     from mocap import io
     from mocap.markersets.model import load_markerset
     from mocap.synthetic import synthesize_trial
-    from synthesis.tensor import read_trial_angles
+    from synthesis.corpus import read_trial_angles
 
     trial, _ = synthesize_trial(0, "walk")
     io.write(trial, tmp_path / "ana_walk.csv")
