@@ -7,10 +7,17 @@ import sys
 import warnings
 from pathlib import Path
 
+from mocap.angles import GimbalLockWarning, check_sequence, write_angles_csv
 from mocap.errors import MocapError
+from mocap.io import suffixes
+from mocap.io.discovery import find_files
+from mocap.markersets.model import load_markerset
+from mocap.pipeline import Cleaning, marker_file_angles
+from mocap.plot import plot_angles
+from mocap.progress import progress
 
 #: Suffixes ``mocap angles`` picks up when given a folder.
-MARKER_SUFFIXES = (".c3d", ".trc", ".csv")
+MARKER_SUFFIXES = suffixes("markers")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -59,29 +66,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     register_generate(subparsers)
 
 
-def _expand_inputs(inputs: list[str]) -> list[Path]:
-    files: list[Path] = []
-    for item in inputs:
-        path = Path(item)
-        if path.is_dir():
-            found = sorted(p for p in path.iterdir()
-                           if p.is_file() and p.suffix.lower() in MARKER_SUFFIXES)
-            if not found:
-                raise MocapError("folder holds no .c3d, .trc or .csv files", path)
-            files.extend(found)
-        elif path.exists():
-            files.append(path)
-        else:
-            raise MocapError("file not found", path)
-    return files
-
-
 def run_angles(args: argparse.Namespace) -> int:
     """Handler of ``mocap angles``; returns the exit status."""
-    from mocap.angles import check_sequence
-    from mocap.markersets.model import load_markerset
-    from mocap.progress import progress
-
     check_sequence(args.sequence)
     markerset = load_markerset(args.markerset)
     if args.fill_gaps is not None and not args.fill_gaps >= 0:
@@ -90,7 +76,7 @@ def run_angles(args: argparse.Namespace) -> int:
         raise MocapError(f"--lowpass must be a positive frequency in Hz, not {args.lowpass}")
     if args.order < 1:
         raise MocapError(f"--order must be a positive whole number, not {args.order}")
-    files = _expand_inputs(args.inputs)
+    files = find_files(args.inputs, MARKER_SUFFIXES, recursive=False)
     output = Path(args.output)
     folder_mode = (len(files) > 1 or any(Path(i).is_dir() for i in args.inputs)
                    or output.is_dir() or args.output.endswith(os.sep))
@@ -125,81 +111,23 @@ def run_angles(args: argparse.Namespace) -> int:
 
 def _angles_one(source: Path, target: Path, plot: Path | None, markerset,
                 args: argparse.Namespace) -> None:
-    from mocap.angles import GimbalLockWarning, joint_angles, write_angles_csv
-    from mocap.clean import fill_gaps, lowpass
-    from mocap.io import read
-    from mocap.trial import Trial
-
-    trial = read(source)
-    markerset.check_trial(trial)
-    # clean only what the marker set reads (Plug-in Gait files carry hundreds of
-    # model outputs stored as "markers")
-    used = markerset.used_labels(trial.labels)
-    columns = [trial.labels.index(label) for label in used]
-    trial = Trial(used, trial.points[:, columns, :], trial.rate, trial.units, trial.path,
-                  trial.format, metadata=dict(trial.metadata))
-    if args.fill_gaps is not None:
-        trial, report = fill_gaps(trial, max_gap_seconds=args.fill_gaps,
-                                  donors=markerset.donors(trial.labels))
-        if report.unfilled:
-            lines = report.summary().splitlines()
-            shown = lines[:11] + ([f"  … {len(lines) - 11} more marker(s)"]
-                                  if len(lines) > 11 else [])
-            print(f"mocap angles: {source}: " + "\n".join(shown), file=sys.stderr)
-    if args.lowpass is not None:
-        trial = lowpass(trial, args.lowpass, order=args.order, short_runs=args.short_runs)
+    cleaning = Cleaning(max_gap_seconds=args.fill_gaps, lowpass_hz=args.lowpass,
+                        order=args.order, short_runs=args.short_runs)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", GimbalLockWarning)
-        angles = joint_angles(trial, markerset, args.sequence)
+        result = marker_file_angles(source, markerset, args.sequence, cleaning)
+    if result.gaps is not None and result.gaps.unfilled:
+        lines = result.gaps.summary().splitlines()
+        shown = lines[:11] + ([f"  … {len(lines) - 11} more marker(s)"]
+                              if len(lines) > 11 else [])
+        print(f"mocap angles: {source}: " + "\n".join(shown), file=sys.stderr)
     for warning in caught:
         if issubclass(warning.category, GimbalLockWarning):
             print(f"mocap angles: warning: {warning.message}", file=sys.stderr)
         else:
             warnings.showwarning(warning.message, warning.category, warning.filename,
                                  warning.lineno)
-    write_angles_csv(angles, target)
+    write_angles_csv(result.angles, target)
     if plot is not None:
-        plot_angles(angles, plot, title=f"{source.name} ({markerset.name}, {args.sequence})")
-
-
-def plot_angles(angles, path: str | os.PathLike, title: str = "") -> None:
-    """Draw the angle curves, one panel per segment, to a PNG (matplotlib Agg).
-
-    Parameters
-    ----------
-    angles : JointAngles
-    path : path-like
-        Written all-or-nothing.
-    title : str
-    """
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from mocap.angles import axis_names
-    from mocap.atomic import atomic_path
-
-    count = len(angles.segments)
-    columns = min(3, count)
-    rows = -(-count // columns)
-    figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 2.6 * rows),
-                                sharex=True, squeeze=False)
-    names = axis_names(angles.sequence)
-    for k, segment in enumerate(angles.segments):
-        axis = axes[k // columns][k % columns]
-        for j, name in enumerate(names):
-            axis.plot(angles.times, angles.values[:, k, j], label=name, linewidth=1.2)
-        axis.set_title(segment, fontsize=10)
-        axis.set_ylabel("degrees")
-        axis.grid(alpha=0.3)
-        axis.legend(fontsize=7, loc="best")
-    for k in range(count, rows * columns):
-        axes[k // columns][k % columns].set_visible(False)
-    for axis in axes[-1]:
-        axis.set_xlabel("time (s)")
-    if title:
-        figure.suptitle(title, fontsize=11)
-    figure.tight_layout()
-    with atomic_path(path) as tmp:
-        figure.savefig(tmp, dpi=100, format="png")
-    plt.close(figure)
+        plot_angles(result.angles, plot,
+                    title=f"{source.name} ({markerset.name}, {args.sequence})")

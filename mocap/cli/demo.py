@@ -92,10 +92,10 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
         The summary written to ``summary.json``: paths and figures.
     """
     from mocap import io
-    from mocap.angles import joint_angles, write_angles_csv
-    from mocap.batch import find_trials
-    from mocap.clean import lowpass
-    from mocap.cli.angles import plot_angles
+    from mocap.angles import write_angles_csv
+    from mocap.pipeline import Cleaning, marker_file_angles
+    from mocap.cli.batch_rows import find_trials
+    from mocap.plot import plot_angles
     from mocap.markersets.model import load_markerset
     from mocap.progress import progress
     from mocap.synthetic import generate_corpus
@@ -129,8 +129,9 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
     with steps(f"extracting joint angles from {len(trials)} trials "
                f"(markers low-passed at {LOWPASS_HZ:g} Hz)"):
         names = {}
+        cleaning = Cleaning(lowpass_hz=LOWPASS_HZ, short_runs="keep")
         for cell, path in progress(cells.items(), "joint angles"):
-            angles = joint_angles(lowpass(io.read(path), LOWPASS_HZ, short_runs="keep"), chosen)
+            angles = marker_file_angles(path, chosen, cleaning=cleaning).angles
             write_angles_csv(angles, out / "angles" / f"{path.stem}_angles.csv")
             names[cell] = (path, angles)
     captured = names[(person, ACTION)][1]

@@ -12,9 +12,9 @@ import sys
 from pathlib import Path
 
 from mocap.errors import MocapError
+from mocap.io.export import EXPORT_FORMATS, export_motion
 
 #: Formats of ``mocap export``.
-EXPORT_FORMATS = ("bvh", "csv", "c3d", "trc", "mot", "json")
 
 
 def _motion_options(parser: argparse.ArgumentParser) -> None:
@@ -198,58 +198,6 @@ def run_export(args: argparse.Namespace) -> int:
     export_motion(motion, args.output, args.format, sequence=args.sequence)
     print(f"wrote {args.output} ({args.format}, {motion.frames} frames)", file=sys.stderr)
     return 0
-
-
-def export_motion(motion, path: str | Path, file_format: str, sequence: str = "ZXY") -> None:
-    """Write a motion in one of :data:`EXPORT_FORMATS` (all-or-nothing)."""
-    import numpy as np
-
-    from mocap.atomic import atomic_path
-
-    if file_format == "bvh":
-        from mocap.io.bvh import write_bvh
-        write_bvh(motion, path)
-    elif file_format == "mot":
-        from mocap.io.mot import write_motion_mot
-        write_motion_mot(motion, path, sequence=sequence)
-    elif file_format == "csv":
-        from mocap.angles import JointAngles, matrices_to_angles, unwrap_angles, write_angles_csv
-        from mocap.skeleton import motion_to_lab
-        rotations, _ = motion_to_lab(motion)
-        values = unwrap_angles(matrices_to_angles(rotations, sequence), sequence)
-        angles = JointAngles(motion.times, values, list(motion.names), sequence,
-                             list(motion.skeleton.parents))
-        write_angles_csv(angles, path)
-    elif file_format in ("c3d", "trc"):
-        from mocap.io import write
-        from mocap.skeleton import Z_UP_TO_Y_UP
-        from mocap.trial import Trial
-        world = motion.forward_kinematics()
-        index, ends = motion.end_site_positions(world)
-        points = np.concatenate([world[1], ends], axis=1) @ Z_UP_TO_Y_UP   # Y up → Z-up lab
-        labels = list(motion.names) + [f"{motion.names[i]}_end" for i in index]
-        trial = Trial(labels, points, motion.rate, units="m", format=file_format)
-        write(trial, path)
-    elif file_format == "json":
-        from scipy.spatial.transform import Rotation
-        sk = motion.skeleton
-        quats = Rotation.from_matrix(motion.rotations.reshape(-1, 3, 3)).as_quat()
-        positions = motion.forward_kinematics()[1]
-        document = {
-            "rate_hz": motion.rate, "frames": motion.frames, "up": "y", "units": "m",
-            "joints": list(sk.names), "parents": list(sk.parents),
-            "offsets": np.round(sk.offsets, 6).tolist(),
-            "end_sites": [None if not np.isfinite(e).all() else np.round(e, 6).tolist()
-                          for e in sk.end_sites],
-            "root_translation": np.round(motion.root_translation, 6).tolist(),
-            "rotations_xyzw": np.round(quats.reshape(motion.frames, sk.count, 4), 7).tolist(),
-            "positions": np.round(positions, 6).tolist(),
-        }
-        with atomic_path(path) as tmp:
-            tmp.write_text(json.dumps(document), encoding="utf-8")
-    else:
-        raise MocapError(f"unknown export format {file_format!r}: use one of "
-                         + ", ".join(EXPORT_FORMATS))
 
 
 def run_animate(args: argparse.Namespace) -> int:

@@ -60,15 +60,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run_batch_command(args: argparse.Namespace) -> int:
     """Run the batch and write or print the table; list failures on stderr."""
     from mocap.atomic import atomic_path
-    from mocap.batch import find_trials, rows_to_csv, run_batch
+    from mocap.batch import rows_to_csv, run_batch
+    from mocap.cli.batch_rows import BASE_COLUMNS, CHECK_COLUMNS, analyse_trial, find_trials
 
     if args.check and not args.markerset:
         raise MocapError("--check needs --markerset (a full-body marker set such as synthetic15)")
     paths = [p for corpus in args.corpus for p in find_trials(corpus)]
-    rows = run_batch(paths, jobs=args.jobs, markerset=args.markerset, sequence=args.sequence,
+    rows = run_batch(analyse_trial, paths, jobs=args.jobs, markerset=args.markerset, sequence=args.sequence,
                      check=args.check, mass_kg=args.mass, dask=args.dask,
                      scheduler=args.scheduler)
-    text = json.dumps(rows, indent=1) + "\n" if args.json else rows_to_csv(rows)
+    text = json.dumps(rows, indent=1) + "\n" if args.json else rows_to_csv(
+        rows, BASE_COLUMNS + (CHECK_COLUMNS if any(c in r for r in rows for c in CHECK_COLUMNS) else []))
     if args.output:
         with atomic_path(args.output) as tmp:
             tmp.write_text(text)

@@ -97,6 +97,18 @@ def formats() -> dict[str, FileFormat]:
     return dict(_FORMATS)
 
 
+def suffixes(kind: str | None = None) -> tuple[str, ...]:
+    """Registered readable suffixes (with the dot), of one ``kind`` or all, sorted.
+
+    Examples
+    --------
+    >>> suffixes("markers")
+    ('.c3d', '.csv', '.trc')
+    """
+    return tuple(sorted(s for s, f in _FORMATS.items()
+                        if f.reader is not None and (kind is None or f.kind == kind)))
+
+
 def _resolve(function: str | Callable) -> Callable:
     if callable(function):
         return function
@@ -154,4 +166,4 @@ def write(obj: Any, path: str | os.PathLike, **options: Any) -> None:
     _resolve(file_format.writer)(obj, path, **options)
 
 
-__all__ = ["read", "write", "register_format", "formats", "format_of", "FileFormat"]
+__all__ = ["read", "write", "register_format", "formats", "format_of", "suffixes", "FileFormat"]

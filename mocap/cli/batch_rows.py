@@ -1,0 +1,82 @@
+"""The rows of ``mocap batch``: one trial -> file facts, joint-angle ranges of motion and,
+on request, the humanoid dynamics check (so this module lives in the command shell: it is
+where mocap meets dynamics)."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from dynamics.humanoid.core import check_motion
+from mocap import io
+from mocap.angles import joint_angles
+from mocap.errors import MocapError
+from mocap.io.discovery import find_files, parse_trial_name
+from mocap.markersets.model import load_markerset
+from mocap.skeleton import motion_from_trial
+
+#: Marker-file suffixes a corpus folder is searched for.
+TRIAL_SUFFIXES = io.suffixes("markers")
+#: First columns of every row; per-segment range-of-motion columns follow.
+BASE_COLUMNS = ["path", "person", "action", "status", "error", "format", "rate_hz", "frames",
+                "duration_s", "markers", "missing_pct"]
+CHECK_COLUMNS = ["residual_force_rms_pct_bw", "foot_skate_mm", "penetration_mm", "floating_mm",
+                 "verdict"]
+
+
+def find_trials(corpus: str | os.PathLike) -> list[Path]:
+    """Marker files directly inside ``corpus`` (a folder) or the file itself, sorted."""
+    return find_files([corpus], TRIAL_SUFFIXES, recursive=False)
+
+
+def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY",
+                  check: bool = False, mass_kg: float = 75.0) -> dict:
+    """One row of the batch table for the trial at ``path``; never raises for bad input.
+
+    Parameters
+    ----------
+    path : str
+        Marker file.
+    markerset : str, optional
+        Preset name or TOML path; with it, joint-angle ranges of motion are added
+        as ``<segment>_rom_deg`` (largest range of the three angles, degrees).
+    sequence : str
+        Euler sequence for the angles.
+    check : bool
+        Also run the humanoid dynamics check (needs a full-body marker set).
+    mass_kg : float
+        Body mass for the check.
+
+    Returns
+    -------
+    dict
+        Column → value; ``status`` is ``"ok"`` or ``"failed"`` with ``error`` set.
+    """
+    try:
+        person, action = parse_trial_name(path)
+    except MocapError:                  # not a corpus name: the trial is analysed all the same
+        person, action = "", ""
+    row = {"path": str(path), "person": person, "action": action, "status": "ok", "error": ""}
+    try:
+        trial = io.read(path)
+        missing = np.isnan(trial.points).any(axis=2).mean() if trial.points.size else 0.0
+        row.update(format=trial.format, rate_hz=round(trial.rate, 6), frames=trial.frames,
+                   duration_s=round(trial.duration, 6), markers=len(trial.labels),
+                   missing_pct=round(100.0 * float(missing), 3))
+        if markerset:
+            chosen = load_markerset(markerset)
+            angles = joint_angles(trial, chosen, sequence=sequence)
+            ranges = np.nanmax(angles.values, axis=0) - np.nanmin(angles.values, axis=0)
+            for segment, span in zip(angles.segments, np.nanmax(ranges, axis=1)):
+                row[f"{segment}_rom_deg"] = round(float(span), 3)
+            if check:
+                report = check_motion(motion_from_trial(trial, chosen), body_mass=mass_kg).summary()
+                for key in CHECK_COLUMNS:
+                    value = report[key]
+                    row[key] = round(value, 3) if isinstance(value, float) else value
+    except MocapError as error:
+        row.update(status="failed", error=str(error))
+    except Exception as error:  # a bug of ours or a file no reader anticipated: report, go on
+        row.update(status="failed", error=f"{path}: {type(error).__name__}: {error}")
+    return row

@@ -1,0 +1,126 @@
+"""The one recipe from a marker file to joint angles: read, keep what the marker set uses,
+fill gaps, low-pass, segment frames, relative rotations, Euler angles.
+
+``mocap angles``, ``mocap batch``, the corpus reader of :mod:`synthesis` and the demo all
+call :func:`marker_file_angles`, so a trial gives the same angles whichever way it is
+analysed.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field
+
+from mocap.angles import DEFAULT_SEQUENCE, JointAngles, joint_angles
+from mocap.clean import GapReport, fill_gaps, lowpass
+from mocap.errors import MocapError
+from mocap.io import read
+from mocap.markersets.model import MarkerSet
+from mocap.trial import Trial
+
+
+@dataclass(frozen=True)
+class Cleaning:
+    """How markers are cleaned before the angles.
+
+    Attributes
+    ----------
+    max_gap_seconds, max_gap_frames : float, int, optional
+        Fill marker gaps up to this long (:func:`mocap.clean.fill_gaps`, rigid with the
+        segment's other markers, else a cubic spline); give one or neither.
+    lowpass_hz : float, optional
+        Zero-lag Butterworth low-pass cut-off of the markers, Hz (after gap filling).
+    order : int
+        Butterworth order (run forward and backward: the response is squared).
+    short_runs : str
+        With ``lowpass_hz``, valid runs too short to filter: ``"error"``, ``"keep"`` or
+        ``"drop"`` (see :func:`mocap.clean.lowpass`).
+    """
+
+    max_gap_seconds: float | None = None
+    max_gap_frames: int | None = None
+    lowpass_hz: float | None = None
+    order: int = 4
+    short_runs: str = "error"
+
+    def __post_init__(self) -> None:
+        if self.max_gap_seconds is not None and not self.max_gap_seconds >= 0:
+            raise MocapError(f"max_gap_seconds must be >= 0 seconds, not {self.max_gap_seconds}")
+        if self.max_gap_frames is not None and not self.max_gap_frames >= 0:
+            raise MocapError(f"max_gap_frames must be >= 0 frames, not {self.max_gap_frames}")
+        if self.lowpass_hz is not None and not (self.lowpass_hz > 0 and self.lowpass_hz < float("inf")):
+            raise MocapError(f"lowpass_hz must be a positive frequency in Hz, not {self.lowpass_hz}")
+        if self.order < 1:
+            raise MocapError(f"order must be a positive whole number, not {self.order}")
+
+    @property
+    def fills(self) -> bool:
+        """True when gap filling was asked for."""
+        return bool(self.max_gap_seconds is not None or self.max_gap_frames)
+
+
+@dataclass
+class AnglesResult:
+    """What :func:`marker_file_angles` produced.
+
+    Attributes
+    ----------
+    trial : Trial
+        The cleaned trial (only the markers the marker set reads).
+    angles : JointAngles
+        ``values`` (frames, segments, 3) degrees.
+    gaps : GapReport or None
+        The gap-filling report, when gaps were filled.
+    """
+
+    trial: Trial
+    angles: JointAngles
+    gaps: GapReport | None = field(default=None)
+
+
+def used_markers(trial: Trial, markerset: MarkerSet) -> Trial:
+    """``trial`` restricted to the labels ``markerset`` reads (Plug-in Gait files carry
+    hundreds of model outputs stored as "markers"; cleaning them is wasted work)."""
+    used = markerset.used_labels(trial.labels)
+    columns = [trial.labels.index(label) for label in used]
+    return Trial(used, trial.points[:, columns, :], trial.rate, trial.units, trial.path,
+                 trial.format, metadata=dict(trial.metadata))
+
+
+def clean_trial(trial: Trial, markerset: MarkerSet, cleaning: Cleaning = Cleaning()
+                ) -> tuple[Trial, GapReport | None]:
+    """Gap filling then low-pass, as ``cleaning`` asks; returns the trial and the gap report."""
+    report = None
+    if cleaning.fills:
+        trial, report = fill_gaps(trial, max_gap_frames=cleaning.max_gap_frames or None,
+                                  max_gap_seconds=cleaning.max_gap_seconds,
+                                  donors=markerset.donors(trial.labels))
+    if cleaning.lowpass_hz is not None:
+        trial = lowpass(trial, cleaning.lowpass_hz, order=cleaning.order,
+                        short_runs=cleaning.short_runs)
+    return trial, report
+
+
+def marker_file_angles(source: str | os.PathLike | Trial, markerset: MarkerSet,
+                       sequence: str = DEFAULT_SEQUENCE, cleaning: Cleaning = Cleaning()
+                       ) -> AnglesResult:
+    """Joint angles of a marker trial (a file path or a :class:`Trial` already read).
+
+    Parameters
+    ----------
+    source : path-like or Trial
+        ``.c3d``, ``.trc`` or ``.csv`` marker file, or a trial.
+    markerset : MarkerSet
+        Segments (three markers each) and virtual markers.
+    sequence : str
+        Euler sequence, scipy convention (upper case intrinsic).
+    cleaning : Cleaning
+        Gap filling and low-pass before the angles.
+
+    Returns
+    -------
+    AnglesResult
+    """
+    trial = source if isinstance(source, Trial) else read(source)
+    markerset.check_trial(trial)
+    trial, report = clean_trial(used_markers(trial, markerset), markerset, cleaning)
+    return AnglesResult(trial, joint_angles(trial, markerset, sequence), report)

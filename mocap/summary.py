@@ -1,0 +1,101 @@
+"""What ``mocap info`` says about a trial: the DESIGN 3.2b summary and its text form."""
+from __future__ import annotations
+
+import numpy as np
+
+from mocap.trial import Trial
+
+
+def gap_table(trial: Trial) -> tuple[np.ndarray, np.ndarray]:
+    """Number of gaps and longest gap (frames) per marker, vectorised.
+
+    Parameters
+    ----------
+    trial : Trial
+
+    Returns
+    -------
+    gaps : ndarray, shape (markers,), int
+        Runs of consecutive missing frames.
+    longest : ndarray, shape (markers,), int
+        Length of the longest run, in frames.
+    """
+    markers = len(trial.labels)
+    missing = np.isnan(trial.points).any(axis=2).T.astype(np.int8)    # (markers, frames)
+    edges = np.diff(np.pad(missing, ((0, 0), (1, 1))), axis=1)
+    starts = np.argwhere(edges == 1)
+    ends = np.argwhere(edges == -1)
+    gaps = np.bincount(starts[:, 0], minlength=markers)
+    longest = np.zeros(markers, dtype=int)
+    np.maximum.at(longest, starts[:, 0], ends[:, 1] - starts[:, 1])
+    return gaps, longest
+
+
+def summarise(trial: Trial) -> dict:
+    """The ``mocap info --json`` object of one trial (DESIGN 3.2b and extras)."""
+    gaps, longest = gap_table(trial)
+    missing = trial.missing_fraction()
+    summary = {
+        "path": trial.path,
+        "format": trial.format,
+        "rate": trial.rate,
+        "frames": trial.frames,
+        "duration": trial.duration,
+        "markers": list(trial.labels),
+        "units": trial.units,
+        "missing": missing,
+        "missing_overall": float(np.mean(list(missing.values()))) if missing else 0.0,
+        "gaps": {label: int(n) for label, n in zip(trial.labels, gaps)},
+        "longest_gap": {label: int(n) for label, n in zip(trial.labels, longest)},
+        "analog_channels": len(trial.analog_labels),
+        "analog_rate": trial.analog_rate,
+        "warnings": list(trial.metadata.get("warnings", [])),
+    }
+    if "reader" in trial.metadata:
+        summary["reader"] = trial.metadata["reader"]
+    if "modelled" in trial.metadata:
+        summary["modelled_points"] = list(trial.metadata["modelled"]["labels"])
+    if "events" in trial.metadata:
+        summary["events"] = trial.metadata["events"]
+    return summary
+
+
+def format_summary(summary: dict, list_markers: bool = False) -> str:
+    """Readable text form of :func:`summarise`'s dictionary."""
+    markers = summary["markers"]
+    with_gaps = [label for label in markers if summary["gaps"][label]]
+    reader = f" (read by {summary['reader']})" if "reader" in summary else ""
+    lines = [
+        f"path:      {summary['path']}",
+        f"format:    {summary['format']}{reader}",
+        f"rate:      {summary['rate']:g} Hz",
+        f"frames:    {summary['frames']} ({summary['duration']:.3f} s)",
+        f"markers:   {len(markers)}"
+        + (f" ({', '.join(markers[:8])}{', …' if len(markers) > 8 else ''})" if markers
+           else ""),
+        f"units:     {summary['units'] or '(not stated)'}",
+        f"missing:   {100 * summary['missing_overall']:.1f}% of marker-frames; "
+        f"{len(with_gaps)} of {len(markers)} markers have gaps",
+    ]
+    if summary["analog_channels"]:
+        lines.append(f"analogs:   {summary['analog_channels']} channels at "
+                     f"{summary['analog_rate']:g} Hz")
+    if summary.get("modelled_points"):
+        lines.append(f"modelled:  {len(summary['modelled_points'])} computed points "
+                     f"(angles, forces …) kept apart from the markers")
+    if summary.get("events"):
+        shown = ", ".join(f"{e['context']} {e['label']} {e['time']:.2f} s".strip()
+                          for e in summary["events"][:6])
+        more = f" … ({len(summary['events'])} in all)" if len(summary["events"]) > 6 else ""
+        lines.append(f"events:    {shown}{more}")
+    for warning in summary["warnings"]:
+        lines.append(f"warning:   {warning}")
+    shown = markers if list_markers else with_gaps
+    if shown:
+        width = max(len(label) for label in shown)
+        lines.append("")
+        lines.append(f"{'marker':<{width}}  missing  gaps  longest gap (frames)")
+        for label in shown:
+            lines.append(f"{label:<{width}}  {100 * summary['missing'][label]:6.1f}%  "
+                         f"{summary['gaps'][label]:4d}  {summary['longest_gap'][label]:d}")
+    return "\n".join(lines)
