@@ -22,8 +22,10 @@ Squaring the matrix squares its condition number, so singular values below ~1e-8
 relative accuracy; such directions are dropped as numerically zero
 (:data:`RELATIVE_TOLERANCE`).
 
-Unfoldings, foldings and mode products use tensorly's vocabulary (``tl.unfold``,
-``tl.fold``, ``tenalg.multi_mode_dot``).
+Unfoldings, foldings and mode products (:func:`unfold`, :func:`fold`, :func:`mode_dot`,
+:func:`multi_mode_dot`) follow tensorly's definitions (``tl.unfold``, ``tl.fold``,
+``tenalg.mode_dot``; the tests compare them) but are plain numpy, so the module neither depends
+on nor changes a user's tensorly backend.
 """
 from __future__ import annotations
 
@@ -32,10 +34,6 @@ from typing import Sequence, Union
 
 import numpy as np
 import scipy.linalg
-import tensorly as tl
-from tensorly.tenalg import multi_mode_dot
-
-tl.set_backend("numpy")
 
 #: Singular values below this fraction of the largest are treated as zero (numerical rank).
 RELATIVE_TOLERANCE = 1e-7
@@ -44,6 +42,72 @@ RELATIVE_TOLERANCE = 1e-7
 #: a ``float`` in (0, 1] keeps the fewest components whose squared singular values reach that
 #: fraction of the mode's energy (``‖D‖²``).
 Rank = Union[int, float, None]
+
+
+def unfold(tensor: np.ndarray, mode: int) -> np.ndarray:
+    """Mode-``mode`` unfolding ``D_(n)`` (tensorly's ``tl.unfold`` ordering).
+
+    Parameters
+    ----------
+    tensor : ndarray, shape (I_1, …, I_N)
+    mode : int
+        0-based.
+
+    Returns
+    -------
+    ndarray, shape (I_mode, ∏ other I_k)
+        Mode-``mode`` fibres as columns, the remaining modes in C order.
+    """
+    return np.reshape(np.moveaxis(tensor, mode, 0), (tensor.shape[mode], -1))
+
+
+def fold(unfolded: np.ndarray, mode: int, shape: Sequence[int]) -> np.ndarray:
+    """Inverse of :func:`unfold`: the tensor of ``shape`` whose mode-``mode`` unfolding is given.
+
+    Parameters
+    ----------
+    unfolded : ndarray, shape (shape[mode], ∏ other shape[k])
+    mode : int
+    shape : sequence of int
+
+    Returns
+    -------
+    ndarray, shape ``shape``
+    """
+    full = list(shape)
+    full.insert(0, full.pop(mode))
+    return np.moveaxis(np.reshape(unfolded, full), 0, mode)
+
+
+def mode_dot(tensor: np.ndarray, matrix: np.ndarray, mode: int,
+             transpose: bool = False) -> np.ndarray:
+    """Mode-n product ``D ×_n M`` (tensorly's ``tenalg.mode_dot`` for a matrix).
+
+    Parameters
+    ----------
+    tensor : ndarray, shape (I_1, …, I_N)
+    matrix : ndarray, shape (J, I_mode), or (I_mode, J) with ``transpose``
+    mode : int
+    transpose : bool
+        Multiply by ``matrixᵀ``.
+
+    Returns
+    -------
+    ndarray, shape (I_1, …, J, …, I_N)
+        ``J`` in place of ``I_mode``.
+    """
+    matrix = matrix.T if transpose else matrix
+    shape = list(tensor.shape)
+    shape[mode] = matrix.shape[0]
+    return fold(matrix @ unfold(tensor, mode), mode, shape)
+
+
+def multi_mode_dot(tensor: np.ndarray, matrices: Sequence[np.ndarray], modes: Sequence[int],
+                   transpose: bool = False) -> np.ndarray:
+    """``D ×_{m_1} M_1 ×_{m_2} M_2 …`` in the order given (see :func:`mode_dot`)."""
+    for matrix, mode in zip(matrices, modes):
+        tensor = mode_dot(tensor, matrix, mode, transpose)
+    return tensor
 
 
 @dataclass
@@ -260,7 +324,7 @@ def mode_factor(tensor: np.ndarray, mode: int, rank: Rank = None
     singular_values : ndarray, shape (r,)
     energy : float
     """
-    return gram_svd(tl.unfold(tensor, mode), rank, mode)
+    return gram_svd(unfold(tensor, mode), rank, mode)
 
 
 def nmode_svd(tensor: np.ndarray, ranks: Sequence[Rank] | Rank = None) -> NModeSVD:
@@ -302,13 +366,13 @@ def nmode_svd(tensor: np.ndarray, ranks: Sequence[Rank] | Rank = None) -> NModeS
     grams = _grams_from_cells(tensor)
     for mode, rank in enumerate(ranks):
         if grams is None:
-            factor, sigma, kept, projected = _gram_svd(tl.unfold(tensor, mode), rank, mode)
+            factor, sigma, kept, projected = _gram_svd(unfold(tensor, mode), rank, mode)
         elif mode < tensor.ndim - 1:
             others = int(np.prod(tensor.shape)) // tensor.shape[mode]
             factor, sigma, kept, projected = _gram_svd(None, rank, mode, grams[mode],
                                                        (tensor.shape[mode], others))
         else:
-            factor, sigma, kept, projected = _gram_svd(tl.unfold(tensor, mode), rank, mode,
+            factor, sigma, kept, projected = _gram_svd(unfold(tensor, mode), rank, mode,
                                                        grams[mode])
         factors.append(factor)
         singular_values.append(sigma)
@@ -317,7 +381,7 @@ def nmode_svd(tensor: np.ndarray, ranks: Sequence[Rank] | Rank = None) -> NModeS
                                       factor.shape[1] / tensor.shape[mode] <
                                       factors[shortcut[0]].shape[1] / tensor.shape[shortcut[0]]):
             shape = tensor.shape[:mode] + (factor.shape[1],) + tensor.shape[mode + 1:]
-            shortcut = (mode, tl.fold(projected, mode, shape))
+            shortcut = (mode, fold(projected, mode, shape))
     if shortcut is None:
         core = project(tensor, factors)
     else:

@@ -26,9 +26,8 @@ from __future__ import annotations
 from typing import Sequence
 
 import numpy as np
-from tensorly.tenalg import mode_dot
 
-from synthesis.nmode import NModeSVD
+from synthesis.nmode import NModeSVD, mode_dot
 
 
 def action_bases(core: np.ndarray, action_factor: np.ndarray) -> np.ndarray:

@@ -88,3 +88,28 @@ def test_rejects_missing_values():
     tensor[0, 0, 0] = np.nan
     with pytest.raises(ValueError, match="NaN"):
         nmode_svd(tensor)
+
+
+@pytest.mark.parametrize("mode", [0, 1, 2])
+def test_unfold_fold_and_mode_products_follow_tensorly(mode):
+    """Our numpy unfold/fold/mode products give tensorly's (numpy backend) results."""
+    from tensorly.tenalg import mode_dot as tl_mode_dot
+    from tensorly.tenalg import multi_mode_dot as tl_multi_mode_dot
+
+    from synthesis.nmode import fold, mode_dot, multi_mode_dot, unfold
+
+    rng = np.random.default_rng(7)
+    tensor = rng.normal(size=(3, 4, 5))
+    with tl.backend_context("numpy"):
+        assert np.array_equal(unfold(tensor, mode), tl.unfold(tensor, mode))
+        assert np.array_equal(fold(unfold(tensor, mode), mode, tensor.shape), tensor)
+        matrix = rng.normal(size=(2, tensor.shape[mode]))
+        assert np.allclose(mode_dot(tensor, matrix, mode), tl_mode_dot(tensor, matrix, mode),
+                           rtol=1e-13, atol=1e-13)
+        assert np.allclose(mode_dot(tensor, matrix.T, mode, transpose=True),
+                           tl_mode_dot(tensor, matrix, mode), rtol=1e-13, atol=1e-13)
+        matrices = [rng.normal(size=(2, n)) for n in tensor.shape]
+        order = [mode] + [m for m in range(3) if m != mode]
+        assert np.allclose(multi_mode_dot(tensor, [matrices[m] for m in order], order),
+                           tl_multi_mode_dot(tensor, matrices, [0, 1, 2]),
+                           rtol=1e-12, atol=1e-12)
