@@ -42,7 +42,7 @@ def _scipy_contact_reference(wrench: np.ndarray, levers: np.ndarray) -> np.ndarr
     ridge-augmented problem (the same objective as the batched solver)."""
     from scipy.optimize import nnls
 
-    from dynamics.humanoid.core import pyramid_edges
+    from dynamics.humanoid.contact import pyramid_edges
 
     edges = pyramid_edges(0.8)
     out = []
@@ -68,8 +68,11 @@ def best_of(function, repeats: int = 3) -> float:
 def main() -> None:
     import pinocchio as pin
 
-    from dynamics.humanoid.core import (build_humanoid, check_motion, motion_kinematics,
-                                   rnea_batch, solve_contact_forces)
+    from dynamics.humanoid.check import check_motion
+    from dynamics.humanoid.contact import solve_contact_forces
+    from dynamics.humanoid.inverse import rnea_batch
+    from dynamics.humanoid.kinematics import motion_kinematics
+    from dynamics.humanoid.model import build_humanoid
     from dynamics.secondary import simulate_secondary
     from dynamics.humanoid.tracking import simulate_tracking
 

@@ -26,7 +26,8 @@ from scipy.spatial.transform import Rotation
 
 from mocap.skeleton import Motion, reduce_to_segments
 
-from dynamics.humanoid.core import Humanoid, build_humanoid, motion_kinematics
+from dynamics.humanoid.kinematics import motion_kinematics
+from dynamics.humanoid.model import Humanoid, build_humanoid
 
 
 @dataclass

@@ -149,7 +149,7 @@ def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float |
 
 
 def plot_check(report, path: str | os.PathLike, dpi: int = 100) -> None:
-    """Plot a :class:`dynamics.humanoid.CheckReport`: residuals, ground reactions, joint
+    """Plot a :class:`dynamics.humanoid.check.CheckReport`: residuals, ground reactions, joint
     torques and the lowest body point over time (PNG, PDF or SVG by suffix)."""
     import matplotlib
     matplotlib.use("Agg")

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from dynamics.humanoid.core import check_motion
+from dynamics.humanoid.check import check_motion
 from mocap import io
 from mocap.angles import joint_angles
 from mocap.errors import MocapError

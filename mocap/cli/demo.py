@@ -178,7 +178,7 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
 
     with steps("checking the motion with the Pinocchio humanoid"):
         from dynamics.viz.animate import plot_check
-        from dynamics.humanoid.core import check_motion
+        from dynamics.humanoid.check import check_motion
 
         report = check_motion(motion)
         check = report.summary()

@@ -130,7 +130,7 @@ def _load(args: argparse.Namespace):
 
 def run_check(args: argparse.Namespace) -> int:
     """Handler of ``mocap check``."""
-    from dynamics.humanoid.core import Thresholds, check_motion
+    from dynamics.humanoid.check import Thresholds, check_motion
 
     if not args.mass > 0:
         raise MocapError(f"--mass must be positive, got {args.mass}")
@@ -170,7 +170,7 @@ def run_check(args: argparse.Namespace) -> int:
     print(f"  penetration      {summary['penetration_mm']:.1f} mm   floating "
           f"{summary['floating_mm']:.1f} mm ({summary['floating_frames']} frames unsupported)")
     from mocap.body.anthropometry import segment_kind
-    from dynamics.humanoid.core import JOINT_OF_SEGMENT
+    from dynamics.humanoid.model import JOINT_OF_SEGMENT
 
     def joint(segment: str) -> str:
         side = segment[:2] if segment[:2] in ("l_", "r_") else ""

@@ -9,8 +9,11 @@ from scipy.spatial.transform import Rotation
 from mocap.errors import MocapError
 from mocap.skeleton import BODY_SEGMENTS, Motion, default_skeleton
 from mocap.body.anthropometry import segment_table
-from dynamics.humanoid.core import (build_humanoid, check_motion, configurations, motion_kinematics,
-                               rnea_batch, solve_contact_forces)
+from dynamics.humanoid.check import check_motion
+from dynamics.humanoid.contact import solve_contact_forces
+from dynamics.humanoid.inverse import rnea_batch
+from dynamics.humanoid.kinematics import configurations, motion_kinematics
+from dynamics.humanoid.model import build_humanoid
 
 MASS = 75.0
 WEIGHT = MASS * 9.81

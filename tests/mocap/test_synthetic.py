@@ -103,7 +103,7 @@ def test_walk_and_run_pass_the_dynamics_check(action, limit):
     """Pinocchio inverse dynamics: the floor can supply (almost) all the forces.  Captured
     walks need 5-10 % body weight; the run's short flight phase falls inside the check's
     0.1 s smoothing window, which costs it some."""
-    from dynamics.humanoid.core import check_motion
+    from dynamics.humanoid.check import check_motion
     from mocap.markersets.model import load_markerset
     from mocap.skeleton import motion_from_trial
 

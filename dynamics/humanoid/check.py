@@ -1,0 +1,257 @@
+"""The physical-plausibility check of a motion on the humanoid (DESIGN 3.5).
+
+For a motion on the floor y = 0 (world Y up):
+
+1. q, v, a on the configuration manifold (:func:`dynamics.humanoid.kinematics.motion_kinematics`).
+2. RNEA for all frames at once (:func:`dynamics.humanoid.inverse.rnea_batch`): ``tau[:6]`` is
+   the wrench a fictitious actuator at the root would need.
+3. Ground reaction forces at the foot points in contact, each inside a friction pyramid
+   (:func:`dynamics.humanoid.contact.solve_contact_forces`): what they cannot supply is the
+   residual — the non-physical "hand of God".
+4. Joint torques with those contact forces taken off, foot skating, penetration, floating,
+   and a verdict with reasons.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.spatial.transform import Rotation
+
+from mocap.skeleton import Motion, reduce_to_segments
+
+from dynamics.humanoid.contact import (contact_positions, estimate_floor, foot_skate,
+                                       solve_contact_forces)
+from dynamics.humanoid.inverse import contact_joint_torques, rnea_batch
+from dynamics.humanoid.kinematics import centre_of_mass, motion_kinematics
+from dynamics.humanoid.model import GRAVITY, Humanoid, build_humanoid
+
+#: Floor tolerance (m) for penetration and floating, as in the motion-synthesis literature.
+FLOOR_TOLERANCE = 0.005
+
+
+@dataclass
+class Thresholds:
+    """Limits above which the check calls a motion implausible.
+
+    Attributes
+    ----------
+    residual_rms_pct_bw : float
+        RMS residual force, % body weight (a static 20° lean gives about 7 %).
+    residual_peak_pct_bw : float
+        Peak residual force, % body weight.
+    residual_torque_rms_nm : float
+        RMS residual torque about the centre of mass, N·m, for a 75 kg body (scaled in
+        proportion to body mass); OpenSim's guidance for captured data is below 50 N·m.
+    penetration_mm : float
+        Deepest point below the floor.
+    skate_speed : float, m/s
+        Mean horizontal speed of foot points in contact (captured walking: 0.06–0.12).
+    floating_fraction : float
+        Fraction of frames off the floor while needing support (residual above
+        ``floating_residual_pct_bw``) that counts as floating.
+    """
+
+    residual_rms_pct_bw: float = 5.0
+    residual_peak_pct_bw: float = 25.0
+    residual_torque_rms_nm: float = 50.0
+    penetration_mm: float = 20.0
+    skate_speed: float = 0.2
+    floating_fraction: float = 0.1
+    floating_residual_pct_bw: float = 10.0
+
+
+@dataclass
+class CheckReport:
+    """Result of :func:`check_motion` (per-frame series and summary figures).
+
+    Per-frame arrays have ``frames`` rows; forces in N, torques in N·m, lengths in mm.
+    """
+
+    mass_kg: float
+    frames: int
+    rate: float
+    times: np.ndarray
+    residual_force: np.ndarray           # (F, 3) world
+    residual_torque: np.ndarray          # (F, 3) world, about the centre of mass
+    contact_forces: np.ndarray           # (F, P, 3) world
+    contact_active: np.ndarray           # (F, P) bool
+    contact_names: list[str]
+    joint_torques: np.ndarray            # (F, J-1, 3) in each joint's frame
+    joint_names: list[str]               # the segment each joint moves (l_thigh = left hip)
+    lowest_point_mm: np.ndarray          # (F,) height of the lowest body point
+    foot_skate_mm: float
+    skating_ratio: float
+    penetration_mm: float
+    floating_mm: float
+    floating_frames: int
+    verdict: str
+    reasons: list[str]
+    thresholds: Thresholds = field(default_factory=Thresholds)
+    lumped_segments: list[str] = field(default_factory=list)
+    floor_m: float = 0.0
+
+    @property
+    def weight(self) -> float:
+        return self.mass_kg * GRAVITY
+
+    def summary(self) -> dict:
+        """The DESIGN 3.5 JSON object (plain Python types)."""
+        force = np.linalg.norm(self.residual_force, axis=1)
+        torque = np.linalg.norm(self.residual_torque, axis=1)
+        peaks = np.linalg.norm(self.joint_torques, axis=2).max(axis=0) if self.frames else []
+        return {
+            "mass_kg": round(self.mass_kg, 3),
+            "frames": self.frames,
+            "rate_hz": self.rate,
+            "residual_force_rms_N": _r(_rms(force)),
+            "residual_force_peak_N": _r(force.max()),
+            "residual_force_rms_pct_bw": _r(100.0 * _rms(force) / self.weight),
+            "residual_force_peak_pct_bw": _r(100.0 * force.max() / self.weight),
+            "residual_torque_rms_Nm": _r(_rms(torque)),
+            "residual_torque_peak_Nm": _r(torque.max()),
+            "foot_skate_mm": _r(self.foot_skate_mm),
+            "skating_ratio": _r(self.skating_ratio),
+            "penetration_mm": _r(self.penetration_mm),
+            "floating_mm": _r(self.floating_mm),
+            "floating_frames": self.floating_frames,
+            "peak_joint_torque_Nm": {n: _r(p) for n, p in zip(self.joint_names, peaks)},
+            "verdict": self.verdict,
+            "reasons": list(self.reasons),
+            "lumped_segments": list(self.lumped_segments),
+            "floor_m": _r(self.floor_m),
+        }
+
+
+def _rms(x: np.ndarray) -> float:
+    return float(np.sqrt(np.mean(np.square(x)))) if x.size else 0.0
+
+
+def _r(x: float) -> float:
+    return round(float(x), 3)
+
+
+def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
+                 mu: float = 0.8, contact_height: float = 0.03,
+                 contact_speed: float = 1.0, smoothing: float = 0.1,
+                 thresholds: Thresholds | None = None, threads: int = 1,
+                 humanoid: Humanoid | None = None, floor: float | str = 0.0) -> CheckReport:
+    """Check a motion for physical plausibility (DESIGN 3.5).
+
+    Parameters
+    ----------
+    motion : Motion
+        Any skeleton with recognisable joint names (reduced to the 15-segment body with
+        ``reduce_to_segments``; pelvis and legs are enough, the rest is then lumped into the
+        pelvis); floor y = 0, Y up, metres.
+    body_mass : float, kg
+    sex : {"male", "female"}
+    mu : float
+        Friction coefficient of the floor.
+    contact_height : float, m
+        A foot point lower than this, and slower than ``contact_speed`` (m/s), may push on
+        the floor.
+    smoothing : float, s
+        Savitzky–Golay window for velocities and accelerations.
+    thresholds : Thresholds, optional
+    threads : int
+        Threads of ``pin.rneaInParallel``.
+    humanoid : Humanoid, optional
+        A model built before (its skeleton must be the motion's reduced skeleton).
+    floor : float or "auto"
+        Height of the floor in the motion (m, Y up); "auto" takes the median height of the
+        lowest foot point over the frames where a foot stands still (for files whose floor
+        is not at y = 0). The check then works with the floor at 0.
+
+    Returns
+    -------
+    CheckReport
+    """
+    thresholds = thresholds or Thresholds()
+    body = reduce_to_segments(motion, partial=True)
+    if humanoid is None:
+        humanoid = build_humanoid(body.skeleton, body_mass, sex)
+    floor_height = estimate_floor(body, humanoid) if floor == "auto" else float(floor)
+    if floor_height:
+        body = Motion(body.skeleton, body.root_translation - [0.0, floor_height, 0.0],
+                      body.rotations, body.rate, dict(body.metadata))
+    frames, rate = body.frames, body.rate
+    kin = motion_kinematics(body, smoothing)
+    tau = rnea_batch(humanoid, kin.q, kin.v, kin.a, threads)
+
+    # Root wrench in world axes about the root origin.
+    root_r = Rotation.from_quat(kin.q[:, 3:7]).as_matrix()
+    force_w = np.einsum("fij,fj->fi", root_r, tau[:, :3])
+    torque_w = np.einsum("fij,fj->fi", root_r, tau[:, 3:6])
+    wrench = np.concatenate([force_w, torque_w], axis=1)
+
+    smoothed = Motion(body.skeleton, kin.root - body.skeleton.offsets[0], kin.rotations, rate)
+    world_r, world_p = smoothed.forward_kinematics()
+    contact_world = contact_positions(humanoid, world_r, world_p)          # (F, P, 3)
+    speed = np.linalg.norm(np.gradient(contact_world, 1.0 / rate, axis=0), axis=2)
+    active = (contact_world[:, :, 1] < contact_height) & (speed < contact_speed)
+    levers = contact_world - kin.root[:, None, :]
+    forces, residual = solve_contact_forces(wrench, levers, active, mu)
+
+    # Residual torque about the centre of mass.
+    com = centre_of_mass(humanoid, world_r, world_p)
+    residual_torque = residual[:, 3:] - np.cross(com - kin.root, residual[:, :3])
+
+    joint_torques = tau[:, 6:].reshape(frames, -1, 3) - contact_joint_torques(
+        humanoid, world_r, world_p, contact_world, forces)
+
+    # Geometry of the raw (unsmoothed) motion: floor contact, skating.
+    raw_r, raw_p = body.forward_kinematics()
+    raw_contacts = contact_positions(humanoid, raw_r, raw_p)
+    _, ends = body.end_site_positions((raw_r, raw_p))
+    every = np.concatenate([raw_p, ends, raw_contacts], axis=1)
+    lowest = every[:, :, 1].min(axis=1)
+    skate_mm, skating_ratio = foot_skate(raw_contacts, contact_height, contact_speed, rate)
+    below = np.clip(-lowest - FLOOR_TOLERANCE, 0.0, None)
+    penetration_mm = 1000.0 * float(below.max()) if frames else 0.0
+    above = lowest > FLOOR_TOLERANCE
+    floating_mm = 1000.0 * float(lowest[above].mean()) if above.any() else 0.0
+    residual_pct = 100.0 * np.linalg.norm(residual[:, :3], axis=1) / humanoid.weight
+    unsupported = above & (residual_pct > thresholds.floating_residual_pct_bw)
+
+    torque_rms = _rms(np.linalg.norm(residual_torque, axis=1))
+    torque_limit = thresholds.residual_torque_rms_nm * humanoid.mass / 75.0
+    reasons = _reasons(residual_pct, penetration_mm, skate_mm * rate / 1000.0,
+                       unsupported, floating_mm, thresholds)
+    if torque_rms > torque_limit:
+        after_force = sum(r.startswith("residual force") for r in reasons)
+        reasons.insert(after_force, f"residual torque RMS {torque_rms:.0f} N·m "
+                       f"(limit {torque_limit:.0f} N·m)")
+    names = body.skeleton.names
+    return CheckReport(
+        mass_kg=float(humanoid.mass), frames=frames, rate=rate, times=body.times,
+        residual_force=residual[:, :3], residual_torque=residual_torque,
+        contact_forces=forces, contact_active=active, contact_names=humanoid.contact_names,
+        joint_torques=joint_torques, joint_names=names[1:],
+        lowest_point_mm=1000.0 * lowest, foot_skate_mm=skate_mm, skating_ratio=skating_ratio,
+        penetration_mm=penetration_mm, floating_mm=floating_mm,
+        floating_frames=int(unsupported.sum()),
+        verdict="implausible" if reasons else "plausible", reasons=reasons,
+        thresholds=thresholds, lumped_segments=[name for name, _, _ in humanoid.lumped],
+        floor_m=floor_height)
+
+
+def _reasons(residual_pct: np.ndarray, penetration_mm: float, skate_speed: float,
+             unsupported: np.ndarray, floating_mm: float, limits: Thresholds) -> list[str]:
+    reasons = []
+    rms = _rms(residual_pct)
+    if rms > limits.residual_rms_pct_bw:
+        reasons.append(f"residual force RMS {rms:.1f} % body weight "
+                       f"(limit {limits.residual_rms_pct_bw:g} %)")
+    if residual_pct.size and residual_pct.max() > limits.residual_peak_pct_bw:
+        reasons.append(f"residual force peak {residual_pct.max():.1f} % body weight "
+                       f"(limit {limits.residual_peak_pct_bw:g} %)")
+    if penetration_mm > limits.penetration_mm:
+        reasons.append(f"penetrates the floor by {penetration_mm:.0f} mm")
+    if skate_speed > limits.skate_speed:
+        reasons.append(f"feet skate: {skate_speed:.2f} m/s while in contact "
+                       f"(limit {limits.skate_speed:g} m/s)")
+    if unsupported.size and unsupported.mean() > limits.floating_fraction:
+        reasons.append(f"floating: {floating_mm:.0f} mm above the floor without support in "
+                       f"{100 * unsupported.mean():.0f} % of frames")
+    return reasons
