@@ -1,14 +1,30 @@
-"""The one exception type for users' mistakes (bad files, bad options)."""
+"""The one exception type for users' mistakes (bad files, bad options), and the rule.
+
+The rule
+--------
+- :class:`MocapError` is raised for a bad *file* (damaged, truncated, of the wrong kind, not
+  found) and a bad *user value* (a rate of 0, an unknown Euler sequence, an option out of
+  range). It is a :class:`ValueError`, so library users can catch either.
+- Built-in exceptions (``ValueError``, ``TypeError``, ``IndexError`` …) are for programming
+  errors: arrays of the wrong shape handed in by code, broken invariants. The command line
+  lets those through as tracebacks, because they are bugs to report.
+- Library messages name the Python parameter (``cutoff_hz must be below the Nyquist
+  frequency``); the command line words them as its flags where it validates its options.
+- Messages are one line, name the file when there is one, and say what would be right.
+- What a reader notices but can work around (a header that announces more frames than the
+  file holds, a unit guessed) is kept in ``Trial.metadata["warnings"]`` and issued as a
+  :class:`MocapWarning` by :func:`mocap.io.read`, so it reaches the user of every command.
+"""
 from __future__ import annotations
 
 import os
 
 
-class MocapError(Exception):
+class MocapError(ValueError):
     """A problem with the user's input: a file, an option or a combination.
 
-    The command line prints it as one line (``mocap: <path>: <problem>``) and
-    exits with status 2; no traceback is shown.
+    The command line prints it as one line (``mocap COMMAND: error: <path>: <problem>``)
+    and exits with status 2; no traceback is shown.
 
     Parameters
     ----------
@@ -16,9 +32,24 @@ class MocapError(Exception):
         What is wrong, in words a user understands.
     path : str or os.PathLike, optional
         The file the problem is in.
+
+    Examples
+    --------
+    >>> str(MocapError("truncated data section", "walk.c3d"))
+    'walk.c3d: truncated data section'
+    >>> isinstance(MocapError("bad"), ValueError)
+    True
     """
 
     def __init__(self, problem: str, path: str | os.PathLike | None = None):
         self.problem = problem
         self.path = None if path is None else os.fspath(path)
         super().__init__(f"{self.path}: {problem}" if self.path else problem)
+
+
+class MocapWarning(UserWarning):
+    """Something about the user's input that did not stop the work but may matter (a file
+    shorter than its header says, a unit that had to be guessed …).
+
+    The command line prints each one as ``mocap COMMAND: warning: <message>``.
+    """

@@ -10,8 +10,12 @@ import argparse
 import importlib
 import os
 import sys
+import warnings
+from importlib.metadata import PackageNotFoundError, version
 
-from mocap.errors import MocapError
+from mocap.errors import MocapError, MocapWarning
+
+_default_showwarning = warnings.showwarning
 
 #: Modules that add sub-commands, in the order they appear in ``mocap --help``.
 COMMAND_MODULES = [
@@ -24,6 +28,14 @@ COMMAND_MODULES = [
 ]
 
 
+def package_version() -> str:
+    """The installed distribution's version (pyproject.toml holds the one string)."""
+    try:
+        return version("mocap-toolkit")
+    except PackageNotFoundError:        # running from a source tree that is not installed
+        return "unknown (not installed)"
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every sub-command registered."""
     parser = argparse.ArgumentParser(
@@ -31,6 +43,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Motion capture analysis, synthesis and dynamics. "
                     "Run 'mocap COMMAND --help' for the options of a command.",
     )
+    parser.add_argument("--version", action="version", version=f"mocap {package_version()}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
     subparsers.required = True
     for name in COMMAND_MODULES:
@@ -38,14 +51,34 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _warning_printer(command: str):
+    """A ``warnings.showwarning`` that prints a user's warning as one line (each once)."""
+    seen: set[str] = set()
+
+    def show(message, category, filename, lineno, file=None, line=None) -> None:
+        text = str(message)
+        if issubclass(category, (MocapWarning, UserWarning)) and text not in seen:
+            seen.add(text)
+            print(f"mocap {command}: warning: {text}", file=sys.stderr)
+        elif not issubclass(category, (MocapWarning, UserWarning)):
+            _default_showwarning(message, category, filename, lineno, file, line)
+
+    return show
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``mocap`` console script; returns the exit status."""
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    command = "mocap"
     try:
-        status = args.func(args)
+        parser = build_parser()
+        args = parser.parse_args(argv)
+        command = args.command
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", MocapWarning)
+            warnings.showwarning = _warning_printer(command)
+            status = args.func(args)
     except MocapError as error:
-        print(f"mocap {args.command}: error: {error}", file=sys.stderr)
+        print(f"mocap {command}: error: {error}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("mocap: interrupted", file=sys.stderr)

@@ -4,11 +4,12 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
 
-from mocap.errors import MocapError
+from mocap.errors import MocapError, MocapWarning
 from mocap.io import format_of, read, suffixes
 from mocap.io.discovery import find_files
 from mocap.summary import format_summary, summarise
@@ -61,13 +62,20 @@ def _expand(paths: list[str]) -> list[Path]:
     return find_files(paths, suffixes("markers"), missing="keep")
 
 
-def read_marker_file(path) -> Trial:
-    """A marker trial from ``path``; MocapError for motion formats such as BVH."""
+def read_marker_file(path, quiet: bool = False) -> Trial:
+    """A marker trial from ``path``; MocapError for motion formats such as BVH.
+
+    ``quiet`` keeps the reader's warnings in the trial's metadata only (``info`` shows them
+    in its summary); otherwise each is printed as a ``warning:`` line.
+    """
     file_format = format_of(path)
     if file_format.kind != "markers":
         raise MocapError(f"a {file_format.description} file holds joint motion, not "
                          f"markers (use .c3d, .csv or .trc)", path)
-    return read(path)
+    with warnings.catch_warnings():
+        if quiet:
+            warnings.simplefilter("ignore", MocapWarning)
+        return read(path)
 
 
 def run_info(args: argparse.Namespace) -> int:
@@ -80,13 +88,13 @@ def run_info(args: argparse.Namespace) -> int:
     if not files:
         raise MocapError("no marker files found in " + ", ".join(args.files))
     if len(files) == 1:
-        trial = read_marker_file(files[0])    # a MocapError becomes the CLI's one line
+        trial = read_marker_file(files[0], quiet=True)    # a MocapError becomes the CLI's one line
         _print_summary(summarise(trial), args)
         return 0
     status = 0
     for path in progress(files, "reading marker files"):
         try:
-            trial = read_marker_file(path)
+            trial = read_marker_file(path, quiet=True)
         except MocapError as error:
             # One line per bad file, printed above the progress bar, and go on.
             tqdm.write(f"mocap info: error: {error}", file=sys.stderr)

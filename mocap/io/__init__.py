@@ -21,11 +21,12 @@ from __future__ import annotations
 
 import importlib
 import os
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable
 
-from mocap.errors import MocapError
+from mocap.errors import MocapError, MocapWarning
 
 
 @dataclass(frozen=True)
@@ -147,13 +148,22 @@ def read(path: str | os.PathLike) -> Any:
     ------
     MocapError
         Unknown suffix, missing file, or a file that is damaged or not of its kind.
+
+    Warns
+    -----
+    MocapWarning
+        One per note the reader left in ``metadata["warnings"]``.
     """
     file_format = format_of(path)
     if not Path(path).exists():
         raise MocapError("no such file", path)
     if Path(path).is_dir():
         raise MocapError("is a directory, not a file", path)
-    return _resolve(file_format.reader)(path)
+    result = _resolve(file_format.reader)(path)
+    metadata = getattr(result, "metadata", None)
+    for note in (metadata or {}).get("warnings", []):
+        warnings.warn(f"{os.fspath(path)}: {note}", MocapWarning, stacklevel=2)
+    return result
 
 
 def write(obj: Any, path: str | os.PathLike, **options: Any) -> None:
