@@ -286,6 +286,42 @@ def unwrap_angles(values: np.ndarray, sequence: str) -> np.ndarray:
     return out
 
 
+def unwrap_columns(values: np.ndarray, period: float = 360.0) -> np.ndarray:
+    """Remove whole-period jumps along axis 0 of every column on its own, skipping NaN.
+
+    Unlike :func:`unwrap_angles` this knows nothing of Euler triples (no branch switch): it is
+    ``np.unwrap`` per column (a BVH channel, an angle curve), over the samples where the
+    column is defined; the first sample after a gap continues from the last one before it.
+
+    Parameters
+    ----------
+    values : ndarray, shape (frames, ...)
+        Angles in the unit of ``period`` (degrees by default), NaN where undefined.
+    period : float
+        Size of one turn.
+
+    Returns
+    -------
+    ndarray, same shape as ``values``; NaN stays NaN.
+
+    Examples
+    --------
+    >>> unwrap_columns(np.array([[170.0], [np.nan], [-170.0]]))[:, 0].tolist()
+    [170.0, nan, 190.0]
+    """
+    values = np.array(values, dtype=float)
+    valid = ~np.isnan(values)
+    if valid.all():
+        return np.unwrap(values, period=period, axis=0)
+    flat, valid = values.reshape(values.shape[0], -1), valid.reshape(values.shape[0], -1)
+    for column in np.flatnonzero(~valid.all(axis=0)):   # loop over columns with gaps only
+        rows = valid[:, column]
+        flat[rows, column] = np.unwrap(flat[rows, column], period=period)
+    complete = valid.all(axis=0)
+    flat[:, complete] = np.unwrap(flat[:, complete], period=period, axis=0)
+    return values
+
+
 #: Frames per block of Unwrapper work in unwrap_angles.
 UNWRAP_BLOCK = 2048
 

@@ -23,9 +23,10 @@ from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
+from mocap.angles import unwrap_columns
 from mocap.errors import MocapError
 from mocap.io.discovery import parse_trial_name
-from synthesis.cycles import DEFAULT_SAMPLES, centre_branch, normalise_cycles, unwrap_degrees
+from synthesis.cycles import DEFAULT_SAMPLES, centre_branch, normalise_cycles
 
 #: File suffixes a corpus folder may hold (BVH and ASF/AMC through ``mocap.skeleton``).
 TRIAL_SUFFIXES = (".c3d", ".csv", ".trc", ".bvh", ".amc")
@@ -442,7 +443,7 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
                                  f"columns are {', '.join(columns)}")
             reference = columns.index(cycle_column)
         else:
-            spreads = [np.nanstd(unwrap_degrees(_flat(a)), axis=0) for _, a in read]
+            spreads = [np.nanstd(unwrap_columns(_flat(a)), axis=0) for _, a in read]
             reference = int(np.argmax(np.nanmean(np.stack(spreads), axis=0)))
     cells: dict[tuple[str, str], list] = {}
     sources: dict[tuple[str, str], list[str]] = {}

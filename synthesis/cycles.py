@@ -3,7 +3,7 @@
 One trial's angle curves (frames, columns) become one gait cycle of ``samples`` frames
 (:func:`normalise_cycles`):
 
-* **Unwrapping** (:func:`unwrap_degrees`). Every angle is unwrapped (no ±180° jumps) before
+* **Unwrapping** (:func:`mocap.angles.unwrap_columns`). Every angle is unwrapped (no ±180° jumps) before
   interpolation, over the samples where it is defined (NaN where markers were missing); gaps
   are bridged by linear interpolation of the unwrapped angle (:func:`interpolate_missing`).
 * **One cycle per trial** (default): the whole trial is the cycle; it is resampled linearly to
@@ -30,32 +30,11 @@ from pathlib import Path
 import numpy as np
 from scipy.signal import find_peaks
 
+from mocap.angles import unwrap_columns
 from mocap.errors import MocapError
 
 #: Default number of samples per normalised cycle.
 DEFAULT_SAMPLES = 100
-
-
-def unwrap_degrees(values: np.ndarray) -> np.ndarray:
-    """Unwrap angles (remove ±360° jumps) along axis 0, ignoring NaN samples.
-
-    Parameters
-    ----------
-    values : ndarray, shape (frames, columns), degrees
-        NaN where undefined.
-
-    Returns
-    -------
-    ndarray, same shape; NaN stays NaN.
-    """
-    values = np.array(values, dtype=float)
-    valid = ~np.isnan(values)
-    if valid.all():
-        return np.unwrap(values, period=360.0, axis=0)
-    for column in range(values.shape[1]):       # loop over angle columns, not frames
-        rows = valid[:, column]
-        values[rows, column] = np.unwrap(values[rows, column], period=360.0)
-    return values
 
 
 def interpolate_missing(times: np.ndarray, values: np.ndarray,
@@ -83,6 +62,9 @@ def interpolate_missing(times: np.ndarray, values: np.ndarray,
 def resample(times: np.ndarray, values: np.ndarray, start: float, end: float,
              samples: int) -> np.ndarray:
     """Linear interpolation of every column at ``samples`` instants from ``start`` to ``end``.
+
+    The one resampling of curves: trial → cycle here, and a model's cycle to another sample
+    count (:meth:`synthesis.model.MotionModel.synthesize`).
 
     Parameters
     ----------
@@ -216,7 +198,7 @@ def normalise_cycles(times: np.ndarray, values: np.ndarray, samples: int = DEFAU
         raise MocapError(f"samples per cycle must be at least 2, got {samples}", source)
     if np.any(np.diff(times) <= 0):
         raise MocapError("trial times must increase", source)
-    values = interpolate_missing(times, unwrap_degrees(values), source)
+    values = interpolate_missing(times, unwrap_columns(values), source)
     if not cycles:
         curve = resample(times, values, times[0], times[-1], samples)
         return centre_branch(curve), float(times[-1] - times[0]), 1

@@ -26,7 +26,7 @@ from synthesis.nmode import Rank
 from synthesis.regression import SignatureModel
 from synthesis.signature import interpolate_signatures, posterior_scores
 from synthesis.corpus import MotionCorpus, check_corpus_size, read_trial_angles
-from synthesis.cycles import normalise_cycles
+from synthesis.cycles import normalise_cycles, resample
 
 #: File format version written into saved models.
 FORMAT_VERSION = 1
@@ -247,11 +247,7 @@ class MotionModel:
         if samples is not None and samples != self.samples:
             if samples < 2:
                 raise MocapError(f"samples must be at least 2, got {samples}")
-            phase = np.linspace(0.0, 1.0, self.samples)
-            target = np.linspace(0.0, 1.0, samples)
-            right = np.clip(np.searchsorted(phase, target, side="right"), 1, self.samples - 1)
-            weight = ((target - phase[right - 1]) / (phase[right] - phase[right - 1]))[:, None]
-            curve = curve[right - 1] * (1 - weight) + curve[right] * weight
+            curve = resample(np.linspace(0.0, 1.0, self.samples), curve, 0.0, 1.0, samples)
         return curve, duration
 
     def synthesize_angles(self, person: str | None, action: str,

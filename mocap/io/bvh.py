@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from mocap.angles import unwrap_columns
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.skeleton import Motion, Skeleton, frame_rate
@@ -360,7 +361,7 @@ def write_bvh(motion: Motion, path: str | os.PathLike, units: str = "cm",
         angles = {}
         if axes:
             euler = Rotation.from_matrix(motion.rotations[:, j]).as_euler(axes, degrees=True)
-            euler = np.unwrap(euler, period=360.0, axis=0)
+            euler = unwrap_columns(euler)
             angles = {axis: euler[:, k] for k, axis in enumerate(axes)}
         for channel in joint_channels:
             axis = channel[0]

@@ -1,21 +1,11 @@
-"""Time normalisation: unwrapping, resampling, gap bridging, branch, cycle detection."""
+"""Time normalisation: resampling, gap bridging, branch, cycle detection."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
 from mocap.errors import MocapError
-from synthesis.cycles import detect_cycles, normalise_cycles, resample, unwrap_degrees
-
-
-def test_unwrap_across_the_wrap_point_with_missing_samples():
-    true = np.linspace(150.0, 230.0, 81)                     # crosses +180°
-    wrapped = (true + 180.0) % 360.0 - 180.0
-    wrapped[10:15] = np.nan
-    unwrapped = unwrap_degrees(wrapped[:, None])[:, 0]
-    valid = ~np.isnan(unwrapped)
-    assert np.allclose(unwrapped[valid], true[valid])
-    assert np.isnan(unwrapped[10:15]).all()
+from synthesis.cycles import detect_cycles, normalise_cycles, resample
 
 
 def test_resample_is_exact_for_linear_signals():
