@@ -13,7 +13,10 @@ The core simulator (lecture "Physical Simulations"):
 - :mod:`dynamics.sim.integrators` explicit / symplectic Euler, RK4, implicit Euler; ``advance``
 - :mod:`dynamics.sim.thermal`     heat diffusion, thermoelastic stiffness, melting
 - :mod:`dynamics.sim.rigid`       rigid bodies (inertia tensors, Newton–Euler, quaternions)
-- :mod:`dynamics.scenes.scene`       TOML scene -> simulation -> ``.npz`` (DESIGN 3.6)
+- :mod:`dynamics.scenes.schema`   scene TOML (DESIGN 3.6): reading, type-checked tables, examples
+- :mod:`dynamics.scenes.build`    scene document -> ``Scene`` (particle ``System``, rigid bodies)
+- :mod:`dynamics.scenes.run`      ``run_scene`` -> ``SimulationResult`` -> ``.npz``
+  (example scenes: ``dynamics/scenes/examples/*.toml``, the single copy)
 - :mod:`dynamics.viz.render`      GIF / MP4 of a run
 
 A cape pinned to moving skeleton points, driven from outside every frame::

@@ -48,10 +48,12 @@ def simulate_command(args: argparse.Namespace) -> int:
     """Handler of ``mocap simulate``."""
     from mocap.errors import MocapError
 
-    from dynamics.scenes import scene as scenes
+    from dynamics.scenes.build import load_scene
+    from dynamics.scenes.run import run_scene
+    from dynamics.scenes.schema import SCENES_DIR, example_scene_path
 
     if args.list_examples:
-        for path in sorted(scenes.SCENES_DIR.glob("*.toml")):
+        for path in sorted(SCENES_DIR.glob("*.toml")):
             print(f"{path.stem:20s} {path}")
         return 0
     if not args.scene:
@@ -60,7 +62,7 @@ def simulate_command(args: argparse.Namespace) -> int:
         raise MocapError("give the output file with -o OUT.npz", args.scene)
     scene_path = Path(args.scene)
     if not scene_path.exists() and not scene_path.suffix:
-        scene_path = scenes.example_scene_path(args.scene)
+        scene_path = example_scene_path(args.scene)
     for flag, value in (("--gif", args.gif), ("--mp4", args.mp4)):
         if value and Path(value).suffix.lower() != "." + flag[2:]:
             raise MocapError(f"{flag} needs a file ending in .{flag[2:]}", value)
@@ -68,7 +70,7 @@ def simulate_command(args: argparse.Namespace) -> int:
         import shutil
         if shutil.which("ffmpeg") is None:
             raise MocapError("writing MP4 needs ffmpeg on the PATH; use --gif instead", args.mp4)
-    scene = scenes.load_scene(scene_path)
+    scene = load_scene(scene_path)
     if args.steps is not None:
         if args.steps < 1:
             raise MocapError("--steps must be at least 1")
@@ -87,7 +89,7 @@ def simulate_command(args: argparse.Namespace) -> int:
         scene.save_every = args.save_every
     if args.fps is not None and not args.fps > 0:
         raise MocapError("--fps must be positive")
-    result = scenes.run_scene(scene, show_progress=False if args.no_progress else None)
+    result = run_scene(scene, show_progress=False if args.no_progress else None)
     result.save(args.output)
     summary = (f"{scene_path}: {scene.steps} steps of {scene.dt:g} s ({scene.integrator}), "
                f"{result.positions.shape[1]} particles, {len(result.springs)} springs, "

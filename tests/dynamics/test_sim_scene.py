@@ -11,7 +11,9 @@ import pytest
 from mocap.cli import main
 from mocap.errors import MocapError
 
-from dynamics.scenes.scene import SCENES_DIR, build_scene, load_scene, run_scene
+from dynamics.scenes.build import build_scene, load_scene
+from dynamics.scenes.run import load_result, run_scene
+from dynamics.scenes.schema import SCENES_DIR
 
 EXAMPLES = sorted(p.stem for p in SCENES_DIR.glob("*.toml"))
 
@@ -58,7 +60,6 @@ def test_cli_heat_scene_saves_temperature(tmp_path):
     assert main(["simulate", str(SCENES_DIR / "melting-block.toml"), "-o", str(out),
                  "--steps", "20", "--save-every", "10", "--no-progress", "--gif", str(gif),
                  "--max-frames", "2"]) == 0
-    from dynamics.scenes.scene import load_result
     data = load_result(out)
     assert data["temperature"].shape == (3, 512)
     assert data["temperature"].max() == pytest.approx(500.0)       # the hot plate
