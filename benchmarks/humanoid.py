@@ -24,7 +24,8 @@ from scipy.spatial.transform import Rotation
 
 
 def _walkish(frames: int, rate: float = 100.0):
-    from mocap.skeleton import Motion, default_skeleton
+    from mocap.body.segments import default_skeleton
+    from mocap.skeleton import Motion
 
     skeleton = default_skeleton(1.75)
     t = np.arange(frames) / rate

@@ -14,7 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from mocap.errors import MocapError
-from mocap.skeleton import Motion, reduce_to_segments
+from mocap.body.retarget import reduce_to_segments
+from mocap.skeleton import Motion
 
 #: Capsule radius (m) of each limb segment for a 1.75 m body (scaled by height).
 CAPSULE_RADII = {"upperarm": 0.05, "forearm": 0.04, "thigh": 0.075, "shank": 0.055}

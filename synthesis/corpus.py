@@ -226,7 +226,7 @@ def _skeleton_angles(path: Path, sequence: str):
     """Joint angles of a BVH or ASF/AMC file on the 15-segment body model, in a Z-up lab's axes
     (the axes of marker-derived angles), through ``mocap.skeleton``."""
     from mocap.angles import JointAngles, check_sequence, matrices_to_angles, unwrap_angles
-    from mocap.skeleton import motion_to_lab, reduce_to_segments
+    from mocap.body.retarget import motion_to_lab, reduce_to_segments
 
     check_sequence(sequence)
     if path.suffix.lower() == ".amc":

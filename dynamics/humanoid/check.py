@@ -18,7 +18,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from mocap.skeleton import Motion, reduce_to_segments
+from mocap.body.retarget import reduce_to_segments
+from mocap.skeleton import Motion
 
 from dynamics.humanoid.contact import (contact_positions, estimate_floor, foot_skate,
                                        solve_contact_forces)

@@ -22,7 +22,8 @@ import numpy as np
 from mocap.body.anthropometry import (SegmentInertia, foot_points, lumped_segments,
                                       segment_inertias)
 from mocap.errors import MocapError
-from mocap.skeleton import BODY_SEGMENTS, LOWER_BODY, Skeleton
+from mocap.body.segments import BODY_SEGMENTS, LOWER_BODY
+from mocap.skeleton import Skeleton
 
 GRAVITY = 9.81
 #: The joint at the proximal end of each body segment (joint torques are named by segment).

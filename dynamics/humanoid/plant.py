@@ -82,7 +82,7 @@ def motion_from_cycle(angles, skeleton=None, cycles: int = 1, up: str = "z") -> 
         ``cycles × samples`` frames, feet planted on the floor y = 0.
     """
     from mocap.angles import JointAngles
-    from mocap.skeleton import motion_from_angles
+    from mocap.body.angles import motion_from_angles
 
     cycle = np.asarray(angles.values, dtype=float)
     if cycle.shape[0] < 3:

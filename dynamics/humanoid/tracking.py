@@ -24,7 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from mocap.skeleton import Motion, reduce_to_segments
+from mocap.body.retarget import reduce_to_segments
+from mocap.skeleton import Motion
 
 from dynamics.humanoid.kinematics import motion_kinematics
 from dynamics.humanoid.model import Humanoid, build_humanoid

@@ -34,6 +34,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mocap.body.segments import BODY_PARENTS, BODY_SEGMENTS, default_skeleton
+from mocap.skeleton import Motion
+
 #: (mass fraction, COM fraction from proximal/upper end, r_sag, r_trans, r_long), male.
 DE_LEVA_MALE = {
     "head": (0.0694, 0.5976, 0.362, 0.376, 0.312),
@@ -238,8 +241,6 @@ def lumped_segments(skeleton, body_mass: float, sex: str = "male"
     list of (missing segment name, index of the ancestor it is lumped into,
     SegmentInertia expressed in that ancestor's frame)
     """
-    from mocap.skeleton import BODY_PARENTS, BODY_SEGMENTS, Motion, default_skeleton
-
     missing = [n for n in BODY_SEGMENTS if n not in skeleton.names]
     if not missing:
         return []

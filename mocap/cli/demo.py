@@ -220,7 +220,7 @@ def _body_motion(synthesised, trials: dict, person: str, markerset):
     """Three cycles of the synthesised joint angles on the person's own skeleton (from
     their markers), feet planted (:func:`dynamics.humanoid.plant.motion_from_cycle`)."""
     from mocap import io
-    from mocap.skeleton import motion_from_trial
+    from mocap.body.retarget import motion_from_trial
     from dynamics.humanoid.plant import motion_from_cycle
 
     source = next(path for (who, _), (path, _) in sorted(trials.items()) if who == person)

@@ -122,9 +122,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 # ----------------------------------------------------------------------------------------
 def _load(args: argparse.Namespace):
-    from mocap.skeleton import load_motion
+    from mocap.io.motion import read_motion
 
-    return load_motion(args.motion, asf=args.asf, markerset=args.markerset,
+    return read_motion(args.motion, asf=args.asf, markerset=args.markerset,
                        units=args.units, rate=args.rate)
 
 
@@ -190,7 +190,7 @@ def run_check(args: argparse.Namespace) -> int:
 
 def run_export(args: argparse.Namespace) -> int:
     """Handler of ``mocap export``."""
-    from mocap.skeleton import reduce_to_segments
+    from mocap.body.retarget import reduce_to_segments
 
     motion = _load(args)
     if args.body:

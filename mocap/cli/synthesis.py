@@ -249,9 +249,9 @@ def synthesize(args: argparse.Namespace) -> int:
         # knows joint angles, not where the body is in the room).
         from dynamics.humanoid.plant import motion_from_cycle
         from mocap.io.bvh import write_bvh
-        from mocap.skeleton import load_motion
+        from mocap.io.motion import read_motion
 
-        skeleton = (load_motion(args.skeleton, markerset=model.markerset).skeleton
+        skeleton = (read_motion(args.skeleton, markerset=model.markerset).skeleton
                     if args.skeleton else None)
         try:
             motion = motion_from_cycle(angles, skeleton, cycles=args.cycles, up="z")

@@ -1,5 +1,6 @@
-"""Finding trial files: folders searched for files of a kind, and corpus trial names
-(``<person>_<action>[_<anything>].<suffix>``).
+"""Finding trial files: folders searched for files of a kind, corpus trial names
+(``<person>_<action>[_<anything>].<suffix>``), an AMC motion's ASF skeleton, and whether a
+CSV holds joint angles (DESIGN 3.2) rather than markers.
 
 Every command that takes "files or folders" lists them through :func:`find_files`, so a
 folder means the same thing everywhere: every matching file below it, sub-folders included,
@@ -7,11 +8,16 @@ hidden files skipped, sorted.
 """
 from __future__ import annotations
 
+import csv
 import os
+import re
 from pathlib import Path
 from typing import Iterable
 
 from mocap.errors import MocapError
+
+#: A joint-angle CSV column: ``<segment>.<axis>`` with an optional ``2`` (DESIGN 3.2).
+_ANGLE_COLUMN = re.compile(r"^(?P<segment>.+)\.(?P<axis>[XYZxyz])(?P<repeat>2?)$")
 
 
 def parse_trial_name(path: str | Path) -> tuple[str, str]:
@@ -76,3 +82,56 @@ def find_files(inputs: Iterable[str | os.PathLike], suffixes: Iterable[str],
         else:
             raise MocapError("file not found", path)
     return files
+
+
+def find_asf(amc: str | Path) -> Path:
+    """The ASF skeleton of an AMC motion, found beside it.
+
+    Looks for ``<name>.asf`` (``walk.amc`` → ``walk.asf``), then ``<person>.asf`` (CMU:
+    ``02_01.amc`` → ``02.asf``), either in any letter case, then the only ``.asf`` of the
+    folder.
+
+    Raises
+    ------
+    MocapError
+        When none (or several candidates of the folder) are found.
+    """
+    amc = Path(amc)
+    person = amc.stem.split("_")[0]
+    candidates = [amc.with_suffix(".asf"), amc.with_suffix(".ASF"),
+                  amc.with_name(person + ".asf"), amc.with_name(person + ".ASF")]
+    for candidate in candidates:
+        if candidate.exists():
+            return candidate
+    found = sorted(amc.parent.glob("*.[aA][sS][fF]"))
+    if len(found) == 1:
+        return found[0]
+    raise MocapError(f"no ASF skeleton found beside this AMC motion: put {person}.asf beside "
+                     "it or pass asf= (--asf on the command line)", amc)
+
+
+def is_angle_csv(path: str | Path) -> bool:
+    """True when ``path`` is a joint-angle CSV (DESIGN 3.2): ``time`` then ``<segment>.<axis>``
+    columns in whole triples whose axis letters form the same rotation sequence."""
+    path = Path(path)
+    if path.suffix.lower() != ".csv":
+        return False
+    try:
+        with open(path, newline="", encoding="utf-8") as handle:
+            header = next(csv.reader(handle), [])
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return False
+    header = [name.strip() for name in header]
+    if len(header) < 4 or header[0].lower() != "time" or (len(header) - 1) % 3:
+        return False
+    matches = [_ANGLE_COLUMN.match(name) for name in header[1:]]
+    if not all(matches):
+        return False
+    triples = [matches[i:i + 3] for i in range(0, len(matches), 3)]
+    first = "".join(m.group("axis") for m in triples[0])
+    for triple in triples:
+        if len({m.group("segment") for m in triple}) != 1:
+            return False
+        if "".join(m.group("axis") for m in triple) != first:
+            return False
+    return True

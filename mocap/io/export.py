@@ -14,11 +14,11 @@ from scipy.spatial.transform import Rotation
 
 from mocap.angles import JointAngles, matrices_to_angles, unwrap_angles, write_angles_csv
 from mocap.atomic import atomic_path
+from mocap.body.retarget import Z_UP_TO_Y_UP, motion_to_lab
 from mocap.errors import MocapError
 from mocap.io import write
 from mocap.io.bvh import write_bvh
 from mocap.io.mot import write_motion_mot
-from mocap.skeleton import Z_UP_TO_Y_UP, motion_to_lab
 from mocap.trial import Trial
 
 #: The formats :func:`export_motion` writes (``--format`` of ``mocap export``).

@@ -19,6 +19,7 @@ import io
 import os
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
@@ -66,7 +67,9 @@ def write_motion_mot(motion, path: str | os.PathLike, sequence: str = "ZXY") -> 
     """
     sk = motion.skeleton
     root = sk.offsets[0] + motion.root_translation
-    angles = motion.joint_angles(sequence)
+    flat = Rotation.from_matrix(motion.rotations.reshape(-1, 3, 3)).as_euler(sequence,
+                                                                            degrees=True)
+    angles = np.unwrap(flat.reshape(motion.frames, sk.count, 3), period=360.0, axis=0)
     letters = _axis_labels(sequence)
     labels = [f"{sk.names[0]}_t{a}" for a in "xyz"]
     labels += [f"{_safe(n)}_{letter}" for n in sk.names for letter in letters]

@@ -9,7 +9,8 @@ import pytest
 
 from mocap.cli import main
 from mocap.io.bvh import read_bvh, write_bvh
-from mocap.skeleton import Motion, default_skeleton
+from mocap.body.segments import default_skeleton
+from mocap.skeleton import Motion
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 DESIGN_KEYS = {"mass_kg", "frames", "residual_force_rms_N", "residual_force_peak_N",

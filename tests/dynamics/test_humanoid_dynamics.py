@@ -7,7 +7,8 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from mocap.errors import MocapError
-from mocap.skeleton import BODY_SEGMENTS, Motion, default_skeleton
+from mocap.body.segments import BODY_SEGMENTS, default_skeleton
+from mocap.skeleton import Motion
 from mocap.body.anthropometry import segment_table
 from dynamics.humanoid.check import check_motion
 from dynamics.humanoid.contact import solve_contact_forces
@@ -175,7 +176,7 @@ def test_vertical_ground_reaction_matches_force_plates():
     them, with the body mass the plates give."""
     from mocap.io import read
     from mocap.markersets.model import load_markerset
-    from mocap.skeleton import motion_from_trial
+    from mocap.body.retarget import motion_from_trial
     from tests.conftest import realdata_path
 
     trial = read(realdata_path("biomechzoo_sample_study", "HC002D", "Straight",

@@ -4,7 +4,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mocap.skeleton import BODY_SEGMENTS, Motion, default_skeleton
+from mocap.body.segments import BODY_SEGMENTS, default_skeleton
+from mocap.skeleton import Motion
 from dynamics.secondary import CAPE_BACK, TRUNK_RADIUS, simulate_secondary
 from dynamics.humanoid.tracking import simulate_tracking
 

@@ -11,7 +11,9 @@ from mocap.errors import MocapError
 from mocap.io.asfamc import read_asf_amc
 from mocap.io.bvh import detect_units, read_bvh, write_bvh
 from mocap.io.mot import write_mot, write_motion_mot
-from mocap.skeleton import BODY_SEGMENTS, Motion, default_skeleton, reduce_to_segments
+from mocap.body.retarget import reduce_to_segments
+from mocap.body.segments import BODY_SEGMENTS, default_skeleton
+from mocap.skeleton import Motion
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 

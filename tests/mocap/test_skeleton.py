@@ -6,9 +6,10 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from mocap.errors import MocapError
-from mocap.skeleton import (BODY_SEGMENTS, Z_UP_TO_Y_UP, Motion, Skeleton, canonical_segment,
-                            default_skeleton, frame_rate, map_segments, motion_from_angles,
-                            motion_from_frames, motion_to_lab, reduce_to_segments)
+from mocap.body.angles import motion_from_angles
+from mocap.body.retarget import Z_UP_TO_Y_UP, motion_from_frames, motion_to_lab, reduce_to_segments
+from mocap.body.segments import BODY_SEGMENTS, canonical_segment, default_skeleton, map_segments
+from mocap.skeleton import Motion, Skeleton, frame_rate
 
 
 def _random_motion(frames: int = 50, seed: int = 0) -> Motion:
@@ -44,7 +45,7 @@ def test_default_skeleton_stands_on_the_floor_and_has_the_body_segments():
 
 def test_motion_from_synthetic_trial_reproduces_the_generator_exactly():
     from mocap.markersets.model import load_markerset
-    from mocap.skeleton import motion_from_trial
+    from mocap.body.retarget import motion_from_trial
     from mocap.synthetic import synthesize_trial
 
     trial, truth = synthesize_trial(1, "run", seed=3)
@@ -146,14 +147,15 @@ def test_frame_rate_snaps_rounded_frame_times():
     assert frame_rate(0.0417) == pytest.approx(23.98, abs=0.01)
 
 
-def test_load_motion_reads_every_kind_and_gives_corpus_angles(tmp_path):
+def test_read_motion_reads_every_kind_and_gives_corpus_angles(tmp_path):
     from pathlib import Path
 
-    from mocap.skeleton import load_motion, motion_joint_angles
+    from mocap.body.angles import motion_joint_angles
+    from mocap.io.motion import read_motion
 
     data = Path(__file__).resolve().parents[1] / "data"
-    bvh = load_motion(data / "mocapbank_walk.bvh")
-    amc = load_motion(data / "cmu_lambada.amc")            # finds cmu_lambada.asf beside it
+    bvh = read_motion(data / "mocapbank_walk.bvh")
+    amc = read_motion(data / "cmu_lambada.amc")            # finds cmu_lambada.asf beside it
     assert bvh.frames == 10 and amc.frames == 4
     angles = motion_joint_angles(amc, "ZXY")
     assert angles.segments == BODY_SEGMENTS and angles.values.shape == (4, 15, 3)
@@ -161,7 +163,7 @@ def test_load_motion_reads_every_kind_and_gives_corpus_angles(tmp_path):
     lonely = tmp_path / "02_01.amc"
     lonely.write_text((data / "cmu_lambada.amc").read_text())
     with pytest.raises(MocapError, match="--asf"):
-        load_motion(lonely)
+        read_motion(lonely)
     with pytest.raises(MocapError, match="markerset"):
         (tmp_path / "trial.trc").write_text("x")
-        load_motion(tmp_path / "trial.trc")
+        read_motion(tmp_path / "trial.trc")

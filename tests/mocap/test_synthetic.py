@@ -105,7 +105,7 @@ def test_walk_and_run_pass_the_dynamics_check(action, limit):
     0.1 s smoothing window, which costs it some."""
     from dynamics.humanoid.check import check_motion
     from mocap.markersets.model import load_markerset
-    from mocap.skeleton import motion_from_trial
+    from mocap.body.retarget import motion_from_trial
 
     trial, _ = synthesize_trial(0, action, cycles=3)
     report = check_motion(motion_from_trial(trial, load_markerset("synthetic15"))).summary()

@@ -111,7 +111,7 @@ def test_bvh_corpus_gives_the_marker_corpus_angles(tmp_path):
     from mocap import io
     from mocap.io.bvh import write_bvh
     from mocap.markersets.model import load_markerset
-    from mocap.skeleton import motion_from_trial
+    from mocap.body.retarget import motion_from_trial
     from mocap.synthetic import synthesize_trial
 
     markerset = load_markerset("synthetic15")

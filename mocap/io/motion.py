@@ -1,0 +1,86 @@
+"""The ONE "open any motion file": :func:`read_motion` gives a :class:`~mocap.skeleton.Motion`
+from a BVH, an ASF/AMC pair, a joint-angle CSV (DESIGN 3.2, on the 15-segment body) or a
+marker trial (C3D/TRC/CSV) with its marker set."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from mocap.angles import read_angles_csv
+from mocap.body.angles import motion_from_angles
+from mocap.body.retarget import motion_from_trial
+from mocap.body.segments import BODY_SEGMENTS
+from mocap.errors import MocapError
+from mocap.io import read
+from mocap.io.asfamc import read_asf_amc
+from mocap.io.bvh import read_bvh
+from mocap.io.discovery import find_asf, is_angle_csv
+from mocap.markersets.model import load_markerset
+from mocap.skeleton import Motion
+
+#: Marker-trial suffixes :func:`read_motion` turns into motions with a marker set.
+MARKER_SUFFIXES = (".c3d", ".trc", ".csv")
+#: Suffixes :func:`read_motion` reads directly as motions.
+MOTION_SUFFIXES = (".bvh", ".amc")
+
+
+def read_motion(path: str | os.PathLike, asf: str | os.PathLike | None = None,
+                units: str | None = None, markerset: str | None = None,
+                rate: float = 120.0) -> Motion:
+    """A :class:`Motion` from any motion file: BVH, ASF/AMC, joint angles or markers.
+
+    Parameters
+    ----------
+    path : str or PathLike
+        BVH, AMC, joint-angle CSV, or marker trial (C3D/TRC/CSV).
+    asf : str or PathLike, optional
+        ASF skeleton of an AMC (default: :func:`~mocap.io.discovery.find_asf`).
+    units : str, optional
+        Length unit of a BVH/ASF (``m``, ``cm``, ``mm``, ``in``, ``cmu``; default detected).
+    markerset : str, optional
+        Marker set (preset name or TOML path) of a marker trial.
+    rate : float
+        Frame rate of an AMC, Hz (the format does not store it).
+
+    Returns
+    -------
+    Motion
+        Y up, metres; a joint-angle CSV plays on the default 15-segment body.
+
+    Raises
+    ------
+    MocapError
+        Missing or unreadable file, unknown suffix, a marker trial without a marker set.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise MocapError("file not found", path)
+    if path.is_dir():
+        raise MocapError("is a directory, not a motion file", path)
+    suffix = path.suffix.lower()
+    if suffix == ".bvh":
+        return read_bvh(path, units=units)
+    if suffix == ".amc":
+        skeleton = Path(asf) if asf else find_asf(path)
+        if not skeleton.exists():
+            raise MocapError("ASF file not found", skeleton)
+        return read_asf_amc(skeleton, path, rate=rate, units=units)
+    if suffix == ".asf":
+        raise MocapError("an ASF file is the skeleton only: give the AMC motion (and this "
+                         "file with --asf)", path)
+    if suffix == ".csv" and is_angle_csv(path):
+        angles = read_angles_csv(path)
+        foreign = [s for s in angles.segments if s not in BODY_SEGMENTS]
+        if foreign:
+            raise MocapError("a joint-angle CSV carries no skeleton, so it plays only on the "
+                             "15-segment body (pelvis, thorax, …); it has other segments: "
+                             + ", ".join(foreign[:6]) + (" …" if len(foreign) > 6 else "")
+                             + " (export with --body to get one)", path)
+        return motion_from_angles(angles)
+    if suffix in MARKER_SUFFIXES:
+        if not markerset:
+            raise MocapError("a marker trial needs --markerset (e.g. synthetic15) to build "
+                             "the skeleton", path)
+        return motion_from_trial(read(path), load_markerset(markerset))
+    raise MocapError("unknown motion file type: use .bvh, .amc, a joint-angle .csv, or a "
+                     ".c3d/.trc/.csv marker trial with --markerset", path)
