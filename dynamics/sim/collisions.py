@@ -13,7 +13,7 @@ All work is vectorised over particles.
 
 Examples
 --------
->>> arm = Capsule(a=[0, 1.4, 0], b=[0.3, 1.1, 0], radius=0.05)     # doctest: +SKIP
+>>> arm = Capsule(a=[0, 1.4, 0], b=[0.3, 1.1, 0], radius=0.05)
 >>> arm.move_to([0, 1.41, 0], [0.3, 1.12, 0], dt=1 / 120)          # each frame
 """
 from __future__ import annotations

@@ -14,8 +14,8 @@ read or written, so ``import mocap.io`` stays light.
 Examples
 --------
 >>> from mocap.io import read, write                  # doctest: +SKIP
->>> trial = read("walk.c3d")
->>> write(trial, "walk.trc")
+>>> trial = read("walk.c3d")                          # doctest: +SKIP
+>>> write(trial, "walk.trc")                         # doctest: +SKIP
 """
 from __future__ import annotations
 

@@ -287,7 +287,7 @@ def read_c3d(path: str | os.PathLike, engine: str = "mocap") -> Trial:
     Examples
     --------
     >>> trial = read_c3d("walk.c3d")                   # doctest: +SKIP
-    >>> trial.points.shape, trial.rate
+    >>> trial.points.shape, trial.rate                 # doctest: +SKIP
     ((580, 51, 3), 100.0)
     """
     layout = inspect_c3d(path)
