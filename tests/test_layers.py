@@ -1,0 +1,178 @@
+"""The packages' layers, read from the source: every import, top-level or inside a function.
+
+- ``mocap`` is the base: nothing under ``mocap/`` outside its command shell ``mocap/cli/``
+  imports ``synthesis`` or ``dynamics``;
+- ``synthesis`` never imports ``dynamics`` (both build on ``mocap`` only);
+- nothing imports ``mocap.cli`` (the shell sits on top; only ``mocap/__main__.py``, the
+  ``python -m mocap`` entry point, starts it);
+- no two modules import each other, directly or around a longer circle.
+
+The checks are functions of an import graph, so the tests below run them both on the real
+tree and on graphs with a planted violation (each check must be able to fail).
+"""
+from __future__ import annotations
+
+import ast
+import functools
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("mocap", "synthesis", "dynamics")
+
+
+def module_name(path: Path) -> str:
+    parts = list(path.relative_to(ROOT).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts = parts[:-1]
+    return ".".join(parts)
+
+
+def project_modules() -> dict[str, Path]:
+    """Dotted name -> file of every module of the three packages."""
+    return {module_name(p): p for package in PACKAGES for p in (ROOT / package).rglob("*.py")}
+
+
+def imports_of(path: Path, name: str, known: set[str]) -> set[str]:
+    """Project modules that ``path`` imports anywhere (functions included), resolved to the
+    deepest known module (``from mocap.io import read`` -> ``mocap.io``;
+    ``from mocap.io import bvh`` -> ``mocap.io.bvh``)."""
+    tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    found: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            targets = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")
+                anchor = anchor[:len(anchor) - node.level + 1]
+                base = ".".join(anchor + ([base] if base else []))
+            targets = [f"{base}.{alias.name}" if f"{base}.{alias.name}" in known else base
+                       for alias in node.names]
+        else:
+            continue
+        for target in targets:
+            while target and target not in known:
+                target = target.rpartition(".")[0]
+            if target and target != name:
+                found.add(target)
+    return found
+
+
+@functools.lru_cache(maxsize=1)
+def _parsed_graph() -> tuple[tuple[str, frozenset[str]], ...]:
+    modules = project_modules()
+    known = set(modules)
+    return tuple((name, frozenset(imports_of(path, name, known)))
+                 for name, path in modules.items())
+
+
+def import_graph() -> dict[str, set[str]]:
+    """Module -> the project modules it imports (a fresh copy: tests may plant edges)."""
+    return {name: set(targets) for name, targets in _parsed_graph()}
+
+
+def _inside(module: str, package: str) -> bool:
+    return module == package or module.startswith(package + ".")
+
+
+def layer_violations(graph: dict[str, set[str]]) -> list[str]:
+    """Every import that breaks the layering rules of the module docstring."""
+    problems = []
+    for module, targets in sorted(graph.items()):
+        for target in sorted(targets):
+            if (_inside(module, "mocap") and not _inside(module, "mocap.cli")
+                    and (_inside(target, "synthesis") or _inside(target, "dynamics"))):
+                problems.append(f"{module} imports {target}: only mocap.cli may")
+            if _inside(module, "synthesis") and _inside(target, "dynamics"):
+                problems.append(f"{module} imports {target}: synthesis never imports dynamics")
+            if (_inside(target, "mocap.cli") and not _inside(module, "mocap.cli")
+                    and module != "mocap.__main__"):
+                problems.append(f"{module} imports {target}: nothing imports the shell")
+    return problems
+
+
+def import_circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Strongly connected groups of more than one module (Tarjan), each sorted."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    circles: list[list[str]] = []
+    counter = [0]
+
+    def visit(node: str) -> None:
+        index[node] = low[node] = counter[0]
+        counter[0] += 1
+        stack.append(node)
+        on_stack.add(node)
+        for target in graph.get(node, ()):
+            if target not in index:
+                visit(target)
+                low[node] = min(low[node], low[target])
+            elif target in on_stack:
+                low[node] = min(low[node], index[target])
+        if low[node] == index[node]:
+            group = []
+            while True:
+                member = stack.pop()
+                on_stack.discard(member)
+                group.append(member)
+                if member == node:
+                    break
+            if len(group) > 1:
+                circles.append(sorted(group))
+
+    for node in sorted(graph):
+        if node not in index:
+            visit(node)
+    return circles
+
+
+# ------------------------------------------------------------------ the real tree
+
+def test_the_tree_keeps_its_layers():
+    assert layer_violations(import_graph()) == []
+
+
+def test_no_two_modules_import_each_other():
+    assert import_circles(import_graph()) == []
+
+
+def test_the_graph_sees_imports_inside_functions():
+    graph = import_graph()
+    # mocap.cli.synthesis imports synthesis modules; the shell is where all three meet
+    assert any(_inside(t, "synthesis") for t in graph["mocap.cli.synthesis"])
+    assert "mocap.errors" in graph["mocap.io"]
+
+
+# ------------------------------------------------------------------ planted violations
+
+@pytest.mark.parametrize("module, target", [
+    ("mocap.angles", "dynamics.humanoid"),        # the base reaching up
+    ("mocap.io.bvh", "synthesis.model"),
+    ("synthesis.model", "dynamics.sim.system"),   # synthesis reaching sideways
+    ("dynamics.secondary", "mocap.cli"),          # importing the shell
+])
+def test_a_planted_import_is_caught(module, target):
+    graph = import_graph()
+    graph.setdefault(module, set()).add(target)
+    assert any(f"{module} imports {target}" in p for p in layer_violations(graph))
+
+
+def test_a_planted_circle_is_caught():
+    graph = import_graph()
+    graph["mocap.trial"] = graph["mocap.trial"] | {"mocap.angles"}   # angles imports trial
+    assert any({"mocap.trial", "mocap.angles"} <= set(c) for c in import_circles(graph))
+
+
+def test_a_planted_import_in_a_file_is_parsed(tmp_path):
+    source = tmp_path / "planted.py"
+    source.write_text("def late():\n    from dynamics.humanoid import check\n")
+    known = set(project_modules())
+    found = imports_of(source, "mocap.planted", known)
+    assert any(_inside(t, "dynamics.humanoid") for t in found)
+    assert layer_violations({"mocap.planted": found})
