@@ -16,22 +16,27 @@ degrees and ``durations`` (people, actions) in seconds, NaN where a cell is miss
 from __future__ import annotations
 
 import csv
-import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
-from mocap.angles import unwrap_columns
+from mocap.angles import (axis_names, check_sequence, joint_angles, read_angles_csv,
+                          unwrap_columns)
+from mocap.body.angles import motion_joint_angles
+from mocap.clean import fill_gaps as fill_marker_gaps
+from mocap.clean import lowpass
 from mocap.errors import MocapError
-from mocap.io.discovery import parse_trial_name
+from mocap.io import read
+from mocap.io.discovery import is_angle_csv, parse_trial_name
+from mocap.io.motion import read_motion
+from mocap.markersets.model import load_markerset
 from synthesis.cycles import DEFAULT_SAMPLES, centre_branch, normalise_cycles
 
-#: File suffixes a corpus folder may hold (BVH and ASF/AMC through ``mocap.skeleton``).
+#: File suffixes a corpus folder may hold (BVH and ASF/AMC through ``mocap.io.motion``).
 TRIAL_SUFFIXES = (".c3d", ".csv", ".trc", ".bvh", ".amc")
 
-_ANGLE_COLUMN = re.compile(r"^(?P<segment>.+)\.(?P<axis>[XYZxyz])(?P<repeat>2?)$")
 
 
 # --------------------------------------------------------------------------- corpus listing
@@ -109,36 +114,7 @@ def angle_columns(segments: Sequence[str], sequence: str) -> list[str]:
     >>> angle_columns(["pelvis"], "ZYZ")
     ['pelvis.Z', 'pelvis.Y', 'pelvis.Z2']
     """
-    from mocap.angles import axis_names
-
     return [f"{segment}.{letter}" for segment in segments for letter in axis_names(sequence)]
-
-
-def is_angle_csv(path: str | Path) -> bool:
-    """True when ``path`` is a joint-angle CSV (DESIGN 3.2): ``time`` then ``<segment>.<axis>``
-    columns in whole triples whose axis letters form the same rotation sequence."""
-    path = Path(path)
-    if path.suffix.lower() != ".csv":
-        return False
-    try:
-        with open(path, newline="", encoding="utf-8") as handle:
-            header = next(csv.reader(handle), [])
-    except (OSError, UnicodeDecodeError, csv.Error):
-        return False
-    header = [name.strip() for name in header]
-    if len(header) < 4 or header[0].lower() != "time" or (len(header) - 1) % 3:
-        return False
-    matches = [_ANGLE_COLUMN.match(name) for name in header[1:]]
-    if not all(matches):
-        return False
-    triples = [matches[i:i + 3] for i in range(0, len(matches), 3)]
-    first = "".join(m.group("axis") for m in triples[0])
-    for triple in triples:
-        if len({m.group("segment") for m in triple}) != 1:
-            return False
-        if "".join(m.group("axis") for m in triple) != first:
-            return False
-    return True
 
 
 def _named_like_markers(path: Path, markerset) -> bool:
@@ -163,7 +139,7 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     path : path
         A marker trial (``.c3d``, ``.csv``, ``.trc``), a joint-angle CSV (DESIGN 3.2), a BVH
         file or an AMC motion (with ``<person>.asf`` beside it), the last two mapped onto the
-        15-segment body model (``mocap.skeleton.reduce_to_segments``).
+        15-segment body model (``mocap.body.retarget.reduce_to_segments``).
     markerset : MarkerSet, str or None
         Marker set (object, preset name or TOML path) for marker trials; not needed for angle
         CSVs.
@@ -185,61 +161,29 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     if not path.exists():
         raise MocapError("trial file not found", path)
     if isinstance(markerset, (str, Path)) and not is_angle_csv(path):
-        from mocap.markersets.model import load_markerset
         markerset = load_markerset(markerset)
     if is_angle_csv(path) and not _named_like_markers(path, markerset):
-        from mocap.angles import read_angles_csv
         return read_angles_csv(path)
     if path.suffix.lower() in (".bvh", ".amc"):
         return _skeleton_angles(path, sequence)
     if markerset is None:
         raise MocapError("marker trials need --markerset to turn markers into joint angles",
                          path)
-    from mocap.angles import joint_angles
-    from mocap.io import read
     trial = read(path)
     if max_gap_frames:
-        from mocap.clean import fill_gaps as fill_marker_gaps
         trial, _ = fill_marker_gaps(trial, max_gap_frames=int(max_gap_frames),
                                     donors=markerset.donors(trial.labels))
     if lowpass_hz:
-        from mocap.clean import lowpass
         trial = lowpass(trial, float(lowpass_hz), short_runs="keep")
     return joint_angles(trial, markerset, sequence)
 
 
-def find_asf(amc: Path) -> Path:
-    """The ASF skeleton of an AMC motion: ``<person>.asf`` beside it (CMU: ``02_01.amc`` →
-    ``02.asf``), else the only ``.asf`` in its folder."""
-    person = amc.stem.split("_")[0]
-    candidates = [amc.with_name(person + ".asf"), amc.with_suffix(".asf")]
-    for candidate in candidates:
-        if candidate.exists():
-            return candidate
-    found = sorted(amc.parent.glob("*.asf"))
-    if len(found) == 1:
-        return found[0]
-    raise MocapError(f"AMC motion needs its ASF skeleton: put {person}.asf beside it", amc)
-
-
 def _skeleton_angles(path: Path, sequence: str):
     """Joint angles of a BVH or ASF/AMC file on the 15-segment body model, in a Z-up lab's axes
-    (the axes of marker-derived angles), through ``mocap.skeleton``."""
-    from mocap.angles import JointAngles, check_sequence, matrices_to_angles, unwrap_angles
-    from mocap.body.retarget import motion_to_lab, reduce_to_segments
-
+    (the axes of marker-derived angles): :func:`mocap.body.angles.motion_joint_angles` of
+    :func:`mocap.io.motion.read_motion`."""
     check_sequence(sequence)
-    if path.suffix.lower() == ".amc":
-        from mocap.io.asfamc import read_asf_amc
-        motion = read_asf_amc(find_asf(path), path)
-    else:
-        from mocap.io.bvh import read_bvh
-        motion = read_bvh(path)
-    motion = reduce_to_segments(motion)
-    rotations, _ = motion_to_lab(motion, up="z")
-    values = unwrap_angles(matrices_to_angles(rotations, sequence), sequence)
-    return JointAngles(times=motion.times, values=values, segments=list(motion.names),
-                       sequence=sequence, parents=list(motion.skeleton.parents))
+    return motion_joint_angles(read_motion(path), sequence)
 
 
 # --------------------------------------------------------------------------- the corpus
@@ -418,7 +362,6 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
     check_corpus_size(sorted({e.person for e in entries}), sorted({e.action for e in entries}))
     markerset_name = None if markerset is None else str(getattr(markerset, "name", markerset))
     if isinstance(markerset, (str, Path)) and any(not is_angle_csv(e.path) for e in entries):
-        from mocap.markersets.model import load_markerset
         markerset = load_markerset(markerset)
     wrap = progress or (lambda items, description: items)
     read = []

@@ -12,9 +12,10 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from mocap.angles import JointAngles, matrices_to_angles, unwrap_angles, write_angles_csv
+from mocap.angles import write_angles_csv
 from mocap.atomic import atomic_path
-from mocap.body.retarget import Z_UP_TO_Y_UP, motion_to_lab
+from mocap.body.angles import motion_joint_angles
+from mocap.body.retarget import Z_UP_TO_Y_UP
 from mocap.errors import MocapError
 from mocap.io import write
 from mocap.io.bvh import write_bvh
@@ -44,11 +45,7 @@ def export_motion(motion, path: str | Path, file_format: str, sequence: str = "Z
     elif file_format == "mot":
         write_motion_mot(motion, path, sequence=sequence)
     elif file_format == "csv":
-        rotations, _ = motion_to_lab(motion)
-        values = unwrap_angles(matrices_to_angles(rotations, sequence), sequence)
-        angles = JointAngles(motion.times, values, list(motion.names), sequence,
-                             list(motion.skeleton.parents))
-        write_angles_csv(angles, path)
+        write_angles_csv(motion_joint_angles(motion, sequence, body=False), path)
     elif file_format in ("c3d", "trc"):
         world = motion.forward_kinematics()
         index, ends = motion.end_site_positions(world)

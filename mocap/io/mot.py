@@ -19,9 +19,10 @@ import io
 import os
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from mocap.atomic import atomic_path
+from mocap.body.angles import motion_joint_angles
+from mocap.body.retarget import motion_to_lab
 from mocap.errors import MocapError
 
 
@@ -61,15 +62,22 @@ def write_mot(path: str | os.PathLike, times: np.ndarray, labels: list[str],
 def write_motion_mot(motion, path: str | os.PathLike, sequence: str = "ZXY") -> None:
     """Write a :class:`~mocap.skeleton.Motion` as joint coordinates in a ``.mot`` file.
 
-    Columns: ``<root>_tx``, ``_ty``, ``_tz`` (root origin, metres, Y up) then
-    ``<joint>_<axis>`` for every joint, Euler angles in ``sequence`` (scipy convention)
-    of its rotation relative to its parent, in degrees, unwrapped over time.
+    Columns: ``<root>_tx``, ``_ty``, ``_tz`` (root origin, metres, in the Z-up lab: X
+    anterior, Y left, Z up) then ``<joint>_<axis>`` for every joint: the joint angles of
+    :func:`mocap.body.angles.motion_joint_angles` (rotation relative to the parent in the lab's
+    axes, Euler ``sequence`` in degrees, unwrapped), the same numbers as an angle CSV export.
+
+    Parameters
+    ----------
+    motion : Motion
+        Frames (frames,) of a skeleton with ``segments`` joints; Y up, metres.
+    path : str or PathLike
+    sequence : str
+        scipy Euler sequence.
     """
     sk = motion.skeleton
-    root = sk.offsets[0] + motion.root_translation
-    flat = Rotation.from_matrix(motion.rotations.reshape(-1, 3, 3)).as_euler(sequence,
-                                                                            degrees=True)
-    angles = np.unwrap(flat.reshape(motion.frames, sk.count, 3), period=360.0, axis=0)
+    _, root = motion_to_lab(motion)                                   # (frames, 3), metres
+    angles = motion_joint_angles(motion, sequence, body=False).values  # (frames, segments, 3)
     letters = _axis_labels(sequence)
     labels = [f"{sk.names[0]}_t{a}" for a in "xyz"]
     labels += [f"{_safe(n)}_{letter}" for n in sk.names for letter in letters]

@@ -68,6 +68,24 @@ def test_export_every_format_from_asf_amc(file_format, tmp_path, capsys):
         assert json.loads(capsys.readouterr().out)["frames"] == 4
 
 
+def test_export_mot_and_csv_give_the_same_angles(tmp_path):
+    """One motion -> angles: the .mot columns are the angle CSV's numbers (Z-up lab axes)."""
+    from mocap.angles import read_angles_csv
+
+    mot, csv = tmp_path / "lambada.mot", tmp_path / "lambada.csv"
+    for out in (mot, csv):
+        assert main(["export", str(DATA / "cmu_lambada.amc"), "--body", "--sequence", "YXZ",
+                     "--format", out.suffix[1:], "-o", str(out)]) == 0
+    lines = mot.read_text().splitlines()
+    start = lines.index("endheader") + 2
+    table = np.array([[float(v) for v in line.split("\t")] for line in lines[start:]])
+    angles = read_angles_csv(csv)
+    assert lines[start - 1].split("\t")[4:7] == ["pelvis_Y", "pelvis_X", "pelvis_Z"]
+    np.testing.assert_allclose(table[:, 4:], angles.values.reshape(4, -1), atol=1e-6)
+    # The root's origin in the same lab: Z up, so the pelvis is ~1 m above z = 0.
+    assert 0.5 < table[0, 3] < 1.5
+
+
 def test_animate_a_tiny_gif_with_cape_and_physics(standing_bvh, tmp_path, capsys):
     out = tmp_path / "stand.gif"
     assert main(["animate", str(standing_bvh), "--cape", "--rope", "--physics",

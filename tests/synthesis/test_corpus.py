@@ -6,8 +6,8 @@ import pytest
 
 from mocap.angles import JointAngles, write_angles_csv
 from mocap.errors import MocapError
-from mocap.io.discovery import parse_trial_name
-from synthesis.corpus import (angle_columns, is_angle_csv, list_corpus_folder, load_corpus,
+from mocap.io.discovery import is_angle_csv, parse_trial_name
+from synthesis.corpus import (angle_columns, list_corpus_folder, load_corpus,
                               read_manifest)
 
 
