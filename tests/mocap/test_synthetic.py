@@ -77,7 +77,7 @@ def test_walks_have_double_support_steady_speed_and_clear_swings():
     """Both feet down after each landing, the stance foot flat in mid-stance while the
     other clears the floor, and a centre of mass whose speed varies as in real walking
     (about ±10-20 %, the pelvis a little more as the legs swing under it)."""
-    from mocap.synthetic import _centre_of_mass
+    from mocap.synthetic.balance import _centre_of_mass
 
     for person in make_people(6):
         _, truth = synthesize_trial(person, "walk", cycles=3)
@@ -136,7 +136,7 @@ def test_stair_feet_are_planted_on_the_treads(action):
 def test_leg_inverse_kinematics_puts_ankle_and_foot_exactly_where_asked(side):
     from scipy.spatial.transform import Rotation
 
-    from mocap.synthetic import _leg_rotations
+    from mocap.synthetic.legs import _leg_rotations
 
     person = make_people(1)[0]
     thigh, shank = person.lengths["thigh"], person.lengths["shank"]
