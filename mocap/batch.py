@@ -17,6 +17,7 @@ from typing import Any, Callable, Iterable, Sequence
 from mocap.errors import MocapError
 from mocap.progress import progress
 
+
 def run_batch(row: Callable[..., dict], paths: Sequence[str | os.PathLike], jobs: int = 1,
               dask: bool = False, scheduler: str | None = None,
               show_progress: bool | None = None, **arguments: Any) -> list[dict]:
@@ -58,7 +59,8 @@ def run_batch(row: Callable[..., dict], paths: Sequence[str | os.PathLike], jobs
 def _run_dask(row: Callable[..., dict], names: list[str], jobs: int, scheduler: str | None, arguments: dict,
               show_progress: bool | None) -> list[dict]:
     try:
-        from dask.distributed import Client, LocalCluster, as_completed as dask_completed
+        from dask.distributed import Client, LocalCluster
+        from dask.distributed import as_completed as dask_completed
     except ImportError:
         raise MocapError("Dask is not installed: pip install 'mocap-toolkit[distributed]'") from None
     cluster = None

@@ -1,8 +1,11 @@
 """The ``mocap`` command: a thin shell over the mocap, synthesis and dynamics packages.
 
-Each package adds its sub-commands through a ``register(subparsers)`` function in its
-command module; the modules import their heavy dependencies (Pinocchio, matplotlib)
-only inside the command that needs them, so ``mocap --help`` stays fast.
+One module per command group (``mocap.cli.io``, ``angles``, ``generate``, ``synthesis``,
+``simulate``, ``humanoid``, ``product``), each adding its sub-commands through a
+``register(subparsers)`` function. ``mocap --help`` lists them from the table in
+:mod:`mocap.cli.commands` without importing them; ``mocap COMMAND`` imports only that
+command's module. This package is the only code that imports ``synthesis`` and
+``dynamics``, and nothing imports it.
 """
 from __future__ import annotations
 
@@ -13,20 +16,10 @@ import sys
 import warnings
 from importlib.metadata import PackageNotFoundError, version
 
+from mocap.cli.commands import COMMANDS
 from mocap.errors import MocapError, MocapWarning
 
 _default_showwarning = warnings.showwarning
-
-#: Modules that add sub-commands, in the order they appear in ``mocap --help``.
-COMMAND_MODULES = [
-    "mocap.cli.io",
-    "mocap.cli.angles",
-    "mocap.cli.synthesis",
-    "mocap.cli.simulate",
-    "mocap.cli.humanoid",
-    "mocap.cli.product",
-]
-
 
 def package_version() -> str:
     """The installed distribution's version (pyproject.toml holds the one string)."""
@@ -36,8 +29,10 @@ def package_version() -> str:
         return "unknown (not installed)"
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The argument parser with every sub-command registered."""
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The argument parser: ``command``'s module registers its full parser, the other
+    sub-commands are listed by name and summary only (their modules are not imported).
+    ``None`` registers every command in full."""
     parser = argparse.ArgumentParser(
         prog="mocap",
         description="Motion capture analysis, synthesis and dynamics. "
@@ -46,9 +41,23 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"mocap {package_version()}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
     subparsers.required = True
-    for name in COMMAND_MODULES:
-        importlib.import_module(name).register(subparsers)
+    modules = [module for module, _ in COMMANDS.values()]
+    wanted = [COMMANDS[command][0]] if command in COMMANDS else (
+        [] if command is not None else list(dict.fromkeys(modules)))
+    for module in wanted:
+        importlib.import_module(module).register(subparsers)
+    registered = set(subparsers.choices)
+    for name, (_, text) in COMMANDS.items():
+        if name not in registered:
+            subparsers.add_parser(name, help=text)
+    # keep ``mocap --help`` in the table's order whatever was registered first
+    subparsers._choices_actions.sort(key=lambda action: list(COMMANDS).index(action.dest))
     return parser
+
+
+def _command_of(argv: list[str]) -> str | None:
+    """The sub-command named in ``argv`` (the first word that is one), if any."""
+    return next((word for word in argv if word in COMMANDS), None)
 
 
 def _warning_printer(command: str):
@@ -70,8 +79,9 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``mocap`` console script; returns the exit status."""
     command = "mocap"
     try:
-        parser = build_parser()
-        args = parser.parse_args(argv)
+        words = sys.argv[1:] if argv is None else list(argv)
+        parser = build_parser(_command_of(words) or "")
+        args = parser.parse_args(words)
         command = args.command
         with warnings.catch_warnings():
             warnings.simplefilter("always", MocapWarning)

@@ -8,6 +8,7 @@ import warnings
 from pathlib import Path
 
 from mocap.angles import GimbalLockWarning, check_sequence, write_angles_csv
+from mocap.cli.commands import summary
 from mocap.errors import MocapError
 from mocap.io import suffixes
 from mocap.io.discovery import find_files
@@ -23,7 +24,7 @@ MARKER_SUFFIXES = suffixes("markers")
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add ``angles`` and ``generate`` to ``subparsers``."""
     parser = subparsers.add_parser(
-        "angles", help="joint angles from marker files, as CSV (time, <segment>.<axis> in degrees)",
+        "angles", help=summary("angles"),
         description="Compute segment frames from three markers per segment and write the "
                     "joint angles (child relative to parent, the root relative to the lab) "
                     "as CSV: time in seconds, then <segment>.<axis> in degrees, continuous. "
@@ -61,9 +62,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="also draw the angle curves, one panel per segment, to this PNG "
                              "(with several inputs: a folder receiving <input name>.png)")
     parser.set_defaults(func=run_angles)
-
-    from mocap.cli.generate import register as register_generate
-    register_generate(subparsers)
 
 
 def run_angles(args: argparse.Namespace) -> int:

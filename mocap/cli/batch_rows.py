@@ -11,10 +11,10 @@ import numpy as np
 from dynamics.humanoid.check import check_motion
 from mocap import io
 from mocap.angles import joint_angles
+from mocap.body.retarget import motion_from_trial
 from mocap.errors import MocapError
 from mocap.io.discovery import find_files, parse_trial_name
 from mocap.markersets.model import load_markerset
-from mocap.body.retarget import motion_from_trial
 
 #: Marker-file suffixes a corpus folder is searched for.
 TRIAL_SUFFIXES = io.suffixes("markers")

@@ -25,7 +25,24 @@ from typing import Callable
 
 import numpy as np
 
+from dynamics.humanoid.check import check_motion
+from dynamics.humanoid.plant import motion_from_cycle
+from dynamics.secondary import simulate_secondary
+from dynamics.viz.animate import animate_motion, plot_check
+from mocap import io
+from mocap.angles import write_angles_csv
+from mocap.body.retarget import motion_from_trial
+from mocap.cli.batch_rows import find_trials
+from mocap.cli.humanoid import export_motion
 from mocap.errors import MocapError
+from mocap.io.discovery import parse_trial_name
+from mocap.markersets.model import load_markerset
+from mocap.pipeline import Cleaning, marker_file_angles
+from mocap.plot import plot_angles
+from mocap.progress import progress
+from mocap.synthetic import generate_corpus
+from synthesis.corpus import load_corpus
+from synthesis.model import MotionModel
 
 ACTION = "walk"
 #: Zero-lag low-pass of the markers before the angles, Hz (the usual gait-lab choice).
@@ -91,17 +108,6 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
     dict
         The summary written to ``summary.json``: paths and figures.
     """
-    from mocap import io
-    from mocap.angles import write_angles_csv
-    from mocap.pipeline import Cleaning, marker_file_angles
-    from mocap.cli.batch_rows import find_trials
-    from mocap.plot import plot_angles
-    from mocap.markersets.model import load_markerset
-    from mocap.progress import progress
-    from mocap.synthetic import generate_corpus
-    from synthesis.model import MotionModel
-    from mocap.io.discovery import parse_trial_name
-    from synthesis.corpus import load_corpus
 
     out = Path(out_dir)
     figures = out / "figures"
@@ -170,15 +176,12 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
 
     with steps("giving the walk a body: skeleton from markers, feet planted, BVH export"):
         motion = _body_motion(synthesised, names, person, chosen)
-        from mocap.cli.humanoid import export_motion
 
         bvh = out / "synthesis" / f"{person}_{ACTION}_synthesised.bvh"
         export_motion(motion, bvh, "bvh")
         summary["bvh"] = str(bvh)
 
     with steps("checking the motion with the Pinocchio humanoid"):
-        from dynamics.viz.animate import plot_check
-        from dynamics.humanoid.check import check_motion
 
         report = check_motion(motion)
         check = report.summary()
@@ -190,8 +193,6 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
 
     if animation:
         with steps("simulating a cloth cape and a rope on the moving body, drawing the GIF"):
-            from dynamics.viz.animate import animate_motion
-            from dynamics.secondary import simulate_secondary
 
             secondary = simulate_secondary(motion, cape=True, rope=True)
             animate_motion(motion, out / "animation.gif", secondary=secondary, max_frames=120,
@@ -219,9 +220,6 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
 def _body_motion(synthesised, trials: dict, person: str, markerset):
     """Three cycles of the synthesised joint angles on the person's own skeleton (from
     their markers), feet planted (:func:`dynamics.humanoid.plant.motion_from_cycle`)."""
-    from mocap import io
-    from mocap.body.retarget import motion_from_trial
-    from dynamics.humanoid.plant import motion_from_cycle
 
     source = next(path for (who, _), (path, _) in sorted(trials.items()) if who == person)
     skeleton = motion_from_trial(io.read(source), markerset).skeleton

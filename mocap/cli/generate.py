@@ -3,15 +3,16 @@ from __future__ import annotations
 
 import argparse
 
+from mocap.cli.commands import summary
 from mocap.errors import MocapError
+from mocap.synthetic import ACTIONS, generate_corpus
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add ``generate`` to ``subparsers``."""
-    from mocap.synthetic import ACTIONS
 
     parser = subparsers.add_parser(
-        "generate", help="write a synthetic people × actions marker corpus with ground truth",
+        "generate", help=summary("generate"),
         description="Generate synthetic marker trials <person>_<action>.c3d for several people "
                     "doing several actions, each person with a distinct motion signature "
                     "(body size, cadence, style, timing, asymmetry), plus the exact joint "
@@ -38,7 +39,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Write the corpus and print where it went."""
-    from mocap.synthetic import generate_corpus
 
     actions = [a.strip() for a in args.actions.split(",") if a.strip()]
     if args.people < 1:

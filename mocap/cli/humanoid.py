@@ -11,8 +11,17 @@ import json
 import sys
 from pathlib import Path
 
+from dynamics.humanoid.check import Thresholds, check_motion
+from dynamics.humanoid.model import JOINT_OF_SEGMENT
+from dynamics.humanoid.tracking import simulate_tracking
+from dynamics.secondary import simulate_secondary
+from dynamics.viz.animate import animate_motion, plot_check
+from mocap.body.anthropometry import segment_kind
+from mocap.body.retarget import reduce_to_segments
+from mocap.cli.commands import summary
 from mocap.errors import MocapError
 from mocap.io.export import EXPORT_FORMATS, export_motion
+from mocap.io.motion import read_motion
 
 #: Formats of ``mocap export``.
 
@@ -38,7 +47,7 @@ def _motion_options(parser: argparse.ArgumentParser) -> None:
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add ``check``, ``export`` and ``animate`` to ``subparsers``."""
     check = subparsers.add_parser(
-        "check", help="physical plausibility of a motion (Pinocchio inverse dynamics)",
+        "check", help=summary("check"),
         description="Inverse dynamics of the motion on a 15-segment body (de Leva 1996 "
                     "inertias scaled to the skeleton and --mass): residual force and torque "
                     "at the root that ground reactions inside friction cones cannot supply, "
@@ -75,7 +84,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     check.set_defaults(func=run_check)
 
     export = subparsers.add_parser(
-        "export", help="write a motion as BVH, angle CSV, C3D/TRC joint markers, .mot or JSON",
+        "export", help=summary("export"),
         description="Convert a motion: bvh (hierarchy + channels, centimetres), csv (joint "
                     "angles as mocap angles writes them, in a Z-up lab), c3d/trc (one marker per joint and "
                     "end site, Z-up lab, metres), mot (OpenSim storage: root translation and "
@@ -97,7 +106,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     export.set_defaults(func=run_export)
 
     animate = subparsers.add_parser(
-        "animate", help="stick-figure animation of a motion (cape, rope, physics)",
+        "animate", help=summary("animate"),
         description="Draw the motion as a stick figure over the floor, optionally with a cape "
                     "pinned to the shoulders and a rope at the head (mass-spring cloth driven "
                     "by the skeleton, colliding with the body), or replayed under physics "
@@ -122,15 +131,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 # ----------------------------------------------------------------------------------------
 def _load(args: argparse.Namespace):
-    from mocap.io.motion import read_motion
-
     return read_motion(args.motion, asf=args.asf, markerset=args.markerset,
                        units=args.units, rate=args.rate)
 
 
 def run_check(args: argparse.Namespace) -> int:
     """Handler of ``mocap check``."""
-    from dynamics.humanoid.check import Thresholds, check_motion
 
     if not args.mass > 0:
         raise MocapError(f"--mass must be positive, got {args.mass}")
@@ -153,7 +159,6 @@ def run_check(args: argparse.Namespace) -> int:
                           thresholds=limits, floor=floor)
     summary = {"path": str(args.motion), **report.summary()}
     if args.plot:
-        from dynamics.viz.animate import plot_check
         plot_check(report, args.plot)
     if args.json:
         print(json.dumps(summary))
@@ -169,8 +174,6 @@ def run_check(args: argparse.Namespace) -> int:
           f"(skating ratio {summary['skating_ratio']:.2f})")
     print(f"  penetration      {summary['penetration_mm']:.1f} mm   floating "
           f"{summary['floating_mm']:.1f} mm ({summary['floating_frames']} frames unsupported)")
-    from mocap.body.anthropometry import segment_kind
-    from dynamics.humanoid.model import JOINT_OF_SEGMENT
 
     def joint(segment: str) -> str:
         side = segment[:2] if segment[:2] in ("l_", "r_") else ""
@@ -190,7 +193,6 @@ def run_check(args: argparse.Namespace) -> int:
 
 def run_export(args: argparse.Namespace) -> int:
     """Handler of ``mocap export``."""
-    from mocap.body.retarget import reduce_to_segments
 
     motion = _load(args)
     if args.body:
@@ -202,7 +204,6 @@ def run_export(args: argparse.Namespace) -> int:
 
 def run_animate(args: argparse.Namespace) -> int:
     """Handler of ``mocap animate``."""
-    from dynamics.viz.animate import animate_motion
 
     output = Path(args.output)
     if output.suffix.lower() not in (".gif", ".mp4"):
@@ -212,7 +213,6 @@ def run_animate(args: argparse.Namespace) -> int:
     motion = _load(args)
     title = Path(args.motion).stem
     if args.physics:
-        from dynamics.humanoid.tracking import simulate_tracking
         result = simulate_tracking(motion, body_mass=args.mass)
         motion = result.motion
         weight = args.mass * 9.81
@@ -223,7 +223,6 @@ def run_animate(args: argparse.Namespace) -> int:
         title += " (physics)"
     secondary = None
     if args.cape or args.rope:
-        from dynamics.secondary import simulate_secondary
         secondary = simulate_secondary(motion, cape=args.cape, rope=args.rope)
     frames = animate_motion(motion, output, secondary=secondary, max_frames=args.max_frames,
                             dpi=args.dpi, title=title)

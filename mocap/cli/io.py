@@ -8,10 +8,13 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from tqdm.auto import tqdm
 
+from mocap.cli.commands import summary
 from mocap.errors import MocapError, MocapWarning
-from mocap.io import format_of, read, suffixes
+from mocap.io import format_of, read, suffixes, write
 from mocap.io.discovery import find_files
+from mocap.progress import progress
 from mocap.summary import format_summary, summarise
 from mocap.trial import Trial
 
@@ -19,8 +22,7 @@ from mocap.trial import Trial
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add ``info`` and ``convert`` to the ``mocap`` command line."""
     info = subparsers.add_parser(
-        "info",
-        help="summarise marker files: rate, frames, duration, markers, units, gaps",
+        "info", help=summary("info"),
         description="Summarise C3D, CSV or TRC marker files: sampling rate, frames, "
                     "duration, marker labels, units as stored, and per marker the "
                     "fraction of frames missing, the number of gaps and the longest gap. "
@@ -40,8 +42,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     info.set_defaults(func=run_info)
 
     convert = subparsers.add_parser(
-        "convert",
-        help="convert a marker file between C3D, CSV and TRC",
+        "convert", help=summary("convert"),
         description="Convert a marker file to another format, chosen by the output "
                     "suffix: .c3d, .csv (time and <label>_x/_y/_z in metres) or .trc. "
                     "Missing samples stay missing; the output appears only when "
@@ -80,9 +81,7 @@ def read_marker_file(path, quiet: bool = False) -> Trial:
 
 def run_info(args: argparse.Namespace) -> int:
     """Handler of ``mocap info``."""
-    from tqdm.auto import tqdm
 
-    from mocap.progress import progress
 
     files = _expand(args.files)
     if not files:
@@ -123,7 +122,6 @@ def _json_default(value):
 
 def run_convert(args: argparse.Namespace) -> int:
     """Handler of ``mocap convert``."""
-    from mocap.io import format_of, write
 
     source, target = Path(args.input), Path(args.output)
     target_format = format_of(target, for_writing=True)     # fail before reading

@@ -5,13 +5,18 @@ import argparse
 import json
 import sys
 
+from mocap.atomic import atomic_path
+from mocap.batch import rows_to_csv, run_batch
+from mocap.cli.batch_rows import BASE_COLUMNS, CHECK_COLUMNS, analyse_trial, find_trials
+from mocap.cli.commands import summary
+from mocap.cli.demo import run_demo as demo
 from mocap.errors import MocapError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add ``demo`` and ``batch`` to ``subparsers``."""
     demo = subparsers.add_parser(
-        "demo", help="run the whole pipeline on generated data and write an HTML report",
+        "demo", help=summary("demo"),
         description="Generate a people × actions corpus (or use --data), extract joint angles, "
                     "decompose with the N-mode SVD, synthesise a held-out walk from the "
                     "person's other actions, check it with the Pinocchio humanoid, animate it "
@@ -32,7 +37,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     demo.set_defaults(func=run_demo)
 
     batch = subparsers.add_parser(
-        "batch", help="analyse every trial of a corpus in parallel into one table",
+        "batch", help=summary("batch"),
         description="Read every marker file of CORPUS (a folder, or files), summarise it "
                     "(rate, frames, missing data), extract joint-angle ranges of motion with "
                     "--markerset and run the dynamics check with --check, in parallel worker "
@@ -59,9 +64,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run_batch_command(args: argparse.Namespace) -> int:
     """Run the batch and write or print the table; list failures on stderr."""
-    from mocap.atomic import atomic_path
-    from mocap.batch import rows_to_csv, run_batch
-    from mocap.cli.batch_rows import BASE_COLUMNS, CHECK_COLUMNS, analyse_trial, find_trials
 
     if args.check and not args.markerset:
         raise MocapError("--check needs --markerset (a full-body marker set such as synthetic15)")
@@ -87,7 +89,6 @@ def run_batch_command(args: argparse.Namespace) -> int:
 
 def run_demo(args: argparse.Namespace) -> int:
     """The whole product on generated data (see :mod:`mocap.cli.demo`)."""
-    from mocap.cli.demo import run_demo as demo
 
     demo(out_dir=args.out, data=args.data, markerset=args.markerset, people=args.people,
          seed=args.seed, hold_out=args.hold_out, animation=not args.no_animation)

@@ -2,15 +2,22 @@
 from __future__ import annotations
 
 import argparse
+import shutil
 import sys
 from pathlib import Path
+
+from dynamics.scenes.build import load_scene
+from dynamics.scenes.run import run_scene
+from dynamics.scenes.schema import SCENES_DIR, example_scene_path
+from dynamics.viz.render import render_animation
+from mocap.cli.commands import summary
+from mocap.errors import MocapError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add this package's sub-commands to ``subparsers``."""
     parser = subparsers.add_parser(
-        "simulate",
-        help="run a particle / mass-spring / rigid-body scene (TOML) and save the frames",
+        "simulate", help=summary("simulate"),
         description="Run a simulation scene file (TOML, format in the README) and write its saved frames to "
                     "an .npz file (times, positions, springs, temperature, energy, rigid "
                     "bodies), optionally also an animation. SCENE may be a path or the name "
@@ -46,11 +53,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def simulate_command(args: argparse.Namespace) -> int:
     """Handler of ``mocap simulate``."""
-    from mocap.errors import MocapError
 
-    from dynamics.scenes.build import load_scene
-    from dynamics.scenes.run import run_scene
-    from dynamics.scenes.schema import SCENES_DIR, example_scene_path
 
     if args.list_examples:
         for path in sorted(SCENES_DIR.glob("*.toml")):
@@ -67,7 +70,6 @@ def simulate_command(args: argparse.Namespace) -> int:
         if value and Path(value).suffix.lower() != "." + flag[2:]:
             raise MocapError(f"{flag} needs a file ending in .{flag[2:]}", value)
     if args.mp4:
-        import shutil
         if shutil.which("ffmpeg") is None:
             raise MocapError("writing MP4 needs ffmpeg on the PATH; use --gif instead", args.mp4)
     scene = load_scene(scene_path)
@@ -97,7 +99,6 @@ def simulate_command(args: argparse.Namespace) -> int:
                f"-> {args.output}")
     for video in (args.gif, args.mp4):
         if video:
-            from dynamics.viz.render import render_animation
             drawn = render_animation(result.arrays(), video, fps=args.fps,
                                      max_frames=args.max_frames,
                                      title=scene.title or scene_path.stem)

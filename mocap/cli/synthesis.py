@@ -13,7 +13,16 @@ import math
 import sys
 from pathlib import Path
 
+from dynamics.humanoid.plant import motion_from_cycle
+from mocap.angles import write_angles_csv
+from mocap.cli.commands import summary
 from mocap.errors import MocapError
+from mocap.io.bvh import write_bvh
+from mocap.io.motion import read_motion
+from mocap.progress import progress
+from synthesis.corpus import load_corpus
+from synthesis.evaluate import leave_one_out, plot_evaluation
+from synthesis.model import MotionModel
 
 OUTPUT_SUFFIXES = (".csv", ".bvh")
 
@@ -116,9 +125,6 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
 
 
 def _load_corpus(args: argparse.Namespace):
-    from mocap.progress import progress
-    from synthesis.corpus import load_corpus
-
     if args.corpus is None and args.manifest is None:
         raise MocapError("give a corpus folder or --manifest FILE.csv")
     if args.corpus is not None and args.manifest is not None:
@@ -161,7 +167,6 @@ def _check_output(path: str, suffixes=(".npz",)) -> None:
 
 def decompose(args: argparse.Namespace) -> int:
     """``mocap decompose``: corpus → N-mode SVD motion model (.npz)."""
-    from synthesis.model import MotionModel
 
     _check_output(args.output)
     corpus = _load_corpus(args)
@@ -208,7 +213,6 @@ def _trial_action(model, path: str, curve, duration, given: str | None) -> str:
 
 def synthesize(args: argparse.Namespace) -> int:
     """``mocap synthesize``: one cycle of a (known, blended or new) person doing an action."""
-    from synthesis.model import MotionModel
 
     suffix = Path(args.output).suffix.lower()
     if suffix not in OUTPUT_SUFFIXES:
@@ -242,14 +246,10 @@ def synthesize(args: argparse.Namespace) -> int:
     angles = model.synthesize_angles(None, args.action, signature=signature,
                                      samples=args.samples)
     if suffix == ".csv":
-        from mocap.angles import write_angles_csv
         write_angles_csv(angles, args.output)
     else:
         # The cycle on the default body, its root path planted on the feet (the model
         # knows joint angles, not where the body is in the room).
-        from dynamics.humanoid.plant import motion_from_cycle
-        from mocap.io.bvh import write_bvh
-        from mocap.io.motion import read_motion
 
         skeleton = (read_motion(args.skeleton, markerset=model.markerset).skeleton
                     if args.skeleton else None)
@@ -270,7 +270,6 @@ def synthesize(args: argparse.Namespace) -> int:
 
 def recognize(args: argparse.Namespace) -> int:
     """``mocap recognize``: most likely person (and action) of a trial."""
-    from synthesis.model import MotionModel
 
     model = MotionModel.load(args.model)
     curve, duration = model.read_trial(args.trial)
@@ -287,8 +286,6 @@ def recognize(args: argparse.Namespace) -> int:
 
 def evaluate(args: argparse.Namespace) -> int:
     """``mocap evaluate``: leave-one-cell-out synthesis error and recognition accuracy."""
-    from mocap.progress import progress
-    from synthesis.evaluate import leave_one_out, plot_evaluation
 
     if not args.leave_one_out:
         raise MocapError("choose an evaluation: --leave-one-out")
@@ -312,7 +309,7 @@ def evaluate(args: argparse.Namespace) -> int:
 def register(subparsers: argparse._SubParsersAction) -> None:
     """Add this package's sub-commands to ``subparsers``."""
     parser = subparsers.add_parser(
-        "decompose", help="build an N-mode SVD motion model from a people × actions corpus",
+        "decompose", help=summary("decompose"),
         description="Read a corpus of trials (one person doing one action each), time-normalise "
                     "every cycle, and decompose the people × actions × joint-angle tensor with "
                     "the N-mode SVD into motion signatures and action bases (Vasilescu 2002).")
@@ -324,7 +321,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(func=decompose)
 
     parser = subparsers.add_parser(
-        "synthesize", help="synthesise one cycle of a person doing an action",
+        "synthesize", help=summary("synthesize"),
         description="Synthesise one cycle of joint angles whose time column spans the "
                     "predicted duration: a known person doing any action (also one never "
                     "captured), a blend of two people, or a new person from captured trials.")
@@ -356,7 +353,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(func=synthesize)
 
     parser = subparsers.add_parser(
-        "recognize", help="recognise the person (and action) of a trial",
+        "recognize", help=summary("recognize"),
         description="Compare a trial with every person's model motion and print the most "
                     "likely person and action with scores.")
     parser.add_argument("model", metavar="MODEL.npz", help="model from 'mocap decompose'")
@@ -371,7 +368,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(func=recognize)
 
     parser = subparsers.add_parser(
-        "evaluate", help="leave-one-out synthesis error and recognition accuracy of a corpus",
+        "evaluate", help=summary("evaluate"),
         description="Hold out each (person, action) cell in turn, synthesise it from the "
                     "person's other actions, and report the RMS joint-angle error per cell and "
                     "overall beside the baseline 'mean of the other people for that action', "
