@@ -7,13 +7,18 @@ is on the PATH (otherwise a clear error, never a half-written file).
 from __future__ import annotations
 
 import os
+import textwrap
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from dynamics.viz.render import check_animation_path, save_animation
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 
 def _plot_axes(points: np.ndarray) -> np.ndarray:
@@ -56,9 +61,8 @@ def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float |
     MocapError
         Unknown suffix, or MP4 without ffmpeg.
     """
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # deferred: matplotlib is slow to import and only drawing needs it
+    from matplotlib.figure import Figure
     from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
     path = check_animation_path(path)
@@ -98,7 +102,7 @@ def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float |
     root_path = points[:, 0, :]
     spacing = 0.25
 
-    figure = plt.figure(figsize=size, dpi=dpi)
+    figure = Figure(figsize=size, dpi=dpi)             # no pyplot: no global state
     axes = figure.add_subplot(projection="3d")
     axes.set_xlabel("x (m)")
     axes.set_ylabel("z (m)")
@@ -148,26 +152,41 @@ def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float |
     return int(chosen.size)
 
 
-def plot_check(report, path: str | os.PathLike, dpi: int = 100) -> None:
+def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100) -> Figure:
     """Plot a :class:`dynamics.humanoid.check.CheckReport`: residuals, ground reactions, joint
-    torques and the lowest body point over time (PNG, PDF or SVG by suffix)."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    torques and the lowest body point over time.
 
-    path = Path(path)
-    if path.suffix.lower() not in (".png", ".pdf", ".svg"):
-        raise MocapError("the plot must be a .png, .pdf or .svg file", path)
+    Parameters
+    ----------
+    report : dynamics.humanoid.check.CheckReport
+    path : str or PathLike, optional
+        Also write the figure here (PNG, PDF or SVG by suffix; all or nothing).
+    dpi : int
+        Resolution of the written file (the figure is 8 × 10 inches).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Four axes sharing the time axis; built without pyplot, so no global state changes
+        and nothing needs closing.
+    """
+    # deferred: matplotlib is slow to import and only drawing needs it
+    from matplotlib.figure import Figure
+
+    if path is not None:
+        path = Path(path)
+        if path.suffix.lower() not in (".png", ".pdf", ".svg"):
+            raise MocapError("the plot must be a .png, .pdf or .svg file", path)
     t = report.times
     weight = report.weight
-    figure, axes = plt.subplots(4, 1, figsize=(8, 10), sharex=True)
+    figure = Figure(figsize=(8, 10))
+    axes = figure.subplots(4, 1, sharex=True)
     force = 100.0 * np.linalg.norm(report.residual_force, axis=1) / weight
     axes[0].plot(t, force, label="residual force (% BW)")
     axes[0].plot(t, np.linalg.norm(report.residual_torque, axis=1),
                  label="residual torque about the COM (N·m)")
     axes[0].axhline(report.thresholds.residual_rms_pct_bw, color="0.6", linestyle=":",
                     label="RMS limit (% BW)")
-    import textwrap
     verdict = f"{report.verdict}: " + ("; ".join(report.reasons) or "no problems")
     axes[0].set_title(textwrap.fill(verdict, 110), fontsize=8)
     axes[0].legend(fontsize=7)
@@ -188,8 +207,7 @@ def plot_check(report, path: str | os.PathLike, dpi: int = 100) -> None:
     axes[3].set_ylabel("lowest point (mm)")
     axes[3].set_xlabel("time (s)")
     figure.tight_layout()
-    try:
+    if path is not None:
         with atomic_path(path) as tmp:
             figure.savefig(tmp, dpi=dpi, format=path.suffix.lower()[1:])
-    finally:
-        plt.close(figure)
+    return figure

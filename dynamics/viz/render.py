@@ -57,9 +57,10 @@ def render_animation(result: dict, path: str | os.PathLike, fps: float = 30.0,
     max_frames : saved frames are subsampled evenly down to at most this many
     dpi : resolution (the figure is 6.4 × 4.8 inches)
     """
+    # deferred: matplotlib is slow to import and only drawing needs it
     import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from matplotlib.colors import Normalize
+    from matplotlib.figure import Figure
     from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
     path = check_animation_path(path)
@@ -85,7 +86,7 @@ def render_animation(result: dict, path: str | os.PathLike, fps: float = 30.0,
     lo, hi = (cloud.min(axis=0), cloud.max(axis=0)) if len(cloud) else (-np.ones(3), np.ones(3))
     centre, half = 0.5 * (lo + hi), 0.5 * max(float((hi - lo).max()), 1e-3) * 1.05
 
-    figure = plt.figure(figsize=(6.4, 4.8), dpi=dpi)
+    figure = Figure(figsize=(6.4, 4.8), dpi=dpi)       # no pyplot: no global state
     axes = figure.add_subplot(projection="3d")
     c = _to_plot(centre)
     axes.set_xlim(c[0] - half, c[0] + half)
@@ -107,8 +108,9 @@ def render_animation(result: dict, path: str | os.PathLike, fps: float = 30.0,
     if temperature is not None:
         temperature = np.asarray(temperature)
         t_lo, t_hi = float(np.min(temperature)), float(np.max(temperature))
-        cmap = plt.get_cmap("inferno")
-        mappable = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(t_lo, max(t_hi, t_lo + 1e-9)))
+        cmap = matplotlib.colormaps["inferno"]
+        mappable = matplotlib.cm.ScalarMappable(cmap=cmap,
+                                                norm=Normalize(t_lo, max(t_hi, t_lo + 1e-9)))
         figure.colorbar(mappable, ax=axes, shrink=0.6, label="temperature (K)")
 
     def draw(frame: int):
@@ -151,16 +153,14 @@ def check_animation_path(path: str | os.PathLike) -> Path:
 
 
 def save_animation(figure, draw, frames, path: Path, fps: float, dpi: int) -> None:
-    """Render ``draw(frame)`` for each of ``frames`` into ``path`` (GIF by Pillow, MP4 by
-    ffmpeg), all or nothing, and close the figure."""
-    import matplotlib.pyplot as plt
+    """Render ``draw(frame)`` for each of ``frames`` of ``figure`` (a
+    ``matplotlib.figure.Figure``) into ``path`` (GIF by Pillow, MP4 by ffmpeg), all or
+    nothing."""
+    # deferred: matplotlib is slow to import and only drawing needs it
     from matplotlib import animation
 
     movie = animation.FuncAnimation(figure, draw, frames=frames, blit=False)
     writer = (animation.PillowWriter(fps=fps) if path.suffix.lower() == ".gif"
               else animation.FFMpegWriter(fps=fps))
-    try:
-        with atomic_path(path) as tmp:
-            movie.save(str(tmp), writer=writer, dpi=dpi)
-    finally:
-        plt.close(figure)
+    with atomic_path(path) as tmp:
+        movie.save(str(tmp), writer=writer, dpi=dpi)
