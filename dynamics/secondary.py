@@ -17,6 +17,12 @@ from mocap.errors import MocapError
 from mocap.body.retarget import reduce_to_segments
 from mocap.skeleton import Motion
 
+from dynamics.sim.builders import cloth_grid
+from dynamics.sim.builders import rope as rope_builder
+from dynamics.sim.collisions import Capsule, Plane, Sphere
+from dynamics.sim.forces import Drag, Gravity
+from dynamics.sim.system import System
+
 #: Capsule radius (m) of each limb segment for a 1.75 m body (scaled by height).
 CAPSULE_RADII = {"upperarm": 0.05, "forearm": 0.04, "thigh": 0.075, "shank": 0.055}
 TRUNK_RADIUS = 0.12
@@ -52,8 +58,6 @@ class SecondaryMotion:
 
 def _body_colliders(names: list[str], positions: np.ndarray, scale: float):
     """Capsules (trunk, arms, legs) and a head sphere at one frame's joint positions."""
-    from dynamics.sim.collisions import Capsule, Sphere
-
     index = {n: i for i, n in enumerate(names)}
     colliders = {}
     trunk_top = positions[index["head"]]
@@ -113,12 +117,6 @@ def simulate_secondary(motion: Motion, cape: bool = True, rope: bool = False,
     -------
     SecondaryMotion
     """
-    from dynamics.sim.builders import cloth_grid
-    from dynamics.sim.builders import rope as rope_builder
-    from dynamics.sim.collisions import Plane
-    from dynamics.sim.forces import Drag, Gravity
-    from dynamics.sim.system import System
-
     if not (cape or rope):
         raise MocapError("nothing to simulate: ask for the cape, the rope or both")
     try:

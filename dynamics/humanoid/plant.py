@@ -2,7 +2,10 @@
 from __future__ import annotations
 
 import numpy as np
+from scipy.signal import butter, sosfiltfilt
 
+from mocap.angles import JointAngles
+from mocap.body.angles import motion_from_angles
 from mocap.body.anthropometry import foot_points
 from mocap.body.planting import planted_translation
 from mocap.skeleton import Motion
@@ -49,8 +52,6 @@ def plant_feet(motion: Motion, smooth_hz: float | None = 4.0) -> Motion:
                         motion.rotations, motion.rate, dict(motion.metadata))
     translation = planted_translation(foot_contact_positions(still_root), up=1)
     if smooth_hz is not None and motion.frames > 15 and smooth_hz < motion.rate / 2:
-        from scipy.signal import butter, sosfiltfilt
-
         sos = butter(4, smooth_hz, fs=motion.rate, output="sos")
         translation = sosfiltfilt(sos, translation, axis=0)
     return Motion(motion.skeleton, translation, motion.rotations, motion.rate,
@@ -81,9 +82,6 @@ def motion_from_cycle(angles, skeleton=None, cycles: int = 1, up: str = "z") -> 
     Motion
         ``cycles × samples`` frames, feet planted on the floor y = 0.
     """
-    from mocap.angles import JointAngles
-    from mocap.body.angles import motion_from_angles
-
     cycle = np.asarray(angles.values, dtype=float)
     if cycle.shape[0] < 3:
         raise ValueError("a cycle needs at least 3 samples")

@@ -89,6 +89,7 @@ def simulate_tracking(motion: Motion, body_mass: float = 75.0, sex: str = "male"
     -------
     TrackingResult
     """
+    # deferred: Pinocchio is imported only by the code that builds or runs a model
     import pinocchio as pin
 
     body = reduce_to_segments(motion, partial=True)

@@ -27,6 +27,7 @@ import numpy as np
 from dynamics.sim import particles as _particles
 from dynamics.sim import springs as _springs
 from dynamics.sim.forces import Gravity
+from dynamics.sim.integrators import advance
 from dynamics.sim.particles import Particles
 from dynamics.sim.springs import Springs, accumulate_spring_forces, spring_energy
 
@@ -161,5 +162,4 @@ class System:
 
     def step(self, dt: float, integrator: str = "symplectic-euler", **options) -> None:
         """Advance by ``dt`` seconds (see :func:`dynamics.sim.integrators.advance`)."""
-        from dynamics.sim.integrators import advance
         advance(self, dt, integrator, **options)
