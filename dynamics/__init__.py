@@ -19,6 +19,24 @@ The core simulator (lecture "Physical Simulations"):
   (example scenes: ``dynamics/scenes/examples/*.toml``, the single copy)
 - :mod:`dynamics.viz.render`      GIF / MP4 of a run
 
+The Pinocchio humanoid (Pinocchio's model/data split: the model is built once, the
+per-frame algorithms take it):
+
+- :mod:`dynamics.humanoid.model`      ``Humanoid`` (Pinocchio model, inertias, contact points,
+  its Data buffers), ``build_humanoid``
+- :mod:`dynamics.humanoid.kinematics` q, v, a of a motion on the manifold (``motion_kinematics``,
+  ``configurations``), quaternion helpers, ``centre_of_mass``
+- :mod:`dynamics.humanoid.inverse`    ``rnea_batch``, ``contact_joint_torques``
+- :mod:`dynamics.humanoid.contact`    friction-pyramid contact forces (``solve_contact_forces``,
+  compiled NNLS), contact positions, ``estimate_floor``, ``foot_skate``
+- :mod:`dynamics.humanoid.check`      the plausibility check (``check_motion``, ``CheckReport``,
+  ``Thresholds``; DESIGN 3.5)
+- :mod:`dynamics.humanoid.tracking`   forward dynamics (ABA) of the humanoid tracking a motion
+- :mod:`dynamics.humanoid.plant`      a root path from the feet of a joint-angle motion
+- :mod:`dynamics.secondary`           cape and rope simulated on a moving body
+- :mod:`dynamics.viz.animate`         stick-figure animations and the check plot (figures built
+  without pyplot: no global matplotlib state)
+
 A cape pinned to moving skeleton points, driven from outside every frame::
 
     from dynamics.sim.builders import cloth_grid
