@@ -81,7 +81,7 @@ def register_format(suffix: str, reader: str | Callable | None = None,
     _FORMATS[suffix] = FileFormat(suffix, name or suffix[1:], reader, writer, description, kind)
 
 
-register_format(".c3d", "mocap.io.c3d.read:read_c3d", "mocap.io.c3d.read:write_c3d",
+register_format(".c3d", "mocap.io.c3d.read:read_c3d", "mocap.io.c3d.write:write_c3d",
                 description="C3D marker file")
 register_format(".csv", "mocap.io.csv:read_csv", "mocap.io.csv:write_csv",
                 description="marker CSV (time,<label>_x,<label>_y,<label>_z… in metres)")
