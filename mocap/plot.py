@@ -53,10 +53,14 @@ def angles_figure(angles: JointAngles, title: str = ""):
     return figure
 
 
-def save_figure(figure, path: str | os.PathLike, dpi: int = 100) -> None:
-    """Write ``figure`` as PNG to ``path`` all-or-nothing (temporary name, then rename)."""
+def save_figure(figure, path: str | os.PathLike, dpi: int = 100, format: str = "png") -> None:
+    """Write ``figure`` to ``path`` all-or-nothing (temporary name, then rename).
+
+    ``format`` is matplotlib's (``"png"``, ``"pdf"``, ``"svg"``): the temporary name has no
+    telling suffix.
+    """
     with atomic_path(path) as tmp:
-        figure.savefig(tmp, dpi=dpi, format="png")
+        figure.savefig(tmp, dpi=dpi, format=format)
 
 
 def plot_angles(angles: JointAngles, path: str | os.PathLike, title: str = "") -> None:

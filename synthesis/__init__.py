@@ -25,7 +25,10 @@ model
     :class:`~synthesis.model.MotionModel`: angles + timing models, synthesis, recognition,
     ``.npz`` persistence.
 evaluate
-    Leave-one-cell-out evaluation against the "mean of the other people" baseline; plots.
+    Leave-one-cell-out evaluation against the "mean of the other people" baseline.
+plot
+    Figures (captured vs synthesised vs baseline cycles, the evaluation plot), built
+    without pyplot state: they take ``ax=`` or return a ``Figure``.
 
 The commands ``mocap decompose | synthesize | recognize | evaluate`` live in
 ``mocap/cli/synthesis.py``.

@@ -38,11 +38,12 @@ from mocap.errors import MocapError
 from mocap.io.discovery import parse_trial_name
 from mocap.markersets.model import load_markerset
 from mocap.pipeline import Cleaning, marker_file_angles
-from mocap.plot import plot_angles
+from mocap.plot import plot_angles, save_figure
 from mocap.progress import progress
 from mocap.synthetic import generate_corpus
 from synthesis.corpus import load_corpus
 from synthesis.model import MotionModel
+from synthesis.plot import synthesis_figure
 
 ACTION = "walk"
 #: Zero-lag low-pass of the markers before the angles, Hz (the usual gait-lab choice).
@@ -227,30 +228,12 @@ def _body_motion(synthesised, trials: dict, person: str, markerset):
 
 
 def _plot_synthesis(corpus, truth, curve, baseline, path: Path, person: str) -> None:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    wanted = [c for c in ("r_thigh.Y", "r_shank.Y", "r_foot.Y", "r_upperarm.Y", "pelvis.Z",
-                          "thorax.Z") if c in corpus.columns] or corpus.columns[:6]
-    phase = np.linspace(0, 100, truth.shape[0])
-    fig, axes = plt.subplots(2, 3, figsize=(11, 6), sharex=True)
-    for ax, column in zip(axes.flat, wanted):
-        k = corpus.columns.index(column)
-        ax.plot(phase, truth[:, k], color="black", lw=2, label="captured (held out)")
-        ax.plot(phase, curve[:, k], color="tab:red", lw=1.6, label="synthesised")
-        ax.plot(phase, baseline[:, k], color="tab:blue", ls="--", lw=1.2,
-                label="mean of the others")
-        ax.set_title(column)
-        ax.set_ylabel("degrees")
-        ax.grid(alpha=0.3)
-    for ax in axes[-1]:
-        ax.set_xlabel("% of cycle")
-    axes.flat[0].legend(fontsize=8)
-    fig.suptitle(f"{person}'s {ACTION}, synthesised from the person's other actions")
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    figure = synthesis_figure(corpus.columns, truth, curve, baseline,
+                              shown=("r_thigh.Y", "r_shank.Y", "r_foot.Y", "r_upperarm.Y",
+                                     "pelvis.Z", "thorax.Z"),
+                              title=f"{person}'s {ACTION}, synthesised from the person's "
+                                    "other actions")
+    save_figure(figure, path, dpi=90)
 
 
 def _write_report(out: Path, summary: dict, corpus) -> None:

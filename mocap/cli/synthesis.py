@@ -21,8 +21,9 @@ from mocap.io.bvh import write_bvh
 from mocap.io.motion import read_motion
 from mocap.progress import progress
 from synthesis.corpus import load_corpus
-from synthesis.evaluate import leave_one_out, plot_evaluation
+from synthesis.evaluate import leave_one_out
 from synthesis.model import MotionModel
+from synthesis.plot import plot_evaluation
 
 OUTPUT_SUFFIXES = (".csv", ".bvh")
 
@@ -286,7 +287,6 @@ def recognize(args: argparse.Namespace) -> int:
 
 def evaluate(args: argparse.Namespace) -> int:
     """``mocap evaluate``: leave-one-cell-out synthesis error and recognition accuracy."""
-
     if not args.leave_one_out:
         raise MocapError("choose an evaluation: --leave-one-out")
     if args.plot is not None:
