@@ -4,30 +4,41 @@ from __future__ import annotations
 
 import numpy as np
 
+from mocap.body.anthropometry import segment_kind, segment_table
 from mocap.errors import MocapError
 from mocap.synthetic.feet import _FootPath, _Gait, _gait, _loads
 from mocap.synthetic.legs import _leg_length, _leg_rotations
 from mocap.synthetic.people import ACTIONS, SEGMENT_NAMES, Person, _offsets, lab_frames
 from mocap.synthetic.templates import _stance_knee, _template, _to_clinical, _to_rotations
 
-#: Segment mass fractions and centres of mass (fraction of the segment's length along its
-#: long axis from the proximal joint), after de Leva (1996, male); the trunk is split into
-#: the pelvis (lower trunk) and the thorax (middle and upper trunk).
-_MASS = {"pelvis": (0.1117, 0.0), "thorax": (0.3229, 0.5), "head": (0.0694, 0.5),
-         "upperarm": (0.0271, 0.577), "forearm": (0.0162, 0.457), "hand": (0.0061, 0.4),
-         "thigh": (0.1416, 0.41), "shank": (0.0433, 0.446), "foot": (0.0137, 0.44)}
+#: Centre of mass of each segment kind as a fraction of its length along the long axis
+#: from the proximal joint: the generator's own rounded values. Masses come from the one de
+#: Leva table (:func:`mocap.body.anthropometry.segment_table`); these positions differ from
+#: it for the head and thorax (0.5 here, 0.40 and 0.58 there), the hand (0.4 vs 0.79) and
+#: the pelvis (see below). Switching to the table's positions moves the generated corpus
+#: (a walking centre of mass bobs up to 0.123 m; cycle detection on 3-cycle runs changes),
+#: so it is left for a change that re-validates those figures.
+_COM_ALONG = {"thorax": 0.5, "head": 0.5, "upperarm": 0.577, "forearm": 0.457, "hand": 0.4,
+              "thigh": 0.41, "shank": 0.446, "foot": 0.44}
 
 
 def _mass_model(person: Person) -> tuple[np.ndarray, np.ndarray]:
     """Mass fractions (segments,) summing to 1 and centres of mass in the segment frames
-    (segments, 3), metres."""
+    (segments, 3), metres.
+
+    Masses are de Leva's (1996, male) from :func:`mocap.body.anthropometry.segment_table`
+    (the trunk split into the pelvis, de Leva's lower trunk, and the thorax, his middle and
+    upper trunk); centres of mass at ``_COM_ALONG`` along each segment (pelvis: 0.3 of the
+    hip drop below its origin).
+    """
     L = person.lengths
+    masses = segment_table("male")
     down = {"upperarm": L["upperarm"], "forearm": L["forearm"], "hand": L["hand"],
             "thigh": L["thigh"], "shank": L["shank"]}
     fractions, centres = [], []
     for name in SEGMENT_NAMES:
-        kind = name.split("_")[-1]
-        fraction, along = _MASS[kind]
+        kind = segment_kind(name)
+        fraction, along = masses[kind][0], _COM_ALONG.get(kind, 0.0)
         if kind == "thorax":
             centre = (0.0, 0.0, along * L["neck"])
         elif kind == "head":
