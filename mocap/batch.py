@@ -41,7 +41,7 @@ def run_batch(row: Callable[..., dict], paths: Sequence[str | os.PathLike], jobs
     """
     names = [str(p) for p in paths]
     if jobs < 1:
-        raise MocapError(f"--jobs must be at least 1, got {jobs}")
+        raise MocapError(f"jobs= must be at least 1, got {jobs}")
     if dask or scheduler:
         return _run_dask(row, names, jobs, scheduler, arguments, show_progress)
     if jobs == 1:

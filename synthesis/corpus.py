@@ -64,7 +64,7 @@ def list_corpus_folder(folder: str | Path) -> list[CorpusEntry]:
     """
     folder = Path(folder)
     if not folder.is_dir():
-        raise MocapError("corpus must be a folder of trials (or give --manifest FILE.csv)", folder)
+        raise MocapError("corpus must be a folder of trials (or give a manifest= CSV)", folder)
     files = sorted(p for p in folder.iterdir()
                    if p.is_file() and p.suffix.lower() in TRIAL_SUFFIXES
                    and not p.name.startswith("."))
@@ -167,7 +167,7 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     if path.suffix.lower() in (".bvh", ".amc"):
         return _skeleton_angles(path, sequence)
     if markerset is None:
-        raise MocapError("marker trials need --markerset to turn markers into joint angles",
+        raise MocapError("marker trials need markerset= to turn markers into joint angles",
                          path)
     trial = read(path)
     if max_gap_frames:
@@ -416,5 +416,5 @@ def load_corpus(corpus: str | Path | None = None, manifest: str | Path | None = 
     elif corpus is not None:
         entries = list_corpus_folder(corpus)
     else:
-        raise MocapError("give a corpus folder or --manifest FILE.csv")
+        raise MocapError("give a corpus= folder or a manifest= CSV")
     return read_corpus(entries, **options)

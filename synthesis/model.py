@@ -146,7 +146,7 @@ class MotionModel:
         except MocapError as error:
             raise MocapError(f"{error.problem}; missing cells: "
                              f"{_cells_text(corpus.missing_cells())} "
-                             "(choose people or actions with --people/--actions)") from None
+                             "(choose people= or actions=)") from None
         complete = complete if complete.size else np.arange(len(self.people))
         deviations = np.where(observed[complete][..., None], angles[complete], np.nan) \
             - self.angle_model_.mean_

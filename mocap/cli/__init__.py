@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import re
 import sys
 import warnings
 from importlib.metadata import PackageNotFoundError, version
@@ -55,6 +56,25 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
+def as_flags(message: str, parser: argparse.ArgumentParser) -> str:
+    """A library message in the command line's words: each ``name=`` that is an option of
+    ``parser`` (``markerset=``) becomes the flag (``--markerset``).
+
+    Examples
+    --------
+    >>> p = argparse.ArgumentParser(); _ = p.add_argument("--max-gap")
+    >>> as_flags("give max_gap= or asf=", p)
+    'give --max-gap or asf='
+    """
+    flags = {action.dest: max(action.option_strings, key=len)
+             for action in parser._actions if action.option_strings}
+
+    def word(match: re.Match) -> str:
+        return flags.get(match.group(1), match.group(0))
+
+    return re.sub(r"(?<![\w-])([a-z_][a-z0-9_]*)=(?![\w\"'])", word, message)
+
+
 def _command_of(argv: list[str]) -> str | None:
     """The sub-command named in ``argv`` (the first word that is one), if any."""
     return next((word for word in argv if word in COMMANDS), None)
@@ -78,17 +98,20 @@ def _warning_printer(command: str):
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``mocap`` console script; returns the exit status."""
     command = "mocap"
+    subparser = None
     try:
         words = sys.argv[1:] if argv is None else list(argv)
         parser = build_parser(_command_of(words) or "")
         args = parser.parse_args(words)
         command = args.command
+        subparser = parser._subparsers._group_actions[0].choices.get(command)
         with warnings.catch_warnings():
             warnings.simplefilter("always", MocapWarning)
             warnings.showwarning = _warning_printer(command)
             status = args.func(args)
     except MocapError as error:
-        print(f"mocap {command}: error: {error}", file=sys.stderr)
+        words = as_flags(str(error), subparser) if subparser is not None else str(error)
+        print(f"mocap {command}: error: {words}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("mocap: interrupted", file=sys.stderr)

@@ -36,7 +36,7 @@ def parse_trial_name(path: str | Path) -> tuple[str, str]:
     parts = Path(path).stem.split("_")
     if len(parts) < 2 or not parts[0] or not parts[1]:
         raise MocapError("trial name must be <person>_<action>[_anything].<suffix> "
-                         "(or use --manifest FILE.csv with columns path,person,action)", path)
+                         "(or list the trials in a manifest= CSV with columns path,person,action)", path)
     return parts[0], parts[1]
 
 
@@ -107,7 +107,7 @@ def find_asf(amc: str | Path) -> Path:
     if len(found) == 1:
         return found[0]
     raise MocapError(f"no ASF skeleton found beside this AMC motion: put {person}.asf beside "
-                     "it or pass asf= (--asf on the command line)", amc)
+                     "it or pass asf=", amc)
 
 
 def is_angle_csv(path: str | Path) -> bool:

@@ -67,7 +67,7 @@ def read_motion(path: str | os.PathLike, asf: str | os.PathLike | None = None,
         return read_asf_amc(skeleton, path, rate=rate, units=units)
     if suffix == ".asf":
         raise MocapError("an ASF file is the skeleton only: give the AMC motion (and this "
-                         "file with --asf)", path)
+                         "file with asf=)", path)
     if suffix == ".csv" and is_angle_csv(path):
         angles = read_angles_csv(path)
         foreign = [s for s in angles.segments if s not in BODY_SEGMENTS]
@@ -75,12 +75,12 @@ def read_motion(path: str | os.PathLike, asf: str | os.PathLike | None = None,
             raise MocapError("a joint-angle CSV carries no skeleton, so it plays only on the "
                              "15-segment body (pelvis, thorax, …); it has other segments: "
                              + ", ".join(foreign[:6]) + (" …" if len(foreign) > 6 else "")
-                             + " (export with --body to get one)", path)
+                             + " (mocap.body.segments.reduce_to_segments gives one)", path)
         return motion_from_angles(angles)
     if suffix in MARKER_SUFFIXES:
         if not markerset:
-            raise MocapError("a marker trial needs --markerset (e.g. synthetic15) to build "
+            raise MocapError("a marker trial needs markerset= (e.g. synthetic15) to build "
                              "the skeleton", path)
         return motion_from_trial(read(path), load_markerset(markerset))
     raise MocapError("unknown motion file type: use .bvh, .amc, a joint-angle .csv, or a "
-                     ".c3d/.trc/.csv marker trial with --markerset", path)
+                     ".c3d/.trc/.csv marker trial with markerset=", path)
