@@ -11,15 +11,16 @@ from mocap.body.angles import motion_from_angles
 from mocap.body.retarget import motion_from_trial
 from mocap.body.segments import BODY_SEGMENTS
 from mocap.errors import MocapError
-from mocap.io import read
+from mocap.io import read, suffixes
 from mocap.io.asfamc import read_asf_amc
 from mocap.io.bvh import read_bvh
 from mocap.io.discovery import find_asf, is_angle_csv
 from mocap.markersets.model import load_markerset
 from mocap.skeleton import Motion
 
-#: Marker-trial suffixes :func:`read_motion` turns into motions with a marker set.
-MARKER_SUFFIXES = (".c3d", ".trc", ".csv")
+#: Marker-trial suffixes :func:`read_motion` turns into motions with a marker set (the
+#: registry's marker formats).
+MARKER_SUFFIXES = suffixes("markers")
 #: Suffixes :func:`read_motion` reads directly as motions.
 MOTION_SUFFIXES = (".bvh", ".amc")
 
