@@ -22,6 +22,8 @@ import numba
 import numpy as np
 from scipy.spatial import cKDTree
 
+from dynamics.sim.pairs import add_pair_force
+
 
 def equilibrium_beta(alpha: float, zeta: float, spacing: float, a: float = 2.0,
                      b: float = 4.0) -> float:
@@ -55,12 +57,7 @@ def _pair_forces(position, velocity, mass, pairs, hot, use_hot, alpha, beta, zet
             rate = ((velocity[i, 0] - velocity[j, 0]) * d0 + (velocity[i, 1] - velocity[j, 1]) * d1
                     + (velocity[i, 2] - velocity[j, 2]) * d2) / dist2
             scale -= viscosity * (1.0 - dist / cutoff) * rate
-        out[i, 0] += scale * d0
-        out[i, 1] += scale * d1
-        out[i, 2] += scale * d2
-        out[j, 0] -= scale * d0
-        out[j, 1] -= scale * d1
-        out[j, 2] -= scale * d2
+        add_pair_force(out, i, j, scale * d0, scale * d1, scale * d2)
 
 
 @dataclass

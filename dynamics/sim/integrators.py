@@ -32,6 +32,7 @@ import scipy.sparse.linalg as spla
 from mocap.errors import MocapError
 
 from dynamics.sim.collisions import resolve_collisions
+from dynamics.sim.pairs import add_pair_force, separation
 from dynamics.sim.springs import spring_jacobian_blocks
 
 #: Names accepted by :func:`advance` (and the scene file's ``integrator`` key).
@@ -212,19 +213,11 @@ def _projected_spring_rhs(position, pairs, rest, stiffness, out):
             continue
         i = pairs[s, 0]
         j = pairs[s, 1]
-        d0 = position[i, 0] - position[j, 0]
-        d1 = position[i, 1] - position[j, 1]
-        d2 = position[i, 2] - position[j, 2]
-        length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        d0, d1, d2, length = separation(position, j, i)      # x_i − x_j
         if length < 1e-12:
             continue
         scale = k * rest[s] / length
-        out[i, 0] += scale * d0
-        out[i, 1] += scale * d1
-        out[i, 2] += scale * d2
-        out[j, 0] -= scale * d0
-        out[j, 1] -= scale * d1
-        out[j, 2] -= scale * d2
+        add_pair_force(out, i, j, scale * d0, scale * d1, scale * d2)
 
 
 def _laplacian(n: int, pairs: np.ndarray, weight: np.ndarray) -> sp.csr_matrix:

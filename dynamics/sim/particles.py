@@ -5,6 +5,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from dynamics.sim.pairs import concatenate_records
+
 #: Colour given to particles when none is asked for (RGB in [0, 1]).
 DEFAULT_COLOUR = (0.2, 0.4, 0.8)
 
@@ -93,14 +95,4 @@ class Particles:
 
 def concatenate(parts: list[Particles]) -> Particles:
     """Join particle sets end to end (indices of part k are offset by the sizes before it)."""
-    if not parts:
-        return Particles.empty()
-    return Particles(
-        np.concatenate([p.position for p in parts]),
-        np.concatenate([p.velocity for p in parts]),
-        np.concatenate([p.mass for p in parts]),
-        np.concatenate([p.pinned for p in parts]),
-        np.concatenate([p.colour for p in parts]),
-        np.concatenate([p.temperature for p in parts]),
-        np.concatenate([p.age for p in parts]),
-    )
+    return concatenate_records(Particles, parts) if parts else Particles.empty()

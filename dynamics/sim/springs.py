@@ -17,6 +17,8 @@ from dataclasses import dataclass, field
 import numba
 import numpy as np
 
+from dynamics.sim.pairs import add_pair_force, concatenate_records, separation
+
 #: Spring kinds (the ``kind`` codes); heat conducts along STRUCTURAL and USER springs.
 USER, STRUCTURAL, SHEAR, BEND = 0, 1, 2, 3
 KIND_NAMES = {USER: "user", STRUCTURAL: "structural", SHEAR: "shear", BEND: "bend"}
@@ -113,17 +115,7 @@ class Springs:
 
 def concatenate(parts: list[Springs]) -> Springs:
     """Join spring sets (their ``pairs`` must already index the joined particles)."""
-    if not parts:
-        return Springs.empty()
-    return Springs(
-        np.concatenate([s.pairs for s in parts]),
-        np.concatenate([s.rest_length for s in parts]),
-        np.concatenate([s.stiffness for s in parts]),
-        np.concatenate([s.damping for s in parts]),
-        np.concatenate([s.kind for s in parts]),
-        np.concatenate([s.base_stiffness for s in parts]),
-        np.concatenate([s.broken for s in parts]),
-    )
+    return concatenate_records(Springs, parts) if parts else Springs.empty()
 
 
 def _as_float(value, m: int) -> np.ndarray:
@@ -140,10 +132,7 @@ def _accumulate_spring_forces(position, velocity, pairs, rest, stiffness, dampin
             continue
         i = pairs[s, 0]
         j = pairs[s, 1]
-        dx = position[j, 0] - position[i, 0]
-        dy = position[j, 1] - position[i, 1]
-        dz = position[j, 2] - position[i, 2]
-        length = np.sqrt(dx * dx + dy * dy + dz * dz)
+        dx, dy, dz, length = separation(position, i, j)
         if length < _EPS:
             continue
         inv = 1.0 / length
@@ -153,15 +142,7 @@ def _accumulate_spring_forces(position, velocity, pairs, rest, stiffness, dampin
         rate = ((velocity[j, 0] - velocity[i, 0]) * ux + (velocity[j, 1] - velocity[i, 1]) * uy
                 + (velocity[j, 2] - velocity[i, 2]) * uz)
         scale = k * (length - rest[s]) + g * rate
-        fx = scale * ux
-        fy = scale * uy
-        fz = scale * uz
-        out[i, 0] += fx
-        out[i, 1] += fy
-        out[i, 2] += fz
-        out[j, 0] -= fx
-        out[j, 1] -= fy
-        out[j, 2] -= fz
+        add_pair_force(out, i, j, scale * ux, scale * uy, scale * uz)
 
 
 def accumulate_spring_forces(springs: Springs, position: np.ndarray, velocity: np.ndarray,
@@ -201,10 +182,7 @@ def _spring_jacobian_blocks(position, pairs, rest, stiffness, damping, kx, kv):
     for s in range(pairs.shape[0]):
         i = pairs[s, 0]
         j = pairs[s, 1]
-        d0 = position[j, 0] - position[i, 0]
-        d1 = position[j, 1] - position[i, 1]
-        d2 = position[j, 2] - position[i, 2]
-        length = np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+        d0, d1, d2, length = separation(position, i, j)
         k = stiffness[s]
         g = damping[s]
         if length < _EPS:
