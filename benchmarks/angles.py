@@ -20,7 +20,7 @@ from scipy.spatial.transform import Rotation
 from mocap.angles import (GimbalLockWarning, joint_angles, matrices_to_angles,
                           relative_rotations)
 from mocap.frames import segment_frames
-from mocap.markersets.model import load_markerset
+from mocap.markersets import load_markerset
 from mocap.trial import Trial
 
 

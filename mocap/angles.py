@@ -22,7 +22,7 @@ from scipy.spatial.transform import Rotation
 
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
-from mocap.markersets.model import MarkerSet
+from mocap.markersets import MarkerSet
 from mocap.trial import Trial
 
 #: The 24 sequences accepted: 12 intrinsic (upper case) and 12 extrinsic.
@@ -461,7 +461,7 @@ def joint_angles(trial: Trial, markerset: MarkerSet, sequence: str = DEFAULT_SEQ
     Examples
     --------
     >>> from mocap.io import read                                  # doctest: +SKIP
-    >>> from mocap.markersets.model import load_markerset                 # doctest: +SKIP
+    >>> from mocap.markersets import load_markerset                 # doctest: +SKIP
     >>> trial = read("HC002D06.c3d")                               # doctest: +SKIP
     >>> angles = joint_angles(trial, load_markerset("plugingait-lower"), "YXZ")  # doctest: +SKIP
     >>> knee_flexion = angles.segment("l_shank")[:, 0]             # doctest: +SKIP

@@ -6,7 +6,7 @@ DESIGN 3.1: with markers ``(p1, p2, p3)`` = origin, axis point, plane point,
 
 (columns), origin ``p1``; a segment's optional ``axes`` relabel the columns
 (``R @ P`` with a signed permutation ``P``) and its optional ``origin`` names
-another marker for the origin (see :mod:`mocap.markersets.model`).
+another marker for the origin (see :mod:`mocap.markersets`).
 """
 from __future__ import annotations
 
@@ -14,7 +14,8 @@ from typing import Iterator
 
 import numpy as np
 
-from mocap.markersets.model import MarkerSet, frame_components
+from mocap.markersets.axes import frame_components
+from mocap.markersets import MarkerSet
 from mocap.trial import Trial
 
 #: Frames per block: the arithmetic runs block by block so its temporaries stay
@@ -49,7 +50,7 @@ def segment_frames(trial: Trial, markerset: MarkerSet) -> tuple[np.ndarray, np.n
 
     Examples
     --------
-    >>> from mocap.markersets.model import load_markerset   # doctest: +SKIP
+    >>> from mocap.markersets import load_markerset   # doctest: +SKIP
     >>> R, o = segment_frames(trial, load_markerset("plugingait-lower"))  # doctest: +SKIP
     >>> R.shape                                       # doctest: +SKIP
     (222, 7, 3, 3)

@@ -14,7 +14,7 @@ from mocap.angles import DEFAULT_SEQUENCE, JointAngles, joint_angles
 from mocap.clean import GapReport, fill_gaps, lowpass
 from mocap.errors import MocapError
 from mocap.io import read
-from mocap.markersets.model import MarkerSet
+from mocap.markersets import MarkerSet
 from mocap.trial import Trial
 
 

@@ -31,7 +31,7 @@ from mocap.errors import MocapError
 from mocap.io import read
 from mocap.io.discovery import is_angle_csv, parse_trial_name
 from mocap.io.motion import MARKER_SUFFIXES, MOTION_SUFFIXES, read_motion
-from mocap.markersets.model import load_markerset
+from mocap.markersets import load_markerset
 from synthesis.cycles import DEFAULT_SAMPLES, centre_branch, normalise_cycles
 
 #: File suffixes a corpus folder may hold: marker trials (and angle CSVs), BVH and ASF/AMC

@@ -16,7 +16,7 @@ from mocap.body.segments import (BODY_SEGMENTS, LOWER_BODY, body_parents, canoni
                                  map_segments)
 from mocap.errors import MocapError
 from mocap.frames import segment_frames
-from mocap.markersets.model import load_markerset
+from mocap.markersets import load_markerset
 from mocap.skeleton import Motion, Skeleton
 
 #: Rotation taking vectors of a Z-up lab (X anterior, Y left, Z up) into our Y-up frame
@@ -136,7 +136,7 @@ def motion_from_trial(trial, markerset, up: str = "z") -> Motion:
     Parameters
     ----------
     trial : mocap.trial.Trial
-    markerset : mocap.markersets.model.MarkerSet or str
+    markerset : mocap.markersets.MarkerSet or str
         A marker set or the name/path of one (``load_markerset``).
     up : {"z", "y"}
 

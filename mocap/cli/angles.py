@@ -12,7 +12,7 @@ from mocap.cli.commands import summary
 from mocap.errors import MocapError
 from mocap.io import suffixes
 from mocap.io.discovery import find_files
-from mocap.markersets.model import load_markerset
+from mocap.markersets import load_markerset
 from mocap.pipeline import Cleaning, marker_file_angles
 from mocap.plot import plot_angles
 from mocap.progress import progress

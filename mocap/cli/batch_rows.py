@@ -14,7 +14,7 @@ from mocap.angles import joint_angles
 from mocap.body.retarget import motion_from_trial
 from mocap.errors import MocapError
 from mocap.io.discovery import find_files, parse_trial_name
-from mocap.markersets.model import load_markerset
+from mocap.markersets import load_markerset
 
 #: Marker-file suffixes a corpus folder is searched for.
 TRIAL_SUFFIXES = io.suffixes("markers")

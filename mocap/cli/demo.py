@@ -36,7 +36,7 @@ from mocap.cli.batch_rows import find_trials
 from mocap.cli.humanoid import export_motion
 from mocap.errors import MocapError
 from mocap.io.discovery import parse_trial_name
-from mocap.markersets.model import load_markerset
+from mocap.markersets import load_markerset
 from mocap.pipeline import Cleaning, marker_file_angles
 from mocap.plot import plot_angles, save_figure
 from mocap.progress import progress

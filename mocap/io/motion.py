@@ -15,7 +15,7 @@ from mocap.io import read, suffixes
 from mocap.io.asfamc import read_asf_amc
 from mocap.io.bvh import read_bvh
 from mocap.io.discovery import find_asf, is_angle_csv
-from mocap.markersets.model import load_markerset
+from mocap.markersets import load_markerset
 from mocap.skeleton import Motion
 
 #: Marker-trial suffixes :func:`read_motion` turns into motions with a marker set (the

@@ -175,7 +175,7 @@ def test_vertical_ground_reaction_matches_force_plates():
     finds from the markers alone follows the plates' vertical force while the feet are on
     them, with the body mass the plates give."""
     from mocap.io import read
-    from mocap.markersets.model import load_markerset
+    from mocap.markersets import load_markerset
     from mocap.body.retarget import motion_from_trial
     from tests.conftest import realdata_path
 

@@ -16,7 +16,7 @@ from mocap.angles import (SEQUENCES, GimbalLockWarning, JointAngles, angles_to_m
 from mocap.errors import MocapError
 from mocap.frames import segment_frames
 from mocap.io import read
-from mocap.markersets.model import load_markerset, markerset_from_dict
+from mocap.markersets import load_markerset, markerset_from_dict
 from mocap.trial import Trial
 from tests.conftest import realdata_path
 

@@ -6,8 +6,8 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from mocap.errors import MocapError
-from mocap.markersets.model import (frame_from_markers, hip_joint_centre_offset, load_markerset,
-                             pelvis_frame, preset_names)
+from mocap.markersets import (frame_from_markers, hip_joint_centre_offset, load_markerset,
+                              pelvis_frame, preset_names)
 from mocap.trial import Trial
 
 GOOD = """

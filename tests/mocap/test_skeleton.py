@@ -44,7 +44,7 @@ def test_default_skeleton_stands_on_the_floor_and_has_the_body_segments():
 
 
 def test_motion_from_synthetic_trial_reproduces_the_generator_exactly():
-    from mocap.markersets.model import load_markerset
+    from mocap.markersets import load_markerset
     from mocap.body.retarget import motion_from_trial
     from mocap.synthetic import synthesize_trial
 

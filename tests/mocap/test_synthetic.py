@@ -19,7 +19,7 @@ def test_same_seed_same_trial_other_seed_other_trial():
 @pytest.mark.parametrize("action", ACTIONS)
 def test_marker_frames_recover_the_ground_truth(action):
     from mocap.frames import segment_frames
-    from mocap.markersets.model import load_markerset
+    from mocap.markersets import load_markerset
 
     trial, truth = synthesize_trial(2, action)
     rotations, origins = segment_frames(trial, load_markerset("synthetic15"))
@@ -29,7 +29,7 @@ def test_marker_frames_recover_the_ground_truth(action):
 
 def test_extracted_angles_equal_ground_truth_csv(tmp_path):
     from mocap.angles import joint_angles, read_angles_csv
-    from mocap.markersets.model import load_markerset
+    from mocap.markersets import load_markerset
 
     files = generate_corpus(tmp_path, people=2, actions=["walk", "run"], seed=5, sequence="YXZ")
     assert [f.name for f in files] == [
@@ -104,7 +104,7 @@ def test_walk_and_run_pass_the_dynamics_check(action, limit):
     walks need 5-10 % body weight; the run's short flight phase falls inside the check's
     0.1 s smoothing window, which costs it some."""
     from dynamics.humanoid.check import check_motion
-    from mocap.markersets.model import load_markerset
+    from mocap.markersets import load_markerset
     from mocap.body.retarget import motion_from_trial
 
     trial, _ = synthesize_trial(0, action, cycles=3)

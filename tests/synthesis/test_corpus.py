@@ -88,7 +88,7 @@ def test_marker_csv_with_dotted_axis_names_is_read_as_markers(tmp_path):
     """``PELO.x,PELO.y,PELO.z`` parses as angles in the sequence xyz; with a marker set whose
     markers those are, it is a marker CSV."""
     from mocap import io
-    from mocap.markersets.model import load_markerset
+    from mocap.markersets import load_markerset
     from mocap.synthetic import synthesize_trial
     from synthesis.corpus import read_trial_angles
 
@@ -110,7 +110,7 @@ def test_bvh_corpus_gives_the_marker_corpus_angles(tmp_path):
     """The same trials as C3D markers and as BVH motions (mocap.skeleton) give one tensor."""
     from mocap import io
     from mocap.io.bvh import write_bvh
-    from mocap.markersets.model import load_markerset
+    from mocap.markersets import load_markerset
     from mocap.body.retarget import motion_from_trial
     from mocap.synthetic import synthesize_trial
 

