@@ -88,8 +88,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Convert a motion: bvh (hierarchy + channels, centimetres), csv (joint "
                     "angles as mocap angles writes them, in a Z-up lab), c3d/trc (one marker per joint and "
                     "end site, Z-up lab, metres), mot (OpenSim storage: root translation and "
-                    "joint Euler angles in degrees), json (skeleton, root translation, joint "
-                    "quaternions and joint positions).",
+                    "joint Euler angles in degrees: the csv's angles, Z-up lab), json "
+                    "(skeleton, root translation, joint quaternions and joint positions).",
         epilog="Examples: mocap export 01_01.amc --format bvh -o 01_01.bvh;  "
                "mocap export walk.bvh --format mot -o walk.mot")
     _motion_options(export)
