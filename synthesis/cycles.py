@@ -41,6 +41,17 @@ def interpolate_missing(times: np.ndarray, values: np.ndarray,
                         source: str | Path | None = None) -> np.ndarray:
     """Bridge NaN samples of each column by linear interpolation in time (constant at the ends).
 
+    Parameters
+    ----------
+    times : ndarray, shape (frames,), seconds, increasing
+    values : ndarray, shape (frames, columns), degrees; NaN where undefined
+    source : path, optional
+        For error messages.
+
+    Returns
+    -------
+    ndarray, shape (frames, columns), without NaN
+
     Raises
     ------
     MocapError
@@ -102,7 +113,17 @@ def estimate_period(times: np.ndarray, signal: np.ndarray) -> float | None:
     """Period of a roughly periodic signal from its autocorrelation, seconds.
 
     The highest autocorrelation peak after the first zero crossing (lags up to half the
-    record). Returns ``None`` when the signal shows no repetition.
+    record).
+
+    Parameters
+    ----------
+    times : ndarray, shape (frames,), seconds, evenly spaced
+    signal : ndarray, shape (frames,), without NaN
+
+    Returns
+    -------
+    float or None
+        Seconds; ``None`` when the signal shows no repetition.
     """
     x = signal - signal.mean()
     n = x.size

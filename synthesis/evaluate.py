@@ -19,8 +19,8 @@ from typing import Callable, Iterable
 import numpy as np
 
 from mocap.errors import MocapError
-from synthesis.model import MotionModel
 from synthesis.corpus import MotionCorpus
+from synthesis.model import MotionModel
 
 
 @dataclass

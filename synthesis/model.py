@@ -21,12 +21,14 @@ from typing import Sequence
 
 import numpy as np
 
+from mocap.angles import JointAngles
+from mocap.atomic import atomic_path
 from mocap.errors import MocapError
+from synthesis.corpus import MotionCorpus, check_corpus_size, read_trial_angles
+from synthesis.cycles import normalise_cycles, resample
 from synthesis.nmode import Rank
 from synthesis.regression import SignatureModel
 from synthesis.signature import interpolate_signatures, posterior_scores
-from synthesis.corpus import MotionCorpus, check_corpus_size, read_trial_angles
-from synthesis.cycles import normalise_cycles, resample
 
 #: File format version written into saved models.
 FORMAT_VERSION = 1
@@ -253,8 +255,6 @@ class MotionModel:
     def synthesize_angles(self, person: str | None, action: str,
                           signature: "Signature | None" = None, samples: int | None = None):
         """:meth:`synthesize` as :class:`mocap.angles.JointAngles` whose times span the duration."""
-        from mocap.angles import JointAngles
-
         curve, duration = self.synthesize(person, action, signature, samples)
         times = np.linspace(0.0, duration, curve.shape[0])
         return JointAngles(times=times, values=curve.reshape(curve.shape[0], -1, 3),
@@ -299,8 +299,18 @@ class MotionModel:
             raise MocapError(error.problem, error.path or path) from None
 
     def distances(self, curve: np.ndarray) -> np.ndarray:
-        """RMS angle distance (degrees) between a cycle and every person's motion of every
-        action, shape (people, actions); NaN for people without a signature."""
+        """RMS angle distance between a cycle and every person's motion of every action.
+
+        Parameters
+        ----------
+        curve : ndarray, shape (samples, columns), degrees
+            A cycle normalised like the corpus.
+
+        Returns
+        -------
+        ndarray, shape (people, actions), degrees
+            NaN for people without a signature.
+        """
         self._check_fitted()
         flat = np.asarray(curve, dtype=float).ravel()
         signatures = self.angle_model_.signatures_
@@ -367,8 +377,6 @@ class MotionModel:
 
     def save(self, path: str | os.PathLike) -> None:
         """Write the model to ``path`` (.npz), atomically."""
-        from mocap.atomic import atomic_path
-
         self._check_fitted()
         angle_arrays, angle_meta = self.angle_model_.to_arrays("angles")
         timing_arrays, timing_meta = self.timing_model_.to_arrays("timing")

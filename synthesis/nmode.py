@@ -34,6 +34,7 @@ from typing import Sequence, Union
 
 import numpy as np
 import scipy.linalg
+from scipy.sparse.linalg import ArpackNoConvergence, eigsh
 
 #: Singular values below this fraction of the largest are treated as zero (numerical rank).
 RELATIVE_TOLERANCE = 1e-7
@@ -104,7 +105,22 @@ def mode_dot(tensor: np.ndarray, matrix: np.ndarray, mode: int,
 
 def multi_mode_dot(tensor: np.ndarray, matrices: Sequence[np.ndarray], modes: Sequence[int],
                    transpose: bool = False) -> np.ndarray:
-    """``D ×_{m_1} M_1 ×_{m_2} M_2 …`` in the order given (see :func:`mode_dot`)."""
+    """``D ×_{m_1} M_1 ×_{m_2} M_2 …``, the products taken in the order given.
+
+    Parameters
+    ----------
+    tensor : ndarray, shape (I_1, …, I_N)
+    matrices : sequence of ndarray, entry k of shape (J_k, I_{modes[k]})
+        ``(I_{modes[k]}, J_k)`` with ``transpose``.
+    modes : sequence of int
+    transpose : bool
+        Multiply by every matrix's transpose.
+
+    Returns
+    -------
+    ndarray
+        ``tensor``'s shape with ``J_k`` in place of ``I_{modes[k]}``.
+    """
     for matrix, mode in zip(matrices, modes):
         tensor = mode_dot(tensor, matrix, mode, transpose)
     return tensor
@@ -192,8 +208,6 @@ def leading_eigenpairs(gram: np.ndarray, count: int) -> tuple[np.ndarray, np.nda
     """
     size = gram.shape[0]
     if size >= KRYLOV_MIN_SIZE and count <= size // 4:
-        from scipy.sparse.linalg import ArpackNoConvergence, eigsh
-
         start = np.random.default_rng(0).normal(size=size)
         try:
             values, vectors = eigsh(gram, k=count, which="LA", v0=start, tol=0.0)
@@ -456,6 +470,11 @@ def reconstruct(core: np.ndarray, factors: Sequence[np.ndarray]) -> np.ndarray:
 
 
 def relative_error(tensor: np.ndarray, approximation: np.ndarray) -> float:
-    """``‖D − D̂‖ / ‖D‖`` (Frobenius)."""
+    """``‖D − D̂‖ / ‖D‖`` (Frobenius); 0 when ``D`` is zero.
+
+    Parameters
+    ----------
+    tensor, approximation : ndarray, same shape
+    """
     norm = float(np.linalg.norm(tensor))
     return float(np.linalg.norm(tensor - approximation)) / norm if norm > 0 else 0.0

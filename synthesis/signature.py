@@ -162,7 +162,18 @@ def synthesize_features(bases: np.ndarray, feature_factor: np.ndarray, action_me
 
 def interpolate_signatures(first: np.ndarray, second: np.ndarray, weight: float) -> np.ndarray:
     """``(1 − w) s_1 + w s_2``: w = 0 gives the first person, 1 the second; outside [0, 1]
-    extrapolates (caricatures)."""
+    extrapolates (caricatures).
+
+    Parameters
+    ----------
+    first, second : ndarray, shape (r_P,)
+        Signatures.
+    weight : float
+
+    Returns
+    -------
+    ndarray, shape (r_P,)
+    """
     return (1.0 - weight) * np.asarray(first) + weight * np.asarray(second)
 
 
@@ -188,5 +199,15 @@ def posterior_scores(distances: np.ndarray, scale: float) -> np.ndarray:
 
 
 def bases_from_decomposition(decomposition: NModeSVD) -> np.ndarray:
-    """:func:`action_bases` of an N-mode SVD of a people × actions × features tensor."""
+    """:func:`action_bases` of an N-mode SVD of a people × actions × features tensor.
+
+    Parameters
+    ----------
+    decomposition : NModeSVD
+        Core (r_P, r_A, r_J) and factors.
+
+    Returns
+    -------
+    ndarray, shape (actions, r_P, r_J)
+    """
     return action_bases(decomposition.core, decomposition.factors[1])
