@@ -17,10 +17,10 @@ Timings are noisy on a shared machine: compare ratios in the same run. Never ass
 from __future__ import annotations
 
 import argparse
-import time
 
 import numpy as np
 from scipy.spatial.transform import Rotation
+from timing import best_of   # benchmarks/timing.py
 
 
 def _walkish(frames: int, rate: float = 100.0):
@@ -54,16 +54,6 @@ def _scipy_contact_reference(wrench: np.ndarray, levers: np.ndarray) -> np.ndarr
         out.append(nnls(np.vstack([matrix, ridge]),
                         np.concatenate([wrench[f], np.zeros(matrix.shape[1])]))[0])
     return np.array(out)
-
-
-def best_of(function, repeats: int = 3) -> float:
-    """Smallest wall time of a few runs (s)."""
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def main() -> None:

@@ -29,6 +29,7 @@ sys.path.insert(0, str(ROOT))
 from mocap.io import read, write                      # noqa: E402
 from mocap.io.c3d.layout import inspect_c3d           # noqa: E402
 from mocap.trial import Trial                         # noqa: E402
+from timing import best_of   # benchmarks/timing.py
 
 REALDATA = ROOT.parent / "shared" / "realdata"
 FILES = [
@@ -37,16 +38,6 @@ FILES = [
     "ezc3d_testFiles/Vicon.c3d",                             # 580 frames + 38 analog channels
     "c3dorg_via_c3dio/sample_22/BKINtechnologies.c3d",       # KINARM, 5065 frames
 ]
-
-
-def best_of(function, repeats: int = 5) -> float:
-    """Shortest wall time of ``repeats`` calls, seconds."""
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def ezc3d_in_process(path: Path) -> None:
@@ -80,8 +71,8 @@ def c3d_package(path: Path, frames: int = 300) -> float:
 
 
 def report(name: str, path: Path, slow_ezc3d: bool = False) -> None:
-    ours = best_of(lambda: read(path))
-    check = best_of(lambda: inspect_c3d(path))
+    ours = best_of(lambda: read(path), repeats=5)
+    check = best_of(lambda: inspect_c3d(path), repeats=5)
     print(f"{name:58s} mocap.io.read {1e3 * ours:8.1f} ms   check alone {1e3 * check:6.1f} ms")
     if slow_ezc3d:
         print(f"{'':58s} ezc3d: skipped (stalls ~30 s before raising on this file)")

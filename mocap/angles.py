@@ -10,17 +10,12 @@ cells in the CSV (DESIGN 3.2).
 """
 from __future__ import annotations
 
-import io
-import os
-import re
 import warnings
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.markersets import MarkerSet
 from mocap.trial import Trial
@@ -501,93 +496,3 @@ def _warn_gimbal(near: np.ndarray, sequence: str, segments: list[str], trial: Tr
             f"first and third angles are "
             f"ill-defined there, try a sequence with another middle axis",
             GimbalLockWarning, stacklevel=3)
-
-
-# ------------------------------------------------------------------------------ CSV
-
-def write_angles_csv(angles: JointAngles, path: str | os.PathLike) -> None:
-    """Write joint angles as CSV (DESIGN 3.2), all-or-nothing.
-
-    Header ``time,<segment>.<axis>,…``; time in seconds, angles in degrees
-    with 6 decimals; a NaN angle is an empty cell.
-    """
-    frames, segments, _ = angles.values.shape
-    table = np.empty((frames, 1 + 3 * segments))
-    table[:, 0] = angles.times
-    table[:, 1:] = angles.values.reshape(frames, 3 * segments)
-    buffer = io.StringIO()
-    np.savetxt(buffer, table, fmt="%.6f", delimiter=",")
-    body = buffer.getvalue().replace("nan", "")
-    with atomic_path(path) as tmp:
-        with open(tmp, "w", encoding="utf-8", newline="") as handle:
-            handle.write(",".join(angles.columns) + "\n")
-            handle.write(body)
-
-
-_EMPTY_CELL = re.compile(r"(?<=,)(?=,|$)|^(?=,)", re.MULTILINE)
-
-
-def read_angles_csv(path: str | os.PathLike, markerset: MarkerSet | None = None
-                    ) -> JointAngles:
-    """Read a joint-angle CSV written by write_angles_csv (or to DESIGN 3.2).
-
-    Parameters
-    ----------
-    path : path-like
-    markerset : MarkerSet, optional
-        Supplies ``parents`` (the CSV does not store them); otherwise -1 each.
-
-    Raises
-    ------
-    MocapError
-        Missing file, bad header, ragged rows or non-numeric cells.
-    """
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise MocapError("file not found", path) from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise MocapError(f"cannot read: {error}", path) from None
-    header, _, body = text.partition("\n")
-    columns = [c.strip() for c in header.strip().split(",")]
-    if not columns or columns[0] != "time" or (len(columns) - 1) % 3 or len(columns) < 4:
-        raise MocapError("not a joint-angle CSV: the header must be 'time' followed by "
-                         "three '<segment>.<axis>' columns per segment", path)
-    segments: list[str] = []
-    letters: list[str] | None = None
-    for k in range(1, len(columns), 3):
-        parts = [c.rpartition(".") for c in columns[k:k + 3]]
-        names = {p[0] for p in parts}
-        if len(names) != 1 or not parts[0][0] or any(not p[1] for p in parts):
-            raise MocapError(f"columns {', '.join(columns[k:k + 3])} are not three angles "
-                             f"of one segment", path)
-        axes = [p[2] for p in parts]
-        if letters is None:
-            letters = axes
-        elif axes != letters:
-            raise MocapError(f"segment '{parts[0][0]}' has axes {axes}, others {letters}",
-                             path)
-        segments.append(parts[0][0])
-    sequence = "".join(a.rstrip("2") for a in letters)
-    if sequence not in SEQUENCES or axis_names(sequence) != letters:
-        raise MocapError(f"axis columns {letters} name no Euler sequence", path)
-    body = body.strip("\n")
-    if body:
-        try:
-            table = np.loadtxt(io.StringIO(_EMPTY_CELL.sub("nan", body)), delimiter=",",
-                               ndmin=2, dtype=float)
-        except ValueError as error:
-            raise MocapError(f"bad row: {error}", path) from None
-        if table.shape[1] != len(columns):
-            raise MocapError(f"rows have {table.shape[1]} cells, the header "
-                             f"{len(columns)}", path)
-    else:
-        table = np.zeros((0, len(columns)))
-    parents = markerset.parent_index if markerset is not None else [-1] * len(segments)
-    if markerset is not None and markerset.segment_names != segments:
-        raise MocapError(f"segments {segments} differ from marker set "
-                         f"'{markerset.name}' ({markerset.segment_names})", path)
-    return JointAngles(times=table[:, 0].copy(),
-                       values=table[:, 1:].reshape(len(table), len(segments), 3).copy(),
-                       segments=segments, sequence=sequence, parents=list(parents))

@@ -22,13 +22,13 @@ from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
-from mocap.angles import (axis_names, check_sequence, joint_angles, read_angles_csv,
-                          unwrap_columns)
+from mocap.angles import axis_names, check_sequence, joint_angles, unwrap_columns
 from mocap.body.angles import motion_joint_angles
 from mocap.clean import fill_gaps as fill_marker_gaps
 from mocap.clean import lowpass
 from mocap.errors import MocapError
 from mocap.io import read
+from mocap.io.angles_csv import read_angles_csv
 from mocap.io.discovery import is_angle_csv, parse_trial_name
 from mocap.io.motion import MARKER_SUFFIXES, MOTION_SUFFIXES, read_motion
 from mocap.markersets import load_markerset

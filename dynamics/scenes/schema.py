@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from mocap.errors import MocapError
+from mocap.io.text_table import read_text
 
 #: Folder of the example scenes shipped with the package.
 SCENES_DIR = Path(__file__).resolve().parent / "examples"
@@ -162,12 +163,7 @@ def read_scene_document(path: str | os.PathLike) -> dict:
     :class:`~mocap.errors.MocapError` naming the file. :func:`dynamics.scenes.build.load_scene`
     builds the scene from it."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise MocapError("scene file not found", path) from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise MocapError(f"cannot read scene file: {error}", path) from None
+    text = read_text(path, "scene file")
     try:
         document = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:

@@ -7,7 +7,8 @@ import sys
 import warnings
 from pathlib import Path
 
-from mocap.angles import GimbalLockWarning, check_sequence, write_angles_csv
+from mocap.angles import GimbalLockWarning, check_sequence
+from mocap.io.angles_csv import write_angles_csv
 from mocap.cli.commands import summary
 from mocap.errors import MocapError
 from mocap.io import suffixes

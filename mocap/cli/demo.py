@@ -30,7 +30,7 @@ from dynamics.humanoid.plant import motion_from_cycle
 from dynamics.secondary import simulate_secondary
 from dynamics.viz.animate import animate_motion, plot_check
 from mocap import io
-from mocap.angles import write_angles_csv
+from mocap.io.angles_csv import write_angles_csv
 from mocap.body.retarget import motion_from_trial
 from mocap.cli.batch_rows import find_trials
 from mocap.cli.humanoid import export_motion

@@ -14,7 +14,7 @@ import sys
 from pathlib import Path
 
 from dynamics.humanoid.plant import motion_from_cycle
-from mocap.angles import write_angles_csv
+from mocap.io.angles_csv import write_angles_csv
 from mocap.cli.commands import summary
 from mocap.errors import MocapError
 from mocap.io.bvh import write_bvh

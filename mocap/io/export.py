@@ -12,12 +12,12 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from mocap.angles import write_angles_csv
 from mocap.atomic import atomic_path
 from mocap.body.angles import motion_joint_angles
 from mocap.body.retarget import Z_UP_TO_Y_UP
 from mocap.errors import MocapError
 from mocap.io import write
+from mocap.io.angles_csv import write_angles_csv
 from mocap.io.bvh import write_bvh
 from mocap.io.mot import write_motion_mot
 from mocap.trial import Trial

@@ -6,12 +6,12 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from mocap.angles import read_angles_csv
 from mocap.body.angles import motion_from_angles
 from mocap.body.retarget import motion_from_trial
 from mocap.body.segments import BODY_SEGMENTS
 from mocap.errors import MocapError
 from mocap.io import read, suffixes
+from mocap.io.angles_csv import read_angles_csv
 from mocap.io.asfamc import read_asf_amc
 from mocap.io.bvh import read_bvh
 from mocap.io.discovery import find_asf, is_angle_csv

@@ -19,6 +19,17 @@ def read_lines(path: str | os.PathLike, encoding: str = "utf-8") -> list[str]:
         raise MocapError(f"cannot read file: {error.strerror or error}", path) from None
 
 
+def read_text(path: str | os.PathLike, what: str = "file") -> str:
+    """The whole text of a UTF-8 file; missing, unreadable or undecodable is a
+    :class:`MocapError` naming the file (``what`` names its kind in the message)."""
+    try:
+        return open(path, encoding="utf-8").read()
+    except FileNotFoundError:
+        raise MocapError(f"{what} not found", path) from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise MocapError(f"cannot read {what}: {error}", path) from None
+
+
 def parse_numeric_rows(lines: list[str], delimiter: str, width: int) -> np.ndarray:
     """Numbers of delimited text rows, empty or unparsable cells as NaN.
 

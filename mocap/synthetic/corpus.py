@@ -7,14 +7,27 @@ from typing import Sequence
 import numpy as np
 
 from mocap import io
-from mocap.angles import JointAngles, matrices_to_angles, write_angles_csv
+from mocap.angles import JointAngles, matrices_to_angles
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
+from mocap.io.angles_csv import write_angles_csv
 from mocap.progress import progress
 from mocap.synthetic.balance import _motion
-from mocap.synthetic.people import (_STYLES, ACTIONS, MARKER_LABELS, PARENT_INDEX, SEGMENT_NAMES,
-                                    GroundTruth, Person, _contact_points, _marker_positions,
-                                    _offsets, cycle_seconds, lab_frames, make_people)
+from mocap.synthetic.people import (
+    _STYLES,
+    ACTIONS,
+    MARKER_LABELS,
+    PARENT_INDEX,
+    SEGMENT_NAMES,
+    GroundTruth,
+    Person,
+    _contact_points,
+    _marker_positions,
+    _offsets,
+    cycle_seconds,
+    lab_frames,
+    make_people,
+)
 from mocap.synthetic.templates import _to_rotations
 from mocap.trial import Trial
 

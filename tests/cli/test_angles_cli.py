@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from mocap.angles import read_angles_csv
+from mocap.io.angles_csv import read_angles_csv
 from mocap.cli import build_parser, main
 from mocap.io import read, write
 from tests.conftest import realdata_path

@@ -34,7 +34,7 @@ def test_demo_writes_every_promised_output(tmp_path, capsys):
     assert motion.frames > 100 and motion.skeleton.count == 15
     assert np.isfinite(motion.rotations).all()
     # the synthesised CSV re-reads with the model's columns
-    from mocap.angles import read_angles_csv
+    from mocap.io.angles_csv import read_angles_csv
     angles = read_angles_csv(next((out / "synthesis").glob("*_synthesised.csv")))
     assert angles.values.shape[1:] == (15, 3) and np.isfinite(angles.values).all()
     # the check is a full DESIGN 3.5 report

@@ -70,7 +70,7 @@ def test_export_every_format_from_asf_amc(file_format, tmp_path, capsys):
 
 def test_export_mot_and_csv_give_the_same_angles(tmp_path):
     """One motion -> angles: the .mot columns are the angle CSV's numbers (Z-up lab axes)."""
-    from mocap.angles import read_angles_csv
+    from mocap.io.angles_csv import read_angles_csv
 
     mot, csv = tmp_path / "lambada.mot", tmp_path / "lambada.csv"
     for out in (mot, csv):

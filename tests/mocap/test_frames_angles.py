@@ -9,10 +9,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from mocap.angles import (SEQUENCES, GimbalLockWarning, JointAngles, angles_to_matrices,
-                          axis_names, is_proper_euler, joint_angles, matrices_to_angles,
-                          read_angles_csv, relative_rotations, unwrap_angles,
-                          write_angles_csv)
+from mocap.angles import SEQUENCES, GimbalLockWarning, JointAngles, angles_to_matrices, axis_names, is_proper_euler, joint_angles, matrices_to_angles, relative_rotations, unwrap_angles
+from mocap.io.angles_csv import read_angles_csv, write_angles_csv
 from mocap.errors import MocapError
 from mocap.frames import segment_frames
 from mocap.io import read

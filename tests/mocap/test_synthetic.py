@@ -28,7 +28,8 @@ def test_marker_frames_recover_the_ground_truth(action):
 
 
 def test_extracted_angles_equal_ground_truth_csv(tmp_path):
-    from mocap.angles import joint_angles, read_angles_csv
+    from mocap.angles import joint_angles
+    from mocap.io.angles_csv import read_angles_csv
     from mocap.markersets import load_markerset
 
     files = generate_corpus(tmp_path, people=2, actions=["walk", "run"], seed=5, sequence="YXZ")

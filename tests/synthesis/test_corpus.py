@@ -4,7 +4,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mocap.angles import JointAngles, write_angles_csv
+from mocap.angles import JointAngles
+from mocap.io.angles_csv import write_angles_csv
 from mocap.errors import MocapError
 from mocap.io.discovery import is_angle_csv, parse_trial_name
 from synthesis.corpus import (angle_columns, list_corpus_folder, load_corpus,
