@@ -23,9 +23,10 @@ relative accuracy; such directions are dropped as numerically zero
 (:data:`RELATIVE_TOLERANCE`).
 
 Unfoldings, foldings and mode products (:func:`unfold`, :func:`fold`, :func:`mode_dot`,
-:func:`multi_mode_dot`) follow tensorly's definitions (``tl.unfold``, ``tl.fold``,
-``tenalg.mode_dot``; the tests compare them) but are plain numpy, so the module neither depends
-on nor changes a user's tensorly backend.
+:func:`multi_mode_dot`) are tensorly's (``tl.unfold``, ``tl.fold``, ``tenalg.mode_dot``), run
+on tensorly's numpy backend for the calling thread only (``tl.backend_context(...,
+local_threadsafe=True)``), so a backend the user chose elsewhere is neither needed nor
+changed.
 """
 from __future__ import annotations
 
@@ -34,7 +35,9 @@ from typing import Sequence, Union
 
 import numpy as np
 import scipy.linalg
+import tensorly as tl
 from scipy.sparse.linalg import ArpackNoConvergence, eigsh
+from tensorly import tenalg
 
 #: Singular values below this fraction of the largest are treated as zero (numerical rank).
 RELATIVE_TOLERANCE = 1e-7
@@ -45,8 +48,13 @@ RELATIVE_TOLERANCE = 1e-7
 Rank = Union[int, float, None]
 
 
+def _numpy_backend():
+    """tensorly's numpy backend for this thread, restored on exit (never the global choice)."""
+    return tl.backend_context("numpy", local_threadsafe=True)
+
+
 def unfold(tensor: np.ndarray, mode: int) -> np.ndarray:
-    """Mode-``mode`` unfolding ``D_(n)`` (tensorly's ``tl.unfold`` ordering).
+    """Mode-``mode`` unfolding ``D_(n)`` (``tl.unfold``).
 
     Parameters
     ----------
@@ -58,12 +66,20 @@ def unfold(tensor: np.ndarray, mode: int) -> np.ndarray:
     -------
     ndarray, shape (I_mode, ∏ other I_k)
         Mode-``mode`` fibres as columns, the remaining modes in C order.
+
+    Examples
+    --------
+    >>> unfold(np.arange(8.0).reshape(2, 2, 2), 1)
+    array([[0., 1., 4., 5.],
+           [2., 3., 6., 7.]])
     """
-    return np.reshape(np.moveaxis(tensor, mode, 0), (tensor.shape[mode], -1))
+    with _numpy_backend():
+        return tl.unfold(tensor, mode)
 
 
 def fold(unfolded: np.ndarray, mode: int, shape: Sequence[int]) -> np.ndarray:
-    """Inverse of :func:`unfold`: the tensor of ``shape`` whose mode-``mode`` unfolding is given.
+    """Inverse of :func:`unfold` (``tl.fold``): the tensor of ``shape`` whose mode-``mode``
+    unfolding is given.
 
     Parameters
     ----------
@@ -75,14 +91,13 @@ def fold(unfolded: np.ndarray, mode: int, shape: Sequence[int]) -> np.ndarray:
     -------
     ndarray, shape ``shape``
     """
-    full = list(shape)
-    full.insert(0, full.pop(mode))
-    return np.moveaxis(np.reshape(unfolded, full), 0, mode)
+    with _numpy_backend():
+        return tl.fold(unfolded, mode, tuple(shape))
 
 
 def mode_dot(tensor: np.ndarray, matrix: np.ndarray, mode: int,
              transpose: bool = False) -> np.ndarray:
-    """Mode-n product ``D ×_n M`` (tensorly's ``tenalg.mode_dot`` for a matrix).
+    """Mode-n product ``D ×_n M`` (``tenalg.mode_dot``).
 
     Parameters
     ----------
@@ -97,15 +112,15 @@ def mode_dot(tensor: np.ndarray, matrix: np.ndarray, mode: int,
     ndarray, shape (I_1, …, J, …, I_N)
         ``J`` in place of ``I_mode``.
     """
-    matrix = matrix.T if transpose else matrix
-    shape = list(tensor.shape)
-    shape[mode] = matrix.shape[0]
-    return fold(matrix @ unfold(tensor, mode), mode, shape)
+    with _numpy_backend():
+        return tenalg.mode_dot(tensor, matrix, mode, transpose=transpose)
 
 
 def multi_mode_dot(tensor: np.ndarray, matrices: Sequence[np.ndarray], modes: Sequence[int],
                    transpose: bool = False) -> np.ndarray:
-    """``D ×_{m_1} M_1 ×_{m_2} M_2 …``, the products taken in the order given.
+    """``D ×_{m_1} M_1 ×_{m_2} M_2 …``, the products taken in the order given (the order
+    that shrinks the tensor first is the caller's choice; ``tenalg.multi_mode_dot`` would
+    sort them by mode).
 
     Parameters
     ----------
