@@ -22,16 +22,14 @@ from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
-from mocap.angles import axis_names, check_sequence, joint_angles, unwrap_columns
+from mocap.angles import axis_names, check_sequence, unwrap_columns
 from mocap.body.angles import motion_joint_angles
-from mocap.clean import fill_gaps as fill_marker_gaps
-from mocap.clean import lowpass
 from mocap.errors import MocapError
-from mocap.io import read
 from mocap.io.angles_csv import read_angles_csv
-from mocap.io.discovery import is_angle_csv, parse_trial_name
+from mocap.io.discovery import find_files, is_angle_csv, parse_trial_name
 from mocap.io.motion import MARKER_SUFFIXES, MOTION_SUFFIXES, read_motion
 from mocap.markersets import load_markerset
+from mocap.pipeline import Cleaning, marker_file_angles
 from synthesis.cycles import DEFAULT_SAMPLES, centre_branch, normalise_cycles
 
 #: File suffixes a corpus folder may hold: marker trials (and angle CSVs), BVH and ASF/AMC
@@ -66,11 +64,7 @@ def list_corpus_folder(folder: str | Path) -> list[CorpusEntry]:
     folder = Path(folder)
     if not folder.is_dir():
         raise MocapError("corpus must be a folder of trials (or give a manifest= CSV)", folder)
-    files = sorted(p for p in folder.iterdir()
-                   if p.is_file() and p.suffix.lower() in TRIAL_SUFFIXES
-                   and not p.name.startswith("."))
-    if not files:
-        raise MocapError(f"no trials ({', '.join(TRIAL_SUFFIXES)}) in this folder", folder)
+    files = find_files([folder], TRIAL_SUFFIXES, recursive=False)
     entries = []
     for path in files:
         person, action = parse_trial_name(path)
@@ -170,13 +164,9 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     if markerset is None:
         raise MocapError("marker trials need markerset= to turn markers into joint angles",
                          path)
-    trial = read(path)
-    if max_gap_frames:
-        trial, _ = fill_marker_gaps(trial, max_gap_frames=int(max_gap_frames),
-                                    donors=markerset.donors(trial.labels))
-    if lowpass_hz:
-        trial = lowpass(trial, float(lowpass_hz), short_runs="keep")
-    return joint_angles(trial, markerset, sequence)
+    cleaning = Cleaning(max_gap_frames=int(max_gap_frames) if max_gap_frames else None,
+                        lowpass_hz=float(lowpass_hz) if lowpass_hz else None, short_runs="keep")
+    return marker_file_angles(path, markerset, sequence, cleaning).angles
 
 
 def _skeleton_angles(path: Path, sequence: str):

@@ -10,11 +10,11 @@ import numpy as np
 
 from dynamics.humanoid.check import check_motion
 from mocap import io
-from mocap.angles import joint_angles
 from mocap.body.retarget import motion_from_trial
 from mocap.errors import MocapError
 from mocap.io.discovery import find_files, parse_trial_name
 from mocap.markersets import load_markerset
+from mocap.pipeline import marker_file_angles
 
 #: Marker-file suffixes a corpus folder is searched for.
 TRIAL_SUFFIXES = io.suffixes("markers")
@@ -66,7 +66,7 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
                    missing_pct=round(100.0 * float(missing), 3))
         if markerset:
             chosen = load_markerset(markerset)
-            angles = joint_angles(trial, chosen, sequence=sequence)
+            angles = marker_file_angles(trial, chosen, sequence).angles
             ranges = np.nanmax(angles.values, axis=0) - np.nanmin(angles.values, axis=0)
             for segment, span in zip(angles.segments, np.nanmax(ranges, axis=1)):
                 row[f"{segment}_rom_deg"] = round(float(span), 3)
