@@ -1,0 +1,222 @@
+"""Every command as people meet it (issue 11): one line and exit 2 for a user's mistake, no
+output onto input, no leftovers, warnings shown, Ctrl-C one line, no blocking on a FIFO.
+
+Each test is one class of problem, run through the real ``mocap`` command line.
+"""
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mocap.cli import main
+from mocap.io import write
+from mocap.io.c3d.layout import inspect_c3d
+from mocap.synthetic import synthesize_trial
+
+ROOT = Path(__file__).resolve().parents[2]
+DATA = ROOT / "tests" / "data"
+SCENE = ROOT / "dynamics" / "scenes" / "examples" / "swinging-rope.toml"
+
+
+def _mocap(*argv: str, **kwargs) -> subprocess.Popen:
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
+    return subprocess.Popen([sys.executable, "-m", "mocap", *argv], env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kwargs)
+
+
+@pytest.fixture(scope="module")
+def walk(tmp_path_factory) -> Path:
+    """A synthetic full-body walk (synthetic15 markers) as C3D."""
+    folder = tmp_path_factory.mktemp("robust")
+    trial, _ = synthesize_trial(0, "walk", seed=3)
+    path = folder / "ana_walk.c3d"
+    write(trial, path)
+    return path
+
+
+def _one_error_line(capsys) -> str:
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    return err[0]
+
+
+# ---------------------------------------------------------------- numeric options
+
+@pytest.mark.parametrize("argv, limit", [
+    (["angles", "{walk}", "-m", "synthetic15", "-o", "{tmp}/a.csv", "--fill-gaps", "nan"], ">= 0"),
+    (["angles", "{walk}", "-m", "synthetic15", "-o", "{tmp}/a.csv", "--order", "100000"], "1 to 20"),
+    (["angles", "{walk}", "-m", "synthetic15", "-o", "{tmp}/a.csv", "--lowpass", "inf"], "> 0"),
+    (["generate", "{tmp}/c", "--seed", "-1"], "0 to 4294967295"),
+    (["generate", "{tmp}/c", "--people", "100000"], "1 to 200"),
+    (["generate", "{tmp}/c", "--rate", "nan"], "> 0"),
+    (["simulate", "{scene}", "-o", "{tmp}/s.npz", "--dt", "inf"], "> 0"),
+    (["check", "{data}/cmu_lambada.amc", "--rate", "0"], "> 0"),
+    (["check", "{data}/mocapbank_walk.bvh", "--mu", "nan"], ">= 0"),
+    (["check", "{data}/mocapbank_walk.bvh", "--mu", "-1"], ">= 0"),
+    (["animate", "{data}/mocapbank_walk.bvh", "-o", "{tmp}/a.gif", "--dpi", "0"], "10 to 600"),
+    (["synthesize", "m.npz", "--person", "a", "--to", "b", "--weight", "nan", "--action",
+      "walk", "-o", "{tmp}/s.csv"], "<= 1"),
+    (["synthesize", "m.npz", "--person", "a", "--to", "b", "--weight", "7", "--action",
+      "walk", "-o", "{tmp}/s.csv"], "<= 1"),
+    (["demo", "-o", "{tmp}/d", "--people", "100000"], "1 to 200"),
+    (["batch", "{walk}", "--jobs", "0"], "1 to 256"),
+])
+def test_every_numeric_option_is_checked_once_with_its_limit(argv, limit, walk, tmp_path, capsys):
+    argv = [a.format(walk=walk, tmp=tmp_path, scene=SCENE, data=DATA) for a in argv]
+    assert main(argv) == 2
+    line = _one_error_line(capsys)
+    assert "must be" in line and limit in line
+    assert list(tmp_path.iterdir()) == []          # nothing written
+
+
+# ---------------------------------------------------------------- outputs
+
+@pytest.mark.parametrize("argv", [
+    ["convert", "{csv}", "{csv}"],
+    ["angles", "{csv}", "-m", "synthetic15", "-o", "{csv}"],
+    ["angles", "{walk}", "-m", "synthetic15", "-o", "{tmp}/a.csv", "--plot", "{walk}"],
+    ["angles", "{tmp}", "-m", "synthetic15", "-o", "{tmp}"],
+    ["batch", "{tmp}", "-o", "{csv}"],
+    ["export", "{bvh}", "--format", "bvh", "-o", "{bvh}"],
+    ["simulate", "{scene}", "-o", "{scene}"],
+])
+def test_no_command_writes_onto_its_input(argv, walk, tmp_path, capsys):
+    csv = tmp_path / "ana_run.csv"
+    trial, _ = synthesize_trial(0, "walk", seed=3)
+    write(trial, csv)
+    bvh = tmp_path / "walk.bvh"
+    bvh.write_bytes((DATA / "mocapbank_walk.bvh").read_bytes())
+    scene = tmp_path / "scene.toml"
+    scene.write_text(SCENE.read_text())
+    before = {p: p.read_bytes() for p in tmp_path.iterdir()}
+    argv = [a.format(csv=csv, walk=walk, tmp=tmp_path, bvh=bvh, scene=scene) for a in argv]
+    assert main(argv) == 2
+    assert "overwrite the input" in _one_error_line(capsys)
+    assert {p: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+def test_a_folder_or_unwritable_place_as_output_is_one_line(walk, tmp_path, capsys):
+    folder = tmp_path / "folder.csv"
+    folder.mkdir()
+    assert main(["convert", str(walk), str(folder)]) == 2
+    assert "is a folder" in _one_error_line(capsys)
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    assert main(["convert", str(walk), str(blocker / "out.csv")]) == 2
+    assert "in the way" in _one_error_line(capsys)
+    if os.geteuid() != 0:                       # root writes anywhere
+        locked = tmp_path / "locked"
+        locked.mkdir(mode=0o500)
+        assert main(["convert", str(walk), str(locked / "out.csv")]) == 2
+        assert "permission denied" in _one_error_line(capsys)
+
+
+def test_generate_refuses_an_existing_corpus_and_a_failure_leaves_nothing(tmp_path, capsys):
+    corpus = tmp_path / "corpus"
+    corpus.mkdir()
+    (corpus / "mine.txt").write_text("the user's file")
+    assert main(["generate", str(corpus), "--people", "1", "--actions", "walk"]) == 2
+    assert "--force" in _one_error_line(capsys)
+    assert [p.name for p in corpus.iterdir()] == ["mine.txt"]
+    # a failure part-way (an unknown action) leaves no half corpus, no staging folder
+    assert main(["generate", str(tmp_path / "new"), "--people", "1",
+                 "--actions", "walk,nosuch"]) == 2
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["corpus"]
+    assert main(["generate", str(corpus), "--people", "1", "--actions", "walk", "--force"]) == 0
+    assert sorted(p.name for p in corpus.iterdir()) == ["ana_walk.c3d", "truth"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["corpus"]
+
+
+def test_a_killed_write_leaves_a_part_file_the_next_write_removes(tmp_path):
+    target = tmp_path / "out.csv"
+    code = ("import sys, time\nfrom mocap.atomic import atomic_path\n"
+            f"with atomic_path({str(target)!r}) as tmp:\n"
+            "    tmp.write_text('half'); print('ready', flush=True); time.sleep(60)\n")
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    writer = subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True,
+                              env=env)
+    assert writer.stdout.readline().strip() == "ready"
+    writer.send_signal(signal.SIGKILL)
+    writer.wait()
+    leftovers = [p for p in tmp_path.iterdir() if p.name.endswith(".part.csv")]
+    assert len(leftovers) == 1 and not target.exists()
+    trial, _ = synthesize_trial(0, "walk", seed=3)
+    write(trial, target)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv"]
+
+
+# ---------------------------------------------------------------- inputs
+
+def test_a_fifo_as_input_is_refused_without_blocking(tmp_path):
+    fifo = tmp_path / "walk.c3d"
+    os.mkfifo(fifo)
+    for argv in (["info", str(fifo)], ["convert", str(fifo), str(tmp_path / "o.csv")],
+                 ["check", str(fifo), "-m", "synthetic15"]):
+        process = _mocap(*argv)
+        try:
+            _, err = process.communicate(timeout=60)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            pytest.fail(f"mocap {argv[0]} blocked on a FIFO")
+        assert process.returncode == 2
+        assert err.strip().count("\n") == 0 and "not a regular file" in err
+
+
+def _cut_at_frame(source: Path, target: Path, keep: int) -> None:
+    layout = inspect_c3d(source)
+    words = layout.point_count * 4 + layout.analog_samples_per_frame
+    frame_bytes = words * (4 if layout.is_float else 2)
+    start = (layout.data_block - 1) * 512
+    target.write_bytes(source.read_bytes()[:start + keep * frame_bytes])
+
+
+@pytest.mark.parametrize("command", ["convert", "angles", "batch", "check"])
+def test_a_c3d_cut_at_a_frame_boundary_warns_on_every_command(command, walk, tmp_path, capsys):
+    cut = tmp_path / "ana_walk.c3d"
+    _cut_at_frame(walk, cut, 40)
+    out = tmp_path / "out.csv"
+    argv = {"convert": ["convert", str(cut), str(out)],
+            "angles": ["angles", str(cut), "-m", "synthetic15", "-o", str(out)],
+            "batch": ["batch", str(cut), "-o", str(out)],
+            "check": ["check", str(cut), "-m", "synthetic15", "--json"]}[command]
+    assert main(argv) == 0
+    warnings = [line for line in capsys.readouterr().err.splitlines() if "warning:" in line]
+    assert len(warnings) == 1 and "40" in warnings[0] and str(cut) in warnings[0]
+
+
+@pytest.mark.parametrize("rate", ["0", "-100", "nan", "inf", "1e-30"])
+def test_implausible_rates_are_refused_by_the_readers(rate, tmp_path, capsys):
+    path = tmp_path / "vicon.csv"
+    path.write_text(f"Trajectories\n{rate}\n,,A,,\nFrame,Sub Frame,X,Y,Z\n,,mm,mm,mm\n"
+                    "1,0,1,2,3\n2,0,1,2,3\n3,0,1,2,3\n")
+    assert main(["convert", str(path), str(tmp_path / "out.trc")]) == 2
+    assert "not plausible" in _one_error_line(capsys)
+    assert not (tmp_path / "out.trc").exists()
+
+
+def test_batch_with_a_bad_marker_set_says_so_once(walk, capsys):
+    assert main(["batch", str(walk.parent), "-m", "nosuch"]) == 2
+    assert "nosuch" in _one_error_line(capsys)
+
+
+# ---------------------------------------------------------------- Ctrl-C
+
+@pytest.mark.parametrize("delay", [0.2, 0.5, 1.5])
+def test_ctrl_c_at_any_moment_is_one_line_and_130(delay, walk, tmp_path):
+    process = _mocap("angles", str(walk), "-m", "synthetic15", "-o", str(tmp_path / "a.csv"),
+                     "--plot", str(tmp_path / "a.png"))
+    time.sleep(delay)
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=60)
+    if process.returncode == 0:
+        pytest.skip("the command finished before the interrupt")
+    assert process.returncode == 130, err
+    assert err.strip().splitlines()[-1].endswith("interrupted") and "Traceback" not in err
+    assert not [p for p in tmp_path.iterdir() if ".part" in p.name]
