@@ -3,16 +3,23 @@
 Read C3D/CSV/TRC marker files into a :class:`~mocap.trial.Trial`, fill gaps and
 filter, build segment frames from three markers per segment and extract joint
 angles in any Euler sequence.
-"""
-from importlib.metadata import PackageNotFoundError as _PackageNotFoundError
-from importlib.metadata import version as _version
 
+``import mocap`` is light (numpy and the readers load on first use), so the ``mocap``
+command starts quickly and Ctrl-C at start-up is caught by it.
+"""
 from mocap.errors import MocapError, MocapWarning
-from mocap.trial import Trial
 
 __all__ = ["MocapError", "MocapWarning", "Trial"]
 
-try:
-    __version__ = _version("mocap-toolkit")     # the one version string: pyproject.toml
-except _PackageNotFoundError:                   # a source tree that is not installed
-    __version__ = "unknown"
+
+def __getattr__(name: str):
+    if name == "Trial":
+        from mocap.trial import Trial
+        return Trial
+    if name == "__version__":
+        from importlib.metadata import PackageNotFoundError, version
+        try:
+            return version("mocap-toolkit")     # the one version string: pyproject.toml
+        except PackageNotFoundError:            # a source tree that is not installed
+            return "unknown"
+    raise AttributeError(f"module 'mocap' has no attribute {name!r}")

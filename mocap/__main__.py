@@ -1,5 +1,3 @@
-import sys
+from mocap.cli import run
 
-from mocap.cli import main
-
-sys.exit(main())
+run()

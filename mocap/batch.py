@@ -7,9 +7,13 @@ the order of the input paths.
 """
 from __future__ import annotations
 
+import contextlib
 import csv
 import io as _io
+import logging
 import os
+import signal
+import threading
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
@@ -48,7 +52,7 @@ def run_batch(row: Callable[..., dict], paths: Sequence[str | os.PathLike], jobs
         return [row(p, **arguments)
                 for p in progress(names, "analysing trials", enabled=show_progress)]
     rows: list[dict | None] = [None] * len(names)
-    with ProcessPoolExecutor(max_workers=jobs) as pool:
+    with ProcessPoolExecutor(max_workers=jobs, initializer=_ignore_interrupts) as pool:
         futures = {pool.submit(row, p, **arguments): i for i, p in enumerate(names)}
         for future in progress(as_completed(futures), "analysing trials", total=len(names),
                                enabled=show_progress):
@@ -71,8 +75,9 @@ def _run_dask(row: Callable[..., dict], names: list[str], jobs: int, scheduler: 
             except OSError as error:
                 raise MocapError(f"cannot reach the Dask scheduler at {scheduler}: {error}") from None
         else:
-            cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
-                                   dashboard_address=None)
+            with _workers_ignore_interrupts():
+                cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
+                                       dashboard_address=None)
             client = Client(cluster)
         with client:
             futures = [client.submit(row, p, pure=False, **arguments) for p in names]
@@ -82,9 +87,47 @@ def _run_dask(row: Callable[..., dict], names: list[str], jobs: int, scheduler: 
                                    total=len(names), enabled=show_progress):
                 rows[index[future.key]] = future.result()
         return rows  # type: ignore[return-value]
+    except KeyboardInterrupt:
+        # Ctrl-C: close the cluster without its shutdown chatter, then let the caller say so
+        with _quiet_logger("distributed"):
+            if cluster is not None:
+                cluster.close()
+            cluster = None
+        raise
     finally:
         if cluster is not None:
             cluster.close()
+
+
+def _ignore_interrupts() -> None:
+    """Worker initializer: Ctrl-C goes to the parent, which stops the pool (workers print
+    no tracebacks of their own)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+@contextlib.contextmanager
+def _workers_ignore_interrupts():
+    """Processes started inside inherit an ignored SIGINT (Python keeps an inherited
+    SIG_IGN), so Ctrl-C reaches only this process; its own handler is restored after."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+@contextlib.contextmanager
+def _quiet_logger(name: str):
+    logger = logging.getLogger(name)
+    level = logger.level
+    logger.setLevel(logging.CRITICAL + 1)
+    try:
+        yield
+    finally:
+        logger.setLevel(level)
 
 
 def rows_to_csv(rows: Iterable[dict], leading: Sequence[str] = ()) -> str:

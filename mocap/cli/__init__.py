@@ -15,7 +15,6 @@ import os
 import re
 import sys
 import warnings
-from importlib.metadata import PackageNotFoundError, version
 
 from mocap.cli.commands import COMMANDS
 from mocap.errors import MocapError, MocapWarning
@@ -24,23 +23,32 @@ _default_showwarning = warnings.showwarning
 
 def package_version() -> str:
     """The installed distribution's version (pyproject.toml holds the one string)."""
+    from importlib.metadata import PackageNotFoundError, version
     try:
         return version("mocap-toolkit")
     except PackageNotFoundError:        # running from a source tree that is not installed
         return "unknown (not installed)"
 
 
+class _Version(argparse.Action):
+    """``--version``, looked up only when asked (importlib.metadata is slow to import)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        parser.exit(0, f"mocap {package_version()}\n")
+
+
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     """The argument parser: ``command``'s module registers its full parser, the other
     sub-commands are listed by name and summary only (their modules are not imported).
     ``None`` registers every command in full."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="mocap",
         description="Motion capture analysis, synthesis and dynamics. "
                     "Run 'mocap COMMAND --help' for the options of a command.",
     )
-    parser.add_argument("--version", action="version", version=f"mocap {package_version()}")
-    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
+    parser.add_argument("--version", action=_Version, nargs=0,
+                        help="show the version and exit")
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     subparsers.required = True
     modules = [module for module, _ in COMMANDS.values()]
     wanted = [COMMANDS[command][0]] if command in COMMANDS else (
@@ -95,16 +103,37 @@ def _warning_printer(command: str):
     return show
 
 
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose mistakes are one line: ``mocap CMD: error: … (see --help)``."""
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+
+
+def _os_error_line(error: OSError) -> str:
+    where = f"{error.filename}: " if getattr(error, "filename", None) else ""
+    return f"{where}{error.strerror or error}"
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``mocap`` console script; returns the exit status."""
+    """Entry point of the ``mocap`` console script; returns the exit status.
+
+    A user's mistake (:class:`MocapError`, a file the system refuses) is one line and exit
+    status 2; Ctrl-C is one line and 130, whenever it comes.
+    """
     command = "mocap"
     subparser = None
     try:
         words = sys.argv[1:] if argv is None else list(argv)
         parser = build_parser(_command_of(words) or "")
-        args = parser.parse_args(words)
+        try:
+            args = parser.parse_args(words)
+        except SystemExit as done:              # --help, --version, or a one-line mistake
+            return done.code if isinstance(done.code, int) else (0 if done.code is None else 2)
         command = args.command
         subparser = parser._subparsers._group_actions[0].choices.get(command)
+        from mocap.cli.paths import check_paths
+        check_paths(command, args)
         with warnings.catch_warnings():
             warnings.simplefilter("always", MocapWarning)
             warnings.showwarning = _warning_printer(command)
@@ -114,15 +143,30 @@ def main(argv: list[str] | None = None) -> int:
         print(f"mocap {command}: error: {words}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
-        print("mocap: interrupted", file=sys.stderr)
+        print(f"mocap {command}: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:
         # the reader of our output went away (``mocap info … | head``): stop quietly
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 1
+    except (PermissionError, IsADirectoryError, NotADirectoryError, FileExistsError,
+            FileNotFoundError) as error:
+        # the system refused a path the user gave: one line, like any user mistake
+        print(f"mocap {command}: error: {_os_error_line(error)}", file=sys.stderr)
+        return 2
     return int(status or 0)
 
 
+def run() -> None:
+    """The console script: :func:`main`, with Ctrl-C during start-up one line too."""
+    try:
+        status = main()
+    except KeyboardInterrupt:
+        print("mocap: interrupted", file=sys.stderr)
+        status = 130
+    sys.exit(status)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    run()

@@ -8,8 +8,10 @@ import warnings
 from pathlib import Path
 
 from mocap.angles import GimbalLockWarning, check_sequence
+from mocap.cli import options
 from mocap.io.angles_csv import write_angles_csv
 from mocap.cli.commands import summary
+from mocap.cli.paths import refuse_overwrite
 from mocap.errors import MocapError
 from mocap.io import suffixes
 from mocap.io.discovery import find_files
@@ -42,14 +44,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--sequence", "-s", default="ZXY", metavar="SEQ",
                         help="Euler sequence as in scipy: upper case intrinsic (ZXY, YXZ, ZYZ "
                              "...), lower case extrinsic (zxy ...); 24 in all (default ZXY)")
-    parser.add_argument("--fill-gaps", type=float, metavar="SECONDS",
+    parser.add_argument("--fill-gaps", type=options.SECONDS_GAP, metavar="SECONDS",
                         help="fill gaps up to this long with a cubic spline before computing "
                              "angles; longer gaps, and gaps at either end, stay empty and are "
                              "reported")
-    parser.add_argument("--lowpass", type=float, metavar="HZ",
+    parser.add_argument("--lowpass", type=options.CUTOFF, metavar="HZ",
                         help="zero-lag Butterworth low-pass of the markers at this cutoff "
                              "(after gap filling); must be below half the sampling rate")
-    parser.add_argument("--order", type=int, default=4,
+    parser.add_argument("--order", type=options.FILTER_ORDER, default=4,
                         help="order of the Butterworth filter of --lowpass (default 4; run "
                              "forward and backward, so the response is squared)")
     parser.add_argument("--short-runs", choices=("error", "keep", "drop"), default="error",
@@ -69,13 +71,7 @@ def run_angles(args: argparse.Namespace) -> int:
     """Handler of ``mocap angles``; returns the exit status."""
     check_sequence(args.sequence)
     markerset = load_markerset(args.markerset)
-    if args.fill_gaps is not None and not args.fill_gaps >= 0:
-        raise MocapError(f"--fill-gaps must be a duration >= 0 seconds, not {args.fill_gaps}")
-    if args.lowpass is not None and not args.lowpass > 0:
-        raise MocapError(f"--lowpass must be a positive frequency in Hz, not {args.lowpass}")
-    if args.order < 1:
-        raise MocapError(f"--order must be a positive whole number, not {args.order}")
-    files = find_files(args.inputs, MARKER_SUFFIXES, recursive=False)
+    files = find_files(args.inputs, MARKER_SUFFIXES)
     output = Path(args.output)
     folder_mode = (len(files) > 1 or any(Path(i).is_dir() for i in args.inputs)
                    or output.is_dir() or args.output.endswith(os.sep))
@@ -93,6 +89,10 @@ def run_angles(args: argparse.Namespace) -> int:
         jobs = [(f, output / f"{f.stem}.csv",
                  plot_folder / f"{f.stem}.png" if plot_folder else None) for f in files]
 
+    for _, target, plot in jobs:
+        refuse_overwrite(target, files)
+        if plot is not None:
+            refuse_overwrite(plot, files + [target])
     failures = 0
     for source, target, plot in progress(jobs, "joint angles", total=len(jobs)):
         try:

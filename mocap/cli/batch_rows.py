@@ -4,6 +4,7 @@ where mocap meets dynamics)."""
 from __future__ import annotations
 
 import os
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -11,7 +12,7 @@ import numpy as np
 from dynamics.humanoid.check import check_motion
 from mocap import io
 from mocap.body.retarget import motion_from_trial
-from mocap.errors import MocapError
+from mocap.errors import MocapError, MocapWarning
 from mocap.io.discovery import find_files, parse_trial_name
 from mocap.markersets import load_markerset
 from mocap.pipeline import marker_file_angles
@@ -19,7 +20,7 @@ from mocap.pipeline import marker_file_angles
 #: Marker-file suffixes a corpus folder is searched for.
 TRIAL_SUFFIXES = io.suffixes("markers")
 #: First columns of every row; per-segment range-of-motion columns follow.
-BASE_COLUMNS = ["path", "person", "action", "status", "error", "format", "rate_hz", "frames",
+BASE_COLUMNS = ["path", "person", "action", "status", "error", "warnings", "format", "rate_hz", "frames",
                 "duration_s", "markers", "missing_pct"]
 CHECK_COLUMNS = ["residual_force_rms_pct_bw", "foot_skate_mm", "penetration_mm", "floating_mm",
                  "verdict"]
@@ -27,7 +28,7 @@ CHECK_COLUMNS = ["residual_force_rms_pct_bw", "foot_skate_mm", "penetration_mm",
 
 def find_trials(corpus: str | os.PathLike) -> list[Path]:
     """Marker files directly inside ``corpus`` (a folder) or the file itself, sorted."""
-    return find_files([corpus], TRIAL_SUFFIXES, recursive=False)
+    return find_files([corpus], TRIAL_SUFFIXES)
 
 
 def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY",
@@ -51,15 +52,23 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
     Returns
     -------
     dict
-        Column → value; ``status`` is ``"ok"`` or ``"failed"`` with ``error`` set.
+        Column → value; ``status`` is ``"ok"`` or ``"failed"`` with ``error`` set;
+        ``warnings`` holds the reader's warnings, ``"; "``-separated.
     """
     try:
         person, action = parse_trial_name(path)
     except MocapError:                  # not a corpus name: the trial is analysed all the same
         person, action = "", ""
-    row = {"path": str(path), "person": person, "action": action, "status": "ok", "error": ""}
+    row = {"path": str(path), "person": person, "action": action, "status": "ok", "error": "",
+           "warnings": ""}
     try:
-        trial = io.read(path)
+        # the reader's warnings travel in the row (workers' warnings would be lost), and
+        # ``mocap batch`` prints them
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", MocapWarning)
+            trial = io.read(path)
+        row["warnings"] = "; ".join(str(w.message) for w in caught
+                                    if issubclass(w.category, MocapWarning))
         missing = np.isnan(trial.points).any(axis=2).mean() if trial.points.size else 0.0
         row.update(format=trial.format, rate_hz=round(trial.rate, 6), frames=trial.frames,
                    duration_s=round(trial.duration, 6), markers=len(trial.labels),

@@ -30,6 +30,7 @@ from dynamics.humanoid.plant import motion_from_cycle
 from dynamics.secondary import simulate_secondary
 from dynamics.viz.animate import animate_motion, plot_check
 from mocap import io
+from mocap.atomic import atomic_folder
 from mocap.io.angles_csv import write_angles_csv
 from mocap.body.retarget import motion_from_trial
 from mocap.cli.batch_rows import find_trials
@@ -41,6 +42,7 @@ from mocap.pipeline import Cleaning, marker_file_angles
 from mocap.plot import plot_angles, save_figure
 from mocap.progress import progress
 from mocap.synthetic import generate_corpus
+from mocap.synthetic.people import make_people
 from synthesis.corpus import load_corpus
 from synthesis.model import MotionModel
 from synthesis.plot import synthesis_figure
@@ -83,7 +85,7 @@ def _rms(a: np.ndarray, b: np.ndarray) -> float:
 def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
              markerset: str = "synthetic15", people: int = 6, seed: int = 0,
              hold_out: str | None = None, animation: bool = True,
-             echo: Callable[[str], None] = print) -> dict:
+             echo: Callable[[str], None] = print, force: bool = False) -> dict:
     """Run the whole pipeline and write its outputs under ``out_dir``.
 
     Parameters
@@ -103,6 +105,8 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
         Simulate the cape and write the GIF.
     echo : callable
         Where progress lines go.
+    force : bool
+        Replace ``out_dir`` when it holds files other than a previous demo's.
 
     Returns
     -------
@@ -110,10 +114,46 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
         The summary written to ``summary.json``: paths and figures.
     """
 
-    out = Path(out_dir)
+    final = Path(out_dir)
+    chosen = load_markerset(markerset)
+    person = _check_inputs(data, hold_out, people, seed)          # before anything is written
+    if data is not None and Path(data).resolve().is_relative_to(final.resolve()):
+        raise MocapError(f"data= {data} is inside the output folder, which the demo "
+                         "replaces; choose another output", final)
+    replace = force or (final / "index.html").is_file()          # a previous demo's output
+    with atomic_folder(final, replace=replace) as out:
+        return _run(out, final, data, chosen, people, seed, person, animation, echo)
+
+
+def _check_inputs(data: str | None, hold_out: str | None, people: int, seed: int) -> str:
+    """The held-out person, once ``data`` and ``hold_out`` are known to be usable."""
+    if data is None:
+        names = [p.name for p in make_people(people, seed)]
+        person = hold_out or names[0]
+        if person not in names:
+            raise MocapError(f"hold_out= {person!r} is not one of the generated people "
+                             f"({', '.join(names)})")
+        return person
+    if not Path(data).is_dir():
+        raise MocapError("data= must be a folder of <person>_<action> marker files", data)
+    cells = {parse_trial_name(path) for path in find_trials(data)}
+    person = hold_out or sorted(p for p, _ in cells)[0]
+    if (person, ACTION) not in cells:
+        raise MocapError(f"the corpus has no {ACTION} of {person!r} to hold out "
+                         f"(trials must be named <person>_<action>.c3d)", data)
+    return person
+
+
+def _run(out: Path, final: Path, data: str | None, chosen, people: int, seed: int,
+         person: str, animation: bool, echo: Callable[[str], None]) -> dict:
+    """The steps, writing into the staging folder ``out`` that becomes ``final``."""
+    def shown(path) -> str:                  # where a file will be once the demo is done
+        path = Path(path)
+        return str(final / path.relative_to(out)) if path.is_relative_to(out) else str(path)
+
     figures = out / "figures"
     steps = _Steps(9 if animation else 8, echo)
-    summary: dict = {"output": str(out)}
+    summary: dict = {"output": str(final)}
 
     with steps("generating the synthetic corpus" if data is None else f"reading the corpus {data}"):
         if data is None:
@@ -123,14 +163,9 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
             corpus_dir = Path(data)
         trials = find_trials(corpus_dir)
         cells = {parse_trial_name(path): path for path in trials}
-        person = hold_out or sorted(p for p, _ in cells)[0]
-        if (person, ACTION) not in cells:
-            raise MocapError(f"the corpus has no {ACTION} of {person!r} to hold out "
-                             f"(trials must be named <person>_<action>.c3d)", corpus_dir)
-        summary["corpus"] = str(corpus_dir)
+        summary["corpus"] = shown(corpus_dir)
         summary["trials"] = len(trials)
 
-    chosen = load_markerset(markerset)
     for folder in (out, figures, out / "angles", out / "synthesis"):
         folder.mkdir(parents=True, exist_ok=True)
     with steps(f"extracting joint angles from {len(trials)} trials "
@@ -180,7 +215,7 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
 
         bvh = out / "synthesis" / f"{person}_{ACTION}_synthesised.bvh"
         export_motion(motion, bvh, "bvh")
-        summary["bvh"] = str(bvh)
+        summary["bvh"] = shown(bvh)
 
     with steps("checking the motion with the Pinocchio humanoid"):
 
@@ -198,12 +233,12 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
             secondary = simulate_secondary(motion, cape=True, rope=True)
             animate_motion(motion, out / "animation.gif", secondary=secondary, max_frames=120,
                            title=f"{person}: synthesised {ACTION} with cape")
-            summary["animation"] = str(out / "animation.gif")
+            summary["animation"] = shown(out / "animation.gif")
 
     with steps("writing the HTML report"):
-        summary["report"] = str(out / "index.html")
+        summary["report"] = shown(out / "index.html")
         (out / "summary.json").write_text(json.dumps(summary, indent=1) + "\n")
-        _write_report(out, summary, corpus)
+        _write_report(out, final, summary, corpus)
 
     synthesis = summary["synthesis"]
     echo("")
@@ -213,7 +248,7 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
          f"{synthesis['recognised_person']}; dynamics check: {summary['check']['verdict']}"
          + (f" ({'; '.join(summary['check']['reasons'])})" if summary['check']['reasons'] else "")
          + ".")
-    echo(f"Report: {out / 'index.html'}   angles: {out / 'angles'}   BVH: {summary['bvh']}"
+    echo(f"Report: {final / 'index.html'}   angles: {final / 'angles'}   BVH: {summary['bvh']}"
          + (f"   animation: {summary['animation']}" if animation else ""))
     return summary
 
@@ -236,10 +271,12 @@ def _plot_synthesis(corpus, truth, curve, baseline, path: Path, person: str) -> 
     save_figure(figure, path, dpi=90)
 
 
-def _write_report(out: Path, summary: dict, corpus) -> None:
-    """index.html beside the outputs, with relative links only."""
+def _write_report(out: Path, final: Path, summary: dict, corpus) -> None:
+    """index.html beside the outputs (written in ``out``, read in ``final``), with
+    relative links only."""
     def link(path: str) -> str:
-        relative = os.path.relpath(path, out)
+        path = final / Path(path).relative_to(out) if Path(path).is_relative_to(out) else path
+        relative = os.path.relpath(path, final)
         return f'<a href="{html.escape(relative)}">{html.escape(relative)}</a>'
 
     synthesis, check = summary["synthesis"], summary["check"]

@@ -18,6 +18,7 @@ from dynamics.secondary import simulate_secondary
 from dynamics.viz.animate import animate_motion, plot_check
 from mocap.body.anthropometry import segment_kind
 from mocap.body.retarget import reduce_to_segments
+from mocap.cli import options
 from mocap.cli.commands import summary
 from mocap.errors import MocapError
 from mocap.io.export import EXPORT_FORMATS, export_motion
@@ -39,7 +40,7 @@ def _motion_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--units", choices=("m", "cm", "mm", "in", "cmu"),
                         help="length unit of a BVH (or ASF) file; detected from the figure's "
                              "size when not given")
-    parser.add_argument("--rate", type=float, default=120.0, metavar="HZ",
+    parser.add_argument("--rate", type=options.RATE, default=120.0, metavar="HZ",
                         help="frame rate of an AMC motion, which does not store it "
                              "(default 120, as CMU and HDM05)")
 
@@ -61,17 +62,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                "mocap check 01_01.amc --plot check.png;  "
                "mocap check walk.c3d --markerset synthetic15")
     _motion_options(check)
-    check.add_argument("--mass", type=float, default=75.0, metavar="KG",
+    check.add_argument("--mass", type=options.MASS, default=75.0, metavar="KG",
                        help="body mass in kg (default 75)")
     check.add_argument("--sex", choices=("male", "female"), default="male",
                        help="which de Leva table of segment parameters (default male)")
-    check.add_argument("--mu", type=float, default=0.8,
+    check.add_argument("--mu", type=options.real(0, 10), default=0.8,
                        help="floor friction coefficient (default 0.8)")
-    check.add_argument("--max-residual", type=float, default=5.0, metavar="PCT",
+    check.add_argument("--max-residual", type=options.real(above=0, maximum=1000), default=5.0, metavar="PCT",
                        help="RMS residual force above which the motion is implausible, in %% "
                             "of body weight (default 5; captured walking on a lower-body "
                             "marker set scores about 2.5-7)")
-    check.add_argument("--max-penetration", type=float, default=20.0, metavar="MM",
+    check.add_argument("--max-penetration", type=options.real(0, 10000), default=20.0, metavar="MM",
                        help="deepest floor penetration allowed, mm (default 20)")
     check.add_argument("--floor", default="0", metavar="Y|auto",
                        help="height of the floor in the motion file, metres along the up "
@@ -119,11 +120,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     animate.add_argument("--physics", action="store_true",
                          help="replay the motion under physics (ABA, PD servos, penalty "
                               "ground contact) and print how well it tracked")
-    animate.add_argument("--mass", type=float, default=75.0, metavar="KG",
+    animate.add_argument("--mass", type=options.MASS, default=75.0, metavar="KG",
                          help="body mass for --physics (default 75)")
-    animate.add_argument("--max-frames", type=int, default=200, metavar="N",
+    animate.add_argument("--max-frames", type=options.whole(1, 100000), default=200, metavar="N",
                          help="draw at most N frames, evenly spaced (default 200)")
-    animate.add_argument("--dpi", type=int, default=80, help="resolution (default 80)")
+    animate.add_argument("--dpi", type=options.whole(10, 600), default=80, help="resolution (default 80)")
     animate.add_argument("-o", "--output", required=True, metavar="OUT",
                          help="animation file: .gif (or .mp4 when ffmpeg is installed)")
     animate.set_defaults(func=run_animate)

@@ -4,13 +4,18 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import warnings
 
+from mocap.angles import check_sequence
 from mocap.atomic import atomic_path
 from mocap.batch import rows_to_csv, run_batch
 from mocap.cli.batch_rows import BASE_COLUMNS, CHECK_COLUMNS, analyse_trial, find_trials
+from mocap.cli import options
 from mocap.cli.commands import summary
 from mocap.cli.demo import run_demo as demo
-from mocap.errors import MocapError
+from mocap.cli.paths import refuse_overwrite
+from mocap.errors import MocapError, MocapWarning
+from mocap.markersets import load_markerset
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -21,15 +26,20 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "decompose with the N-mode SVD, synthesise a held-out walk from the "
                     "person's other actions, check it with the Pinocchio humanoid, animate it "
                     "with a cloth cape, export BVH and CSV, and write OUT/index.html.")
-    demo.add_argument("-o", "--out", default="mocap-demo",
-                      help="output folder (default: mocap-demo)")
+    demo.add_argument("-o", "--output", "--out", dest="out", default="mocap-demo",
+                      metavar="DIR",
+                      help="output folder (default: mocap-demo); a previous demo's output "
+                           "there is replaced, any other folder holding files is refused "
+                           "unless --force")
+    demo.add_argument("--force", action="store_true",
+                      help="replace the output folder even when it holds other files")
     demo.add_argument("--data", metavar="DIR",
                       help="use this corpus of <person>_<action> marker files instead of "
                            "generating one (needs the synthetic15 markers, or --markerset)")
     demo.add_argument("--markerset", "-m", default="synthetic15",
                       help="marker set for --data (default synthetic15)")
-    demo.add_argument("--people", type=int, default=6, help="people to generate (default 6)")
-    demo.add_argument("--seed", type=int, default=0, help="random seed of the corpus (default 0)")
+    demo.add_argument("--people", type=options.PEOPLE, default=6, help="people to generate (default 6)")
+    demo.add_argument("--seed", type=options.SEED, default=0, help="random seed of the corpus (default 0)")
     demo.add_argument("--hold-out", metavar="PERSON",
                       help="person whose walk is held out and synthesised (default: the first)")
     demo.add_argument("--no-animation", action="store_true",
@@ -47,13 +57,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                        help="folder of marker files (.c3d/.trc/.csv) or individual files")
     batch.add_argument("-o", "--output", metavar="TABLE.csv",
                        help="write the table here (default: print it)")
-    batch.add_argument("--jobs", "-j", type=int, default=1,
+    batch.add_argument("--jobs", "-j", type=options.JOBS, default=1,
                        help="worker processes, or LocalCluster workers with --dask (default 1)")
     batch.add_argument("--markerset", "-m", help="marker set preset or TOML file for joint angles")
     batch.add_argument("--sequence", default="ZXY", help="Euler sequence (default ZXY)")
     batch.add_argument("--check", action="store_true",
                        help="also run the humanoid dynamics check (full-body marker sets)")
-    batch.add_argument("--mass", type=float, default=75.0, help="body mass in kg for --check")
+    batch.add_argument("--mass", type=options.MASS, default=75.0, help="body mass in kg for --check")
     batch.add_argument("--dask", action="store_true",
                        help="run on Dask distributed: a LocalCluster of --jobs workers")
     batch.add_argument("--scheduler", metavar="ADDRESS",
@@ -67,7 +77,12 @@ def run_batch_command(args: argparse.Namespace) -> int:
 
     if args.check and not args.markerset:
         raise MocapError("--check needs --markerset (a full-body marker set such as synthetic15)")
+    if args.markerset:
+        load_markerset(args.markerset)          # a bad marker set: one error, not one per trial
+    check_sequence(args.sequence)
     paths = [p for corpus in args.corpus for p in find_trials(corpus)]
+    if args.output:
+        refuse_overwrite(args.output, paths)
     rows = run_batch(analyse_trial, paths, jobs=args.jobs, markerset=args.markerset, sequence=args.sequence,
                      check=args.check, mass_kg=args.mass, dask=args.dask,
                      scheduler=args.scheduler)
@@ -78,6 +93,9 @@ def run_batch_command(args: argparse.Namespace) -> int:
             tmp.write_text(text)
     else:
         sys.stdout.write(text)
+    for row in rows:
+        if row.get("warnings"):
+            warnings.warn(row["warnings"], MocapWarning)
     failed = [row for row in rows if row["status"] != "ok"]
     for row in failed:
         print(f"failed: {row['error']}", file=sys.stderr)
@@ -91,5 +109,6 @@ def run_demo(args: argparse.Namespace) -> int:
     """The whole product on generated data (see :mod:`mocap.cli.demo`)."""
 
     demo(out_dir=args.out, data=args.data, markerset=args.markerset, people=args.people,
-         seed=args.seed, hold_out=args.hold_out, animation=not args.no_animation)
+         seed=args.seed, hold_out=args.hold_out, animation=not args.no_animation,
+         force=args.force)
     return 0

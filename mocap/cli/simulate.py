@@ -10,6 +10,7 @@ from dynamics.scenes.build import load_scene
 from dynamics.scenes.run import run_scene
 from dynamics.scenes.schema import SCENES_DIR, example_scene_path
 from dynamics.viz.render import render_animation
+from mocap.cli import options
 from mocap.cli.commands import summary
 from mocap.errors import MocapError
 
@@ -30,20 +31,20 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--gif", metavar="OUT.gif", help="also write an animated GIF of the run")
     parser.add_argument("--mp4", metavar="OUT.mp4",
                         help="also write an MP4 of the run (needs ffmpeg on the PATH)")
-    parser.add_argument("--steps", type=int, metavar="N",
+    parser.add_argument("--steps", type=options.whole(1, 100_000_000), metavar="N",
                         help="override [simulation] steps (number of time steps)")
-    parser.add_argument("--dt", type=float, metavar="SECONDS",
+    parser.add_argument("--dt", type=options.real(above=0, maximum=10), metavar="SECONDS",
                         help="override [simulation] dt (time step, seconds)")
     parser.add_argument("--integrator",
                         choices=("explicit-euler", "symplectic-euler", "rk4", "implicit-euler"),
                         help="override [simulation] integrator")
     parser.add_argument("--solver", choices=("projective", "direct", "cg"),
                         help="override the implicit solver (implicit-euler only)")
-    parser.add_argument("--save-every", type=int, metavar="N",
+    parser.add_argument("--save-every", type=options.whole(1, 100_000_000), metavar="N",
                         help="override [simulation] save_every (keep every N-th step)")
-    parser.add_argument("--fps", type=float, default=30.0,
+    parser.add_argument("--fps", type=options.FPS, default=30.0,
                         help="frames per second of the animation (default 30)")
-    parser.add_argument("--max-frames", type=int, default=300, metavar="N",
+    parser.add_argument("--max-frames", type=options.whole(1, 100000), default=300, metavar="N",
                         help="draw at most N frames in the animation (default 300)")
     parser.add_argument("--no-progress", action="store_true", help="do not show a progress bar")
     parser.add_argument("--list-examples", action="store_true",

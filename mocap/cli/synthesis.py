@@ -14,6 +14,7 @@ import sys
 from pathlib import Path
 
 from dynamics.humanoid.plant import motion_from_cycle
+from mocap.cli import options
 from mocap.io.angles_csv import write_angles_csv
 from mocap.cli.commands import summary
 from mocap.errors import MocapError
@@ -63,16 +64,6 @@ def _ridge(text: str):
     return value
 
 
-def _positive_int(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
-    if value < 2:
-        raise argparse.ArgumentTypeError(f"need at least 2 samples, got {value}")
-    return value
-
-
 def _names(text: str) -> list[str]:
     return [name.strip() for name in text.split(",") if name.strip()]
 
@@ -91,7 +82,7 @@ def _add_corpus_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--sequence", default="ZXY", metavar="SEQ",
                         help="Euler sequence of the joint angles, scipy convention "
                              "(default: ZXY)")
-    parser.add_argument("--samples", type=_positive_int, default=100, metavar="N",
+    parser.add_argument("--samples", type=options.whole(2, 100000), default=100, metavar="N",
                         help="frames of each time-normalised cycle (default: 100)")
     parser.add_argument("--cycles", action="store_true",
                         help="detect gait cycles in each trial (maxima of the most-moving "
@@ -99,10 +90,10 @@ def _add_corpus_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--cycle-angle", metavar="COLUMN",
                         help="angle column whose maxima cut the cycles (e.g. r_thigh.Y); "
                              "default: the angle that moves most over the corpus")
-    parser.add_argument("--fill-gaps", type=int, default=None, metavar="FRAMES",
+    parser.add_argument("--fill-gaps", type=options.whole(0, 1_000_000), default=None, metavar="FRAMES",
                         help="fill marker gaps of up to FRAMES frames (cubic spline) before the "
                              "angles; the model remembers it for later trials")
-    parser.add_argument("--lowpass", type=float, default=None, metavar="HZ",
+    parser.add_argument("--lowpass", type=options.CUTOFF, default=None, metavar="HZ",
                         help="zero-lag Butterworth low-pass of the markers at HZ before the "
                              "angles (e.g. 6); the model remembers it for later trials")
     parser.add_argument("--people", type=_names, metavar="P1,P2,…",
@@ -329,7 +320,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--person", metavar="P", help="known person whose signature to use")
     parser.add_argument("--to", metavar="P2",
                         help="second person: blend the signatures of --person and --to")
-    parser.add_argument("--weight", type=float, default=0.5, metavar="W",
+    parser.add_argument("--weight", type=options.real(0, 1), default=0.5, metavar="W",
                         help="blend weight of --to (0 = --person, 1 = --to; default 0.5)")
     parser.add_argument("--from", dest="trials", action="append", metavar="TRIAL",
                         help="captured trial of a new person (repeat for several actions); its "
@@ -338,9 +329,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="action of each --from trial, in order (default: from its file "
                              "name <person>_<action>, else recognised)")
     parser.add_argument("--action", required=True, metavar="A", help="action to synthesise")
-    parser.add_argument("--samples", type=_positive_int, default=None, metavar="N",
+    parser.add_argument("--samples", type=options.whole(2, 100000), default=None, metavar="N",
                         help="frames of the cycle written (default: the model's sample count)")
-    parser.add_argument("--cycles", type=_positive_int, default=1, metavar="N",
+    parser.add_argument("--cycles", type=options.whole(1, 1000), default=1, metavar="N",
                         help="BVH output: cycles to write, the root path planted on the feet "
                              "(default 1)")
     parser.add_argument("--skeleton", metavar="TRIAL",

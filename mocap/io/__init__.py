@@ -20,6 +20,7 @@ Examples
 from __future__ import annotations
 
 import importlib
+import math
 import os
 import warnings
 from dataclasses import dataclass
@@ -159,11 +160,35 @@ def read(path: str | os.PathLike) -> Any:
         raise MocapError("no such file", path)
     if Path(path).is_dir():
         raise MocapError("is a directory, not a file", path)
+    if not Path(path).is_file():
+        raise MocapError("not a regular file (a pipe or device cannot be read)", path)
     result = _resolve(file_format.reader)(path)
+    if file_format.kind == "markers" and hasattr(result, "rate") and hasattr(result, "frames"):
+        check_rate(result.rate, result.frames, len(result.labels), path)
     metadata = getattr(result, "metadata", None)
     for note in (metadata or {}).get("warnings", []):
         warnings.warn(f"{os.fspath(path)}: {note}", MocapWarning, stacklevel=2)
     return result
+
+
+#: Plausible sampling rates of a marker trial, Hz: one frame per 1000 s to a million per second.
+MIN_RATE_HZ = 1e-3
+MAX_RATE_HZ = 1e6
+
+
+def check_rate(rate: float, frames: int, markers: int, path: str | os.PathLike) -> None:
+    """MocapError unless ``rate`` is a plausible sampling rate for what a reader found.
+
+    Every marker reader's result passes here (from :func:`read`), so no format lets a rate
+    of 0, a negative, NaN, infinite or absurd rate through to the angles and the writers.
+    A rate of 0 is allowed only where there is nothing to time: one frame, or no markers
+    (it is then reported by the reader as a warning).
+    """
+    nothing_to_time = frames <= 1 or markers == 0
+    if not (math.isfinite(rate) and ((rate == 0 and nothing_to_time)
+                                     or MIN_RATE_HZ <= rate <= MAX_RATE_HZ)):
+        raise MocapError(f"sampling rate {rate:g} Hz is not plausible (it must be from "
+                         f"{MIN_RATE_HZ:g} to {MAX_RATE_HZ:g} Hz)", path)
 
 
 def write(obj: Any, path: str | os.PathLike, **options: Any) -> None:
@@ -176,4 +201,4 @@ def write(obj: Any, path: str | os.PathLike, **options: Any) -> None:
     _resolve(file_format.writer)(obj, path, **options)
 
 
-__all__ = ["read", "write", "register_format", "formats", "format_of", "suffixes", "FileFormat"]
+__all__ = ["read", "write", "check_rate", "register_format", "formats", "format_of", "suffixes", "FileFormat"]

@@ -3,8 +3,9 @@
 CSV holds joint angles (DESIGN 3.2) rather than markers.
 
 Every command that takes "files or folders" lists them through :func:`find_files`, so a
-folder means the same thing everywhere: every matching file below it, sub-folders included,
-hidden files skipped, sorted.
+folder means the same thing everywhere: the matching files directly inside it, sorted, hidden
+files skipped; sub-folders are not searched (a generated corpus keeps its ground truth in
+``truth/``, and a corpus's trials sit side by side). Give ``dir/*/`` to take sub-folders.
 """
 from __future__ import annotations
 
@@ -41,7 +42,7 @@ def parse_trial_name(path: str | Path) -> tuple[str, str]:
 
 
 def find_files(inputs: Iterable[str | os.PathLike], suffixes: Iterable[str],
-               missing: str = "error", recursive: bool = True) -> list[Path]:
+               missing: str = "error", recursive: bool = False) -> list[Path]:
     """The files named by ``inputs``: files as given, folders expanded.
 
     Parameters
@@ -54,7 +55,7 @@ def find_files(inputs: Iterable[str | os.PathLike], suffixes: Iterable[str],
     missing : {"error", "keep"}
         A path that does not exist: raise, or keep it (the reader reports it later).
     recursive : bool
-        Search sub-folders too (else only the folder's own files).
+        Search sub-folders too (default: only the folder's own files, as every command).
 
     Returns
     -------

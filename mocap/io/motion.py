@@ -58,6 +58,8 @@ def read_motion(path: str | os.PathLike, asf: str | os.PathLike | None = None,
         raise MocapError("file not found", path)
     if path.is_dir():
         raise MocapError("is a directory, not a motion file", path)
+    if not path.is_file():
+        raise MocapError("not a regular file (a pipe or device cannot be read)", path)
     suffix = path.suffix.lower()
     if suffix == ".bvh":
         return read_bvh(path, units=units)

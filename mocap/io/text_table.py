@@ -1,6 +1,7 @@
 """Helpers shared by the text formats (CSV, TRC): numeric tables with empty cells."""
 from __future__ import annotations
 
+import io
 import os
 
 import numpy as np
@@ -101,3 +102,90 @@ def format_rows(columns: np.ndarray, delimiter: str) -> str:
     cells = ["" if value != value else repr(value) for value in columns.ravel().tolist()]
     return "".join(delimiter.join(cells[r * cols:(r + 1) * cols]) + "\n"
                    for r in range(rows))
+
+
+#: Largest magnitude :func:`format_fixed` writes with integer arithmetic (beyond it, and for
+#: infinities, it falls back to ``%.*f`` formatting).
+_FIXED_LIMIT = 1e12
+
+
+def format_fixed(table: np.ndarray, decimals: int = 6, delimiter: str = ",",
+                 chunk_rows: int = 16384) -> bytes:
+    """Rows of numbers as fixed-point text, vectorised: ``-12.345679,0.500000\\n`` …
+
+    The text of each cell is that of ``"%.{decimals}f"`` for the value rounded to the
+    nearest ``10**-decimals`` (computed as ``rint(|x| * 10**decimals)``, so a value within
+    an ulp of a rounding tie may round the other way; the written number is always within
+    ``0.5 * 10**-decimals`` plus one ulp of ``x``). NaN is an empty cell.
+
+    Parameters
+    ----------
+    table : ndarray, shape (rows, cols), float
+    decimals : int
+        Digits after the point, 1 to 9.
+    delimiter : str
+        One character between cells; rows end in ``\\n``.
+    chunk_rows : int
+        Rows formatted at once (bounds the memory to about 22 bytes per cell of a chunk).
+
+    Returns
+    -------
+    bytes
+        ASCII text, ``rows`` lines.
+    """
+    table = np.asarray(table, dtype=float)
+    rows, cols = table.shape
+    finite = np.isfinite(table)
+    if not (np.abs(table[finite]) < _FIXED_LIMIT).all() or (~finite & ~np.isnan(table)).any():
+        text = io.StringIO()
+        np.savetxt(text, table, fmt=f"%.{decimals}f", delimiter=delimiter)
+        return text.getvalue().replace("nan", "").encode("ascii")
+    return b"".join(_fixed_chunk(table[start:start + chunk_rows], decimals, delimiter)
+                    for start in range(0, rows, chunk_rows))
+
+
+_DIGIT_TABLES: dict[int, np.ndarray] = {}
+
+
+def _digit_table(decimals: int) -> np.ndarray:
+    """ASCII digits of 0 … 10**decimals - 1, zero-padded: shape (10**decimals, decimals)."""
+    if decimals not in _DIGIT_TABLES:
+        numbers = np.arange(10 ** decimals, dtype=np.int32)
+        table = np.empty((numbers.size, decimals), dtype=np.uint8)
+        for k in range(decimals):
+            numbers, digit = np.divmod(numbers, 10)
+            table[:, decimals - 1 - k] = digit + 48
+        _DIGIT_TABLES[decimals] = table
+    return _DIGIT_TABLES[decimals]
+
+
+def _fixed_chunk(table: np.ndarray, decimals: int, delimiter: str) -> bytes:
+    """One block of rows: each cell right-aligned in a fixed-width byte row, the unused
+    leading bytes NUL, removed at the end."""
+    rows, cols = table.shape
+    missing = np.isnan(table).ravel()
+    values = np.where(missing, 0.0, table.ravel())
+    scaled = np.rint(np.abs(values) * 10.0 ** decimals).astype(np.int64)
+    whole, fraction = np.divmod(scaled, 10 ** decimals)
+    most = int(whole.max()) if whole.size else 0
+    digits = len(str(most))                            # integer digits of the widest cell
+    if most < 2 ** 31:
+        whole = whole.astype(np.int32)
+    int_digits = np.ones(values.size, dtype=np.int8)
+    for k in range(1, digits):
+        int_digits += whole >= 10 ** k
+    negative = np.signbit(values)
+    width = 1 + digits + 1 + decimals + 1              # sign, digits, point, decimals, end
+    chars = np.empty((values.size, width), dtype=np.uint8)
+    chars[:, -1] = ord(delimiter)
+    chars[cols - 1::cols, -1] = ord("\n")
+    chars[:, -1 - decimals:-1] = _digit_table(decimals)[fraction]
+    point = width - 2 - decimals
+    chars[:, point] = ord(".")
+    for k in range(digits + 1):                        # integer digits, then the sign
+        whole, digit = np.divmod(whole, 10)
+        chars[:, point - 1 - k] = np.where(k < int_digits, digit + 48,
+                                           np.where((k == int_digits) & negative, 45, 0))
+    if missing.any():
+        chars[missing, :-1] = 0
+    return chars.tobytes().replace(b"\0", b"")

@@ -102,7 +102,7 @@ def test_animate_a_tiny_gif_with_cape_and_physics(standing_bvh, tmp_path, capsys
       "mm"], None),
     (["animate", "{data}/mocapbank_walk.bvh", "-o", "{tmp}/a.mp4"], "ffmpeg"),
     (["animate", "{data}/mocapbank_walk.bvh", "-o", "{tmp}/a.png"], ".gif or .mp4"),
-    (["check", "{data}/mocapbank_walk.bvh", "--mass", "-3"], "positive"),
+    (["check", "{data}/mocapbank_walk.bvh", "--mass", "-3"], "> 0"),
 ])
 def test_bad_input_is_one_line_exit_2_and_no_output(argv, message, tmp_path, capsys,
                                                     monkeypatch):
