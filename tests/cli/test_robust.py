@@ -208,7 +208,7 @@ def test_batch_with_a_bad_marker_set_says_so_once(walk, capsys):
 
 # ---------------------------------------------------------------- Ctrl-C
 
-@pytest.mark.parametrize("delay", [0.2, 0.5, 1.5])
+@pytest.mark.parametrize("delay", [0.5, 1.0, 2.0])
 def test_ctrl_c_at_any_moment_is_one_line_and_130(delay, walk, tmp_path):
     process = _mocap("angles", str(walk), "-m", "synthetic15", "-o", str(tmp_path / "a.csv"),
                      "--plot", str(tmp_path / "a.png"))
