@@ -17,6 +17,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from mocap.errors import MocapError
+from mocap.frames import iter_frame_blocks
 from mocap.markersets import MarkerSet
 from mocap.trial import Trial
 
@@ -461,7 +462,6 @@ def joint_angles(trial: Trial, markerset: MarkerSet, sequence: str = DEFAULT_SEQ
     >>> angles = joint_angles(trial, load_markerset("plugingait-lower"), "YXZ")  # doctest: +SKIP
     >>> knee_flexion = angles.segment("l_shank")[:, 0]             # doctest: +SKIP
     """
-    from mocap.frames import iter_frame_blocks
 
     check_sequence(sequence)
     full = markerset.apply_virtual(trial)

@@ -14,8 +14,8 @@ from typing import Iterator
 
 import numpy as np
 
-from mocap.markersets.axes import frame_components
 from mocap.markersets import MarkerSet
+from mocap.markersets.axes import frame_components
 from mocap.trial import Trial
 
 #: Frames per block: the arithmetic runs block by block so its temporaries stay

@@ -3,6 +3,8 @@ the root path that rides the centres of pressure like an inverted pendulum."""
 from __future__ import annotations
 
 import numpy as np
+from scipy.sparse import diags
+from scipy.sparse.linalg import spsolve
 
 from mocap.body.anthropometry import segment_kind, segment_table
 from mocap.errors import MocapError
@@ -158,8 +160,6 @@ def _pendulum_solve(stiffness: np.ndarray, pressure: np.ndarray, period: float,
     momentum moves the force off the line through the centre of mass).
     Second differences with wrap-around; (N,) arrays, seconds.
     """
-    from scipy.sparse import diags
-    from scipy.sparse.linalg import spsolve
 
     n = len(stiffness)
     ones = np.full(n, 1.0 / (period / n) ** 2)
