@@ -62,7 +62,7 @@ def run_batch(row: Callable[..., dict], paths: Sequence[str | os.PathLike], jobs
 
 def _run_dask(row: Callable[..., dict], names: list[str], jobs: int, scheduler: str | None, arguments: dict,
               show_progress: bool | None) -> list[dict]:
-    try:
+    try:   # deferred: dask is an optional extra, and slow to import
         from dask.distributed import Client, LocalCluster
         from dask.distributed import as_completed as dask_completed
     except ImportError:

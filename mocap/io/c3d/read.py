@@ -209,7 +209,7 @@ def ezc3d_refusal(layout: C3DLayout) -> str:
 
 
 def _read_ezc3d(layout: C3DLayout):
-    import ezc3d
+    import ezc3d   # deferred: only the engine="ezc3d" path needs it (0.2 s of start-up)
 
     c3d = ezc3d.c3d(layout.path, extract_forceplat_data=False)
     data = c3d["data"]

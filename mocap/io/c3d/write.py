@@ -28,7 +28,7 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:
     (when their rate is a whole multiple of the point rate) and
     ``metadata["events"]`` are written too.
     """
-    import ezc3d
+    import ezc3d   # deferred: reading C3D needs no ezc3d, only writing does
 
     factor = unit_factor(units)
     if factor is None or units not in ("mm", "cm", "m"):
