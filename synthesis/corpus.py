@@ -3,10 +3,13 @@
 A *corpus* is a set of trials, each labelled with a person and an action: a folder of files
 named ``<person>_<action>[_<anything>].<c3d|csv|trc|bvh|amc>`` (sub-folders such as ``truth/``
 are ignored) or a manifest CSV with columns ``path,person,action``. Each trial becomes joint
-angles (``mocap.angles.joint_angles`` with a marker set; read directly from an angle CSV; or
-from a BVH / ASF-AMC motion mapped onto the 15-segment body model), then one gait cycle of
-``samples`` frames per angle (unwrapping, one cycle per trial or cycle detection, branch:
-see :mod:`synthesis.cycles`).
+angles (``mocap.angles.joint_angles`` with a marker set; read directly from an angle CSV),
+then one gait cycle of ``samples`` frames per angle (unwrapping, one cycle per trial or cycle
+detection, branch: see :mod:`synthesis.cycles`). A corpus of skeleton trials only (BVH,
+ASF/AMC) is read by :mod:`synthesis.skeletons` instead: the rig's own joints (or the body model
+when skeletons differ), rotation vectors about the corpus mean rotations, heading removed,
+leg-signal cycles (``representation="rotvec"``); ``representation="euler"`` keeps the older
+Euler angles on the body model.
 
 * **Several trials of one (person, action) cell** are averaged the same way as cycles.
 
@@ -31,6 +34,7 @@ from mocap.io.motion import MARKER_SUFFIXES, MOTION_SUFFIXES, read_motion
 from mocap.markersets import load_markerset
 from mocap.pipeline import Cleaning, marker_file_angles
 from synthesis.cycles import DEFAULT_SAMPLES, centre_branch, normalise_cycles
+from synthesis.skeletons import is_skeleton_trial, read_skeleton_corpus
 
 #: File suffixes a corpus folder may hold: marker trials (and angle CSVs), BVH and ASF/AMC
 #: (read through ``mocap.io.motion``).
@@ -209,6 +213,22 @@ class MotionCorpus:
         Files of each cell.
     cleaning : dict
         Marker cleaning applied before the angles: ``lowpass_hz``, ``max_gap_frames``.
+    representation : {"euler", "rotvec"}
+        ``"euler"``: ``angles`` are Euler angles (degrees, ``sequence``); ``"rotvec"``
+        (skeleton corpora, :mod:`synthesis.skeletons`): rotation vectors about
+        ``rotation_means`` (degrees; columns ``<joint>.rx|ry|rz``; the body root's is its
+        tilt, heading removed).
+    rotation_means : ndarray, shape (segments, 3, 3), optional
+        Corpus mean rotation of each joint (``"rotvec"``).
+    root : ndarray, shape (people, actions, samples, 4), optional
+        Root motion in the heading frame (:data:`synthesis.rotations.ROOT_FEATURES`).
+    phases : ndarray, shape (people, actions), optional
+        Phase of the registered mid-cycle event (the cycle's time warp), in (0, 1).
+    takes : dict of (person, action) to ndarray (takes, samples, columns)
+        Every take of a cell (for take hold-out and the take-to-take spread).
+    rig : dict, optional
+        Skeleton to write synthesised motions on: ``names``, ``parents``, ``offsets``
+        (metres), ``joints`` (feature joints), ``on_body`` (mapped onto the body model).
     """
 
     people: list[str]
@@ -225,6 +245,16 @@ class MotionCorpus:
     cycle_column: str | None = None
     sources: dict = field(default_factory=dict)
     cleaning: dict = field(default_factory=dict)
+    representation: str = "euler"
+    rotation_means: np.ndarray | None = None
+    root: np.ndarray | None = None
+    phases: np.ndarray | None = None
+    takes: dict = field(default_factory=dict)
+    rig: dict | None = None
+
+    #: Per-cell arrays (first two axes people × actions) and their "missing" value.
+    _CELL_ARRAYS = (("angles", np.nan), ("durations", np.nan), ("cycle_counts", 0),
+                    ("root", np.nan), ("phases", np.nan))
 
     @property
     def samples(self) -> int:
@@ -243,12 +273,16 @@ class MotionCorpus:
     def without_cell(self, person: str, action: str) -> "MotionCorpus":
         """A copy with one cell removed (for leave-one-out)."""
         p, a = self.people.index(person), self.actions.index(action)
-        angles, durations = self.angles.copy(), self.durations.copy()
-        counts = self.cycle_counts.copy()
-        angles[p, a], durations[p, a], counts[p, a] = np.nan, np.nan, 0
+        changed = {}
+        for name, missing in self._CELL_ARRAYS:
+            value = getattr(self, name)
+            if value is not None:
+                value = value.copy()
+                value[p, a] = missing
+                changed[name] = value
         sources = {key: value for key, value in self.sources.items() if key != (person, action)}
-        return replace(self, angles=angles, durations=durations, cycle_counts=counts,
-                       sources=sources)
+        takes = {key: value for key, value in self.takes.items() if key != (person, action)}
+        return replace(self, sources=sources, takes=takes, **changed)
 
     def subset(self, people: Sequence[str] | None = None, actions: Sequence[str] | None = None
                ) -> "MotionCorpus":
@@ -261,11 +295,13 @@ class MotionCorpus:
             raise MocapError(f"not in the corpus: {', '.join(unknown)}")
         pi = [self.people.index(n) for n in people]
         ai = [self.actions.index(n) for n in actions]
-        sources = {key: value for key, value in self.sources.items()
-                   if key[0] in people and key[1] in actions}
+        inside = {key for key in self.sources if key[0] in people and key[1] in actions}
+        changed = {name: getattr(self, name)[np.ix_(pi, ai)] for name, _ in self._CELL_ARRAYS
+                   if getattr(self, name) is not None}
         return replace(self, people=people, actions=actions,
-                       angles=self.angles[np.ix_(pi, ai)], durations=self.durations[np.ix_(pi, ai)],
-                       cycle_counts=self.cycle_counts[np.ix_(pi, ai)], sources=sources)
+                       sources={key: self.sources[key] for key in inside},
+                       takes={key: v for key, v in self.takes.items() if key in inside},
+                       **changed)
 
 
 def check_corpus_size(people: Sequence[str], actions: Sequence[str],
@@ -320,7 +356,8 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
                 samples: int = DEFAULT_SAMPLES, cycles: bool = False,
                 cycle_column: str | None = None, lowpass_hz: float | None = None,
                 max_gap_frames: int | None = None,
-                progress: Callable[[Iterable, str], Iterable] | None = None) -> MotionCorpus:
+                progress: Callable[[Iterable, str], Iterable] | None = None,
+                representation: str = "auto", body: bool = False) -> MotionCorpus:
     """Read, time-normalise and stack the trials of a corpus.
 
     Parameters
@@ -342,6 +379,13 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
         Marker cleaning before the angles (see :func:`read_trial_angles`).
     progress : callable, optional
         ``progress(iterable, description)`` wrapper (e.g. :func:`mocap.progress.progress`).
+    representation : {"auto", "rotvec", "euler"}
+        ``"auto"``: a corpus of skeleton trials only (BVH, ASF/AMC) gets wrap-free rotation
+        features (:mod:`synthesis.skeletons`), anything else Euler angles; ``"euler"``:
+        Euler angles of every trial on the body model (the older representation).
+    body : bool
+        Skeleton corpora: map onto the 15-segment body model even when every trial shares
+        one skeleton.
 
     Returns
     -------
@@ -351,6 +395,13 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
     if not entries:
         raise MocapError("the corpus has no trials")
     check_corpus_size(sorted({e.person for e in entries}), sorted({e.action for e in entries}))
+    if representation not in ("auto", "rotvec", "euler"):
+        raise MocapError(f"unknown representation {representation!r}: auto, rotvec or euler")
+    skeletal = all(is_skeleton_trial(e.path) for e in entries)
+    if representation == "rotvec" and not skeletal:
+        raise MocapError("rotation-vector features need skeleton trials (BVH, ASF/AMC) only")
+    if representation != "euler" and skeletal:
+        return MotionCorpus(**read_skeleton_corpus(entries, samples, cycles, body, progress))
     markerset_name = None if markerset is None else str(getattr(markerset, "name", markerset))
     if isinstance(markerset, (str, Path)) and any(not is_angle_csv(e.path) for e in entries):
         markerset = load_markerset(markerset)
@@ -400,12 +451,25 @@ def _flat(angles) -> np.ndarray:
 
 
 def load_corpus(corpus: str | Path | None = None, manifest: str | Path | None = None,
+                people: Sequence[str] | None = None, actions: Sequence[str] | None = None,
                 **options) -> MotionCorpus:
-    """A corpus folder or manifest → :class:`MotionCorpus` (``options`` as :func:`read_corpus`)."""
+    """A corpus folder or manifest → :class:`MotionCorpus` (``options`` as :func:`read_corpus`).
+
+    ``people`` / ``actions`` keep only those trials, before any file is read.
+    """
     if manifest is not None:
         entries = read_manifest(manifest)
     elif corpus is not None:
         entries = list_corpus_folder(corpus)
     else:
         raise MocapError("give a corpus= folder or a manifest= CSV")
+    source = manifest if manifest is not None else corpus
+    for names, attribute, label in ((people, "person", "people"), (actions, "action", "actions")):
+        if names:
+            known = {getattr(e, attribute) for e in entries}
+            unknown = [n for n in names if n not in known]
+            if unknown:
+                raise MocapError(f"not in the corpus: {', '.join(unknown)} (its {label}: "
+                                 f"{', '.join(sorted(known))})", source)
+            entries = [e for e in entries if getattr(e, attribute) in set(names)]
     return read_corpus(entries, **options)

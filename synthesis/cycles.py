@@ -31,7 +31,8 @@ import numpy as np
 from scipy.signal import find_peaks
 
 from mocap.angles import unwrap_columns
-from mocap.errors import MocapError
+from mocap.errors import MocapError, MocapWarning
+from synthesis.rotations import yaw_matrices
 
 #: Default number of samples per normalised cycle.
 DEFAULT_SAMPLES = 100
@@ -148,29 +149,30 @@ def estimate_period(times: np.ndarray, signal: np.ndarray) -> float | None:
     return lag * float(np.median(np.diff(times)))
 
 
-def detect_cycles(times: np.ndarray, signal: np.ndarray) -> np.ndarray:
-    """Cycle boundaries: times of the successive maxima of a periodic reference angle.
+def detect_cycles(times: np.ndarray, signal: np.ndarray, with_events: bool = False
+                  ) -> np.ndarray:
+    """Cycle boundaries: times of the successive maxima of a periodic reference signal.
 
     Parameters
     ----------
     times : ndarray, shape (frames,), seconds
-    signal : ndarray, shape (frames,), degrees, without NaN
+    signal : ndarray, shape (frames,), degrees (or any unit), without NaN
+    with_events : bool
+        Return the times of all maxima instead of the cycles they bound.
 
     Returns
     -------
     ndarray, shape (cycles, 2)
         ``[start, end]`` seconds of each complete cycle (end of one = start of the next when
-        they follow each other).
+        they follow each other); with ``with_events``, shape (maxima,) seconds.
     """
     period = estimate_period(times, signal)
     if period is None:
-        return np.empty((0, 2))
+        return np.empty((0,)) if with_events else np.empty((0, 2))
     step = float(np.median(np.diff(times)))
     spread = float(np.ptp(signal))
     peaks, _ = find_peaks(signal, distance=max(int(0.7 * period / step), 1),
                           prominence=0.25 * spread)
-    if peaks.size < 2:
-        return np.empty((0, 2))
     # Sub-frame refinement: vertex of the parabola through the three samples at each maximum.
     inner = peaks[(peaks > 0) & (peaks < signal.size - 1)]
     event = times[peaks].astype(float)
@@ -179,6 +181,10 @@ def detect_cycles(times: np.ndarray, signal: np.ndarray) -> np.ndarray:
     offset = np.where(curvature < 0, 0.5 * (below - above) / np.where(curvature < 0, curvature, -1),
                       0.0)
     event[np.isin(peaks, inner)] = times[inner] + np.clip(offset, -0.5, 0.5) * step
+    if with_events:
+        return event
+    if peaks.size < 2:
+        return np.empty((0, 2))
     spans = np.diff(event)
     keep = (spans >= 0.6 * period) & (spans <= 1.5 * period)
     return np.column_stack([event[:-1][keep], event[1:][keep]])
@@ -234,3 +240,139 @@ def normalise_cycles(times: np.ndarray, values: np.ndarray, samples: int = DEFAU
     curves = centre_branch(curves)          # per cycle, so cycles on other branches agree
     return curves.mean(axis=0), float(np.mean(bounds[:, 1] - bounds[:, 0])), int(len(bounds))
 
+
+
+
+# --------------------------------------------------------------------------- skeleton cycles
+
+class CycleWarning(MocapWarning):
+    """A trial of a cyclic action held no complete cycle and is used whole."""
+
+
+#: A trial is cyclic when its leg signal spans at least this fraction of the leg length.
+LEG_SWING_FRACTION = 0.25
+
+
+def foot_joints(positions: np.ndarray, parents: list[int]) -> tuple[int, int]:
+    """The two lowest leaf joints on different branches (the feet), from a standing frame.
+
+    Parameters
+    ----------
+    positions : ndarray, shape (segments, 3), metres, Y up
+    parents : list of int
+
+    Returns
+    -------
+    (first, second) : joint indices, ordered by index (the same for every trial of a rig)
+    """
+    leaves = [i for i in range(len(parents)) if i not in parents]
+    if len(leaves) < 2:
+        raise MocapError("cycle detection needs a skeleton with two legs")
+    order = sorted(leaves, key=lambda i: positions[i, 1])
+    first = order[0]
+    chain = _ancestors(parents, first)
+    for other in order[1:]:
+        if other not in chain and first not in _ancestors(parents, other):
+            return tuple(sorted((first, other)))
+    raise MocapError("cycle detection needs a skeleton with two legs")
+
+
+def _ancestors(parents: list[int], index: int) -> set[int]:
+    found = set()
+    while index >= 0:
+        found.add(index)
+        index = parents[index]
+    return found
+
+
+def leg_separation(positions: np.ndarray, heading: np.ndarray, feet: tuple[int, int]
+                   ) -> np.ndarray:
+    """Horizontal vector from the first foot to the second in the heading frame.
+
+    Parameters
+    ----------
+    positions : ndarray, shape (frames, segments, 3), metres
+    heading : ndarray, shape (frames,), radians
+    feet : (int, int)
+
+    Returns
+    -------
+    ndarray, shape (frames, 2): the two horizontal components (X, Z)
+    """
+    between = positions[:, feet[1]] - positions[:, feet[0]]
+    local = np.einsum("fji,fj->fi", yaw_matrices(heading), between)
+    return local[:, [0, 2]]
+
+
+def walking_axis(separations: list[np.ndarray]) -> np.ndarray:
+    """The horizontal axis along which the feet swing most over a corpus (unit 2-vector).
+
+    The feet pass each other along the walking direction; sideways they keep their stance
+    width. The sign is fixed so the axis' larger component is positive (any fixed choice:
+    the same for every trial of the corpus).
+    """
+    stacked = np.concatenate([s - s.mean(axis=0) for s in separations])
+    _, vectors = np.linalg.eigh(stacked.T @ stacked)
+    axis = vectors[:, -1]
+    return axis * (1.0 if axis[np.argmax(np.abs(axis))] > 0 else -1.0)
+
+
+def leg_cycles(times: np.ndarray, signal: np.ndarray, leg_length: float) -> np.ndarray:
+    """Cycles of a leg signal (one foot ahead of the other), with their mid-cycle event.
+
+    A cycle runs from a maximum of the signal (the second foot furthest ahead) to the next;
+    its middle event is the minimum between them (the first foot furthest ahead). Maxima and
+    minima come from :func:`detect_cycles`' rules (autocorrelation period, prominence,
+    sub-frame parabola).
+
+    Parameters
+    ----------
+    times : ndarray, shape (frames,), seconds
+    signal : ndarray, shape (frames,), metres
+    leg_length : float, metres
+        The signal must span at least :data:`LEG_SWING_FRACTION` of it (the feet really swing).
+
+    Returns
+    -------
+    ndarray, shape (cycles, 3)
+        ``[start, middle, end]`` seconds of every complete cycle; empty when none.
+    """
+    if np.ptp(signal) < LEG_SWING_FRACTION * leg_length:
+        return np.empty((0, 3))
+    bounds = detect_cycles(times, signal)
+    if bounds.shape[0] == 0:
+        return np.empty((0, 3))
+    lows = detect_cycles(times, -signal, with_events=True)
+    cycles = []
+    for start, end in bounds:
+        inside = lows[(lows > start) & (lows < end)]
+        if inside.size == 1:
+            cycles.append((start, float(inside[0]), end))
+    return np.array(cycles, dtype=float).reshape(-1, 3)
+
+
+def register_cycle(times: np.ndarray, values: np.ndarray, events: np.ndarray,
+                   phases: np.ndarray, samples: int) -> np.ndarray:
+    """Resample ``values`` between events so that event ``k`` falls at phase ``phases[k]``.
+
+    Piecewise-linear landmark registration: the time warp is linear between consecutive
+    events.
+
+    Parameters
+    ----------
+    times : ndarray, shape (frames,), seconds
+    values : ndarray, shape (frames, columns)
+    events : ndarray, shape (k,), seconds, increasing
+    phases : ndarray, shape (k,), in [0, 1], increasing, first 0 and last 1
+    samples : int
+
+    Returns
+    -------
+    ndarray, shape (samples, columns)
+    """
+    instants = np.interp(np.linspace(0.0, 1.0, samples), phases, events)
+    right = np.clip(np.searchsorted(times, instants, side="right"), 1, len(times) - 1)
+    left = right - 1
+    span = times[right] - times[left]
+    weight = np.clip((instants - times[left]) / np.where(span > 0, span, 1.0), 0.0, 1.0)
+    return values[left] * (1.0 - weight)[:, None] + values[right] * weight[:, None]

@@ -24,14 +24,17 @@ import numpy as np
 from mocap.angles import JointAngles
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
+from mocap.io.motion import read_motion
 from synthesis.corpus import MotionCorpus, check_corpus_size, read_trial_angles
 from synthesis.cycles import normalise_cycles, resample
 from synthesis.nmode import Rank
 from synthesis.regression import SignatureModel
 from synthesis.signature import interpolate_signatures, posterior_scores
+from synthesis.skeletons import cycle_motion, trial_cycle
+from synthesis.transfer import TransferModel
 
 #: File format version written into saved models.
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
 
 
 @dataclass
@@ -75,6 +78,14 @@ class MotionModel:
         ``None`` (people: chosen by leave-one-out; actions, features: numerical rank).
     ridge : float or "auto"
         Relative ridge α of the angle signature fits, or ``"auto"`` (leave-one-out).
+    method : {"auto", "signature", "transfer"}
+        How a person's missing cell is synthesised: from their N-mode SVD signature
+        (:class:`synthesis.regression.SignatureModel`), by action transfer
+        (:class:`synthesis.transfer.TransferModel`), or (``"auto"``) by action transfer for
+        skeleton corpora (rotation-vector features of real captures) and by signatures for
+        Euler-angle corpora. (Choosing by the models' own leave-one-person-out errors was
+        tried and flips between folds: each model's internal error is optimistic in its own
+        way.) Blends and new people always use signatures.
 
     Examples
     --------
@@ -87,6 +98,7 @@ class MotionModel:
     action_rank: Rank = None
     feature_rank: Rank = None
     ridge: float | str = "auto"
+    method: str = "auto"
 
     # Fitted state (set by fit or load).
     people: list = field(default_factory=list, init=False)
@@ -104,6 +116,13 @@ class MotionModel:
     angle_model_: SignatureModel | None = field(default=None, init=False, repr=False)
     timing_model_: SignatureModel | None = field(default=None, init=False, repr=False)
     spread_rms_: float = field(default=float("nan"), init=False)
+    method_: str = field(default="signature", init=False)
+    transfer_: TransferModel | None = field(default=None, init=False, repr=False)
+    timing_transfer_: TransferModel | None = field(default=None, init=False, repr=False)
+    root_transfer_: TransferModel | None = field(default=None, init=False, repr=False)
+    representation: str = field(default="euler", init=False)
+    rotation_means: np.ndarray | None = field(default=None, init=False, repr=False)
+    rig: dict | None = field(default=None, init=False, repr=False)
 
     # ------------------------------------------------------------------ fitting
 
@@ -134,8 +153,12 @@ class MotionModel:
         complete = np.flatnonzero(observed.all(axis=1))
         angles = corpus.angles.reshape(corpus.angles.shape[:2] + (-1,)).copy()
         angles[~observed] = np.nan
+        self.representation, self.rig = corpus.representation, corpus.rig
+        self.rotation_means = corpus.rotation_means
         with np.errstate(invalid="ignore", divide="ignore"):
             timing = np.log(np.where(corpus.durations > 0, corpus.durations, np.nan))[..., None]
+        if corpus.phases is not None:
+            timing = np.concatenate([timing, corpus.phases[..., None]], axis=2)
         if np.any(observed & ~np.isfinite(timing[..., 0])):
             raise MocapError("every captured cycle needs a positive duration")
         caches = (None, None) if cache is None else \
@@ -149,6 +172,16 @@ class MotionModel:
             raise MocapError(f"{error.problem}; missing cells: "
                              f"{_cells_text(corpus.missing_cells())} "
                              "(choose people= or actions=)") from None
+        self.transfer_ = TransferModel().fit(angles)
+        self.timing_transfer_ = TransferModel().fit(timing)
+        self.root_transfer_ = None if corpus.root is None else TransferModel().fit(
+            corpus.root.reshape(corpus.root.shape[:2] + (-1,)))
+        if self.method not in ("auto", "signature", "transfer"):
+            raise MocapError(f"unknown synthesis method {self.method!r}: auto, signature or "
+                             "transfer")
+        self.method_ = self.method
+        if self.method == "auto":
+            self.method_ = "transfer" if self.representation == "rotvec" else "signature"
         complete = complete if complete.size else np.arange(len(self.people))
         deviations = np.where(observed[complete][..., None], angles[complete], np.nan) \
             - self.angle_model_.mean_
@@ -238,19 +271,81 @@ class MotionModel:
         duration : float
             Predicted cycle duration, seconds.
         """
-        if signature is None:
-            if person is None:
-                raise MocapError("give a person or a signature to synthesise")
-            signature = self.signature(person)
-        index = self.action_index(action)
-        curve = self.angle_model_.predict(signature.angles, index).reshape(
-            self.samples, len(self.columns))
-        duration = float(np.exp(self.timing_model_.predict(signature.timing, index)[0]))
+        if signature is None and person is not None and self.method_ == "transfer":
+            p, index = self.person_index(person), self.action_index(action)
+            curve = self._cell(self.transfer_, p, index).reshape(self.samples, len(self.columns))
+            duration = float(np.exp(self._cell(self.timing_transfer_, p, index)[0]))
+        else:
+            if signature is None:
+                if person is None:
+                    raise MocapError("give a person or a signature to synthesise")
+                signature = self.signature(person)
+            index = self.action_index(action)
+            curve = self.angle_model_.predict(signature.angles, index).reshape(
+                self.samples, len(self.columns))
+            duration = float(np.exp(self.timing_model_.predict(signature.timing, index)[0]))
         if samples is not None and samples != self.samples:
             if samples < 2:
                 raise MocapError(f"samples must be at least 2, got {samples}")
             curve = resample(np.linspace(0.0, 1.0, self.samples), curve, 0.0, 1.0, samples)
         return curve, duration
+
+    @staticmethod
+    def _cell(model: TransferModel, person: int, action: int) -> np.ndarray:
+        """A captured cell as it is, a missing one by action transfer."""
+        if model.observed_[person, action]:
+            return model.data_[person, action]
+        return model.predict(person, action)[0]
+
+    def synthesize_root(self, person: str | None, action: str) -> np.ndarray:
+        """Root motion of a cycle in the heading frame, shape (samples, 4)
+        (:data:`synthesis.rotations.ROOT_FEATURES`; skeleton corpora only): the person's by
+        action transfer, or (``person=None``, e.g. for a blend) the action's mean."""
+        if self.root_transfer_ is None:
+            raise MocapError("this model has no root motion (it was not built from skeleton "
+                             "trials)")
+        a = self.action_index(action)
+        model = self.root_transfer_
+        if person is None:
+            return np.nanmean(np.where(model.observed_[:, a, None], model.data_[:, a], np.nan),
+                              axis=0).reshape(self.samples, -1)
+        return self._cell(model, self.person_index(person), a).reshape(self.samples, -1)
+
+    def synthesize_motion(self, person: str | None, action: str,
+                          signature: "Signature | None" = None, cycles: int = 1):
+        """A synthesised cycle as a :class:`mocap.skeleton.Motion` on the corpus' rig: joint
+        rotations back from their features, the root path integrated from the root motion
+        (skeleton corpora only).
+
+        Parameters
+        ----------
+        person, action, signature
+            As :meth:`synthesize`.
+        cycles : int
+            Repetitions of the cycle.
+        """
+        if self.representation != "rotvec":
+            raise MocapError("only models of skeleton corpora (BVH, ASF/AMC) know their rig")
+        curve, duration = self.synthesize(person, action, signature)
+        root = self.synthesize_root(person if signature is None else None, action)
+        phase = None
+        if self.cycles and self.timing_transfer_.data_.shape[2] > 1 and person is not None \
+                and signature is None:
+            phase = float(self._cell(self.timing_transfer_, self.person_index(person),
+                                     self.action_index(action))[1])
+        return cycle_motion(self.rig, self.rotation_means, curve, root, duration, cycles, phase)
+
+    def recognition_weights(self, action: int) -> np.ndarray | None:
+        """Per-segment weights 1/(σ² + 1 deg²) of recognition distances for one action, from
+        the action transfer's leave-one-person-out residuals (None for signature models)."""
+        if self.method_ != "transfer":
+            return None
+        others = tuple(a for a in range(len(self.actions)) if a != action)
+        variance = self.transfer_.transfer(action, others).variance
+        if not np.isfinite(variance).all():
+            return None
+        per_segment = variance.reshape(self.samples, -1, 3).mean(axis=(0, 2))
+        return 1.0 / (per_segment + 1.0)
 
     def synthesize_angles(self, person: str | None, action: str,
                           signature: "Signature | None" = None, samples: int | None = None):
@@ -289,7 +384,16 @@ class MotionModel:
 
     def read_trial(self, path: str | os.PathLike) -> tuple[np.ndarray, float]:
         """A trial file (marker trial with the model's marker set, angle CSV or BVH) →
-        normalised ``(curve (samples, columns) degrees, duration s)``."""
+        normalised ``(curve (samples, columns) degrees, duration s)``.
+
+        Models of skeleton corpora read a BVH / ASF-AMC trial of the same rig (or any rig when
+        the model is on the body model) and featurise it about the corpus' mean rotations."""
+        self._check_fitted()
+        if self.representation == "rotvec":
+            curve, _, duration, _, _ = trial_cycle(read_motion(path), self.rig,
+                                                   self.rotation_means, self.samples,
+                                                   self.cycles, path)
+            return curve, duration
         angles = read_trial_angles(path, self.markerset, self.sequence,
                                    self.cleaning.get("lowpass_hz"),
                                    self.cleaning.get("max_gap_frames"))
@@ -315,6 +419,20 @@ class MotionModel:
         flat = np.asarray(curve, dtype=float).ravel()
         signatures = self.angle_model_.signatures_
         table = np.full((len(self.people), len(self.actions)), np.nan)
+        if self.method_ == "transfer":
+            groups = flat.reshape(self.samples, -1, 3)
+            for action in range(len(self.actions)):
+                weights = self.recognition_weights(action)
+                for person in range(len(self.people)):
+                    try:
+                        motion = self._cell(self.transfer_, person, action)
+                    except MocapError:
+                        continue
+                    squared = ((motion.reshape(groups.shape) - groups) ** 2).sum(axis=2)
+                    if weights is not None:
+                        squared = squared * weights / weights.mean()
+                    table[person, action] = np.sqrt(squared.mean() / 3.0)
+            return table
         valid = np.isfinite(signatures).all(axis=1)
         for action in range(len(self.actions)):
             predictions = self.angle_model_.predict(signatures[valid], action)
@@ -371,6 +489,7 @@ class MotionModel:
             "energy": [float(e) for e in angle.energy_],
             "ridge_alpha": angle.ridge_alpha_, "loo_rms_deg": angle.loo_rms_,
             "spread_rms_deg": self.spread_rms_,
+            "method": self.method_, "representation": self.representation,
             "timing_rank": timing.rank, "timing_ridge_alpha": timing.ridge_alpha_,
             "timing_loo_rms_log": timing.loo_rms_,
         }
@@ -390,11 +509,19 @@ class MotionModel:
             "action_rank": self.action_rank,
             "feature_rank": self.feature_rank, "ridge": self.ridge,
             "spread_rms": self.spread_rms_, "angles": angle_meta, "timing": timing_meta,
+            "method": self.method, "method_": self.method_,
+            "representation": self.representation, "rig": self.rig,
         }
+        extra = {"transfer_angles": self.transfer_.data_,
+                 "transfer_timing": self.timing_transfer_.data_}
+        if self.root_transfer_ is not None:
+            extra["transfer_root"] = self.root_transfer_.data_
+        if self.rotation_means is not None:
+            extra["rotation_means"] = self.rotation_means
         with atomic_path(path) as tmp:
             with open(tmp, "wb") as handle:
                 np.savez_compressed(handle, meta=np.array(json.dumps(meta)), **angle_arrays,
-                                    **timing_arrays)
+                                    **timing_arrays, **extra)
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> "MotionModel":
@@ -424,6 +551,16 @@ class MotionModel:
             model.spread_rms_ = float(meta["spread_rms"])
             model.angle_model_ = SignatureModel.from_arrays("angles", arrays, meta["angles"])
             model.timing_model_ = SignatureModel.from_arrays("timing", arrays, meta["timing"])
+            model.method = meta.get("method", "signature")
+            model.method_ = meta.get("method_", "signature")
+            model.representation = meta.get("representation", "euler")
+            model.rig = meta.get("rig")
+            model.rotation_means = arrays.get("rotation_means")
+            if "transfer_angles" in arrays:         # format 1 models have signatures only
+                model.transfer_ = TransferModel().fit(arrays["transfer_angles"])
+                model.timing_transfer_ = TransferModel().fit(arrays["transfer_timing"])
+            if "transfer_root" in arrays:
+                model.root_transfer_ = TransferModel().fit(arrays["transfer_root"])
         except (KeyError, TypeError, ValueError) as error:
             raise MocapError(f"damaged motion model file (missing {error})", path) from None
         return model

@@ -314,12 +314,12 @@ def _gram_svd(matrix: np.ndarray | None, rank: Rank, mode: int,
         left = (matrix @ vectors) / singular_values
         # U = D V Σ⁻¹ is orthonormal up to rounding amplified by σ_max²/σ²: re-orthonormalise
         # only when that shows.
-        if np.abs(left.T @ left - np.eye(left.shape[1])).max() > 1e-10:
+        if left.shape[1] and np.abs(left.T @ left - np.eye(left.shape[1])).max() > 1e-10:
             left, triangle = np.linalg.qr(left)
             left *= np.sign(np.diag(triangle))
         else:
             # Uᵀ D = Σ⁻¹ Vᵀ DᵀD = Σ⁻¹ Vᵀ V Σ² = Σ Vᵀ: the projection onto U comes for free.
-            projected = singular_values[:, None] * vectors.T
+            projected = singular_values[:, None] * vectors.T if left.shape[1] else None
     if left.shape[1] == 0:
         left = np.zeros((rows, 1))
         left[0, 0] = 1.0

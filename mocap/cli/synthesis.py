@@ -13,7 +13,11 @@ import math
 import sys
 from pathlib import Path
 
+import numpy as np
+from scipy.spatial.transform import Rotation
+
 from dynamics.humanoid.plant import motion_from_cycle
+from mocap.angles import JointAngles
 from mocap.cli import options
 from mocap.io.angles_csv import write_angles_csv
 from mocap.cli.commands import summary
@@ -25,6 +29,7 @@ from synthesis.corpus import load_corpus
 from synthesis.evaluate import leave_one_out
 from synthesis.model import MotionModel
 from synthesis.plot import plot_evaluation
+from synthesis.rotations import feature_joints
 
 OUTPUT_SUFFIXES = (".csv", ".bvh")
 
@@ -85,8 +90,11 @@ def _add_corpus_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--samples", type=options.whole(2, 100000), default=100, metavar="N",
                         help="frames of each time-normalised cycle (default: 100)")
     parser.add_argument("--cycles", action="store_true",
-                        help="detect gait cycles in each trial (maxima of the most-moving "
-                             "angle) and average them; default: each trial is one cycle")
+                        help="detect cycles in each trial and average them (BVH/ASF-AMC: one "
+                             "leg signal for the whole corpus, cycles registered; a trial "
+                             "without two repetitions is used whole with a warning; others: "
+                             "maxima of the most-moving angle); default: each trial is one "
+                             "cycle")
     parser.add_argument("--cycle-angle", metavar="COLUMN",
                         help="angle column whose maxima cut the cycles (e.g. r_thigh.Y); "
                              "default: the angle that moves most over the corpus")
@@ -97,9 +105,13 @@ def _add_corpus_options(parser: argparse.ArgumentParser) -> None:
                         help="zero-lag Butterworth low-pass of the markers at HZ before the "
                              "angles (e.g. 6); the model remembers it for later trials")
     parser.add_argument("--people", type=_names, metavar="P1,P2,…",
-                        help="use only these people")
+                        help="use only these people (no other file is read)")
     parser.add_argument("--actions", type=_names, metavar="A1,A2,…",
-                        help="use only these actions")
+                        help="use only these actions (no other file is read)")
+    parser.add_argument("--body", action="store_true",
+                        help="BVH/ASF-AMC corpora: map every trial onto the 15-segment body "
+                             "model even when all share one skeleton (default: the rig's own "
+                             "joints; mapped only when skeletons differ)")
 
 
 def _add_model_options(parser: argparse.ArgumentParser) -> None:
@@ -114,6 +126,11 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--ridge", type=_ridge, default="auto", metavar="ALPHA",
                         help="relative ridge of signature fits, or 'auto' to choose it by "
                              "leave-one-out (default)")
+    parser.add_argument("--method", choices=("auto", "signature", "transfer"), default="auto",
+                        help="synthesis of a missing cell: N-mode SVD signature, action "
+                             "transfer (the person's other actions through a map learned "
+                             "across people), or auto (transfer for skeleton corpora, "
+                             "signature for joint-angle corpora; default)")
 
 
 def _load_corpus(args: argparse.Namespace):
@@ -121,18 +138,21 @@ def _load_corpus(args: argparse.Namespace):
         raise MocapError("give a corpus folder or --manifest FILE.csv")
     if args.corpus is not None and args.manifest is not None:
         raise MocapError("give either a corpus folder or --manifest, not both")
-    corpus = load_corpus(args.corpus, args.manifest, markerset=args.markerset,
-                         sequence=args.sequence, samples=args.samples, cycles=args.cycles,
-                         cycle_column=args.cycle_angle, lowpass_hz=args.lowpass,
-                         max_gap_frames=args.fill_gaps, progress=progress)
-    if args.people or args.actions:
-        corpus = corpus.subset(args.people, args.actions)
+    corpus = load_corpus(args.corpus, args.manifest, people=args.people, actions=args.actions,
+                         markerset=args.markerset, sequence=args.sequence, samples=args.samples,
+                         cycles=args.cycles, cycle_column=args.cycle_angle,
+                         lowpass_hz=args.lowpass, max_gap_frames=args.fill_gaps,
+                         progress=progress, body=args.body)
+    if corpus.representation == "rotvec":
+        where = "the body model" if corpus.rig["on_body"] else "the rig itself"
+        print(f"mocap {args.command}: {len(corpus.segments)} joints of {where}, rotation vectors "
+              "about the corpus mean (heading removed)", file=sys.stderr)
     return corpus
 
 
 def _model_options(args: argparse.Namespace) -> dict:
     return {"people_rank": args.people_rank, "action_rank": args.action_rank,
-            "feature_rank": args.feature_rank, "ridge": args.ridge}
+            "feature_rank": args.feature_rank, "ridge": args.ridge, "method": args.method}
 
 
 def _plain(value):
@@ -180,6 +200,9 @@ def decompose(args: argparse.Namespace) -> int:
     else:
         print(f"  bases from {len(summary['basis_people'])} complete people; missing cells: "
               f"{', '.join(summary['missing_cells']) or 'none'}")
+    if summary["method"] == "transfer":
+        print("  missing cells are synthesised by action transfer (the person's other actions "
+              "through a map learned across people); blends and new people by signatures")
     loo = summary["loo_rms_deg"]
     caveat = " (optimistic: imputed cells saw everyone; use 'mocap evaluate')" \
         if summary["imputed_people_rank"] else ""
@@ -235,6 +258,8 @@ def synthesize(args: argparse.Namespace) -> int:
             observations.append((action, curve, duration))
         signature = model.signature_from(observations)
         who = "new person from " + ", ".join(Path(p).name for p in args.trials)
+    if model.representation == "rotvec":
+        return _write_rig_cycle(model, args, signature, who, suffix)
     angles = model.synthesize_angles(None, args.action, signature=signature,
                                      samples=args.samples)
     if suffix == ".csv":
@@ -257,6 +282,32 @@ def synthesize(args: argparse.Namespace) -> int:
     else:
         print(f"wrote {args.output}: {who} doing {args.action}, {args.cycles} cycle(s) of "
               f"{angles.times[-1]:.3f} s, {motion.frames} frames, feet planted")
+    return 0
+
+
+def _write_rig_cycle(model, args: argparse.Namespace, signature, who: str, suffix: str) -> int:
+    """Skeleton-corpus models: the cycle back on the corpus' rig, as BVH or Euler-angle CSV."""
+    person = args.person if args.to is None and args.trials is None else None
+    motion = model.synthesize_motion(person, args.action,
+                                     signature=None if person is not None else signature,
+                                     cycles=args.cycles)
+    if suffix == ".bvh":
+        write_bvh(motion, args.output)
+        print(f"wrote {args.output}: {who} doing {args.action}, {args.cycles} cycle(s), "
+              f"{motion.frames} frames on the corpus' rig, root path from the synthesised "
+              "root motion")
+        return 0
+    joints = feature_joints(motion.skeleton.parents)
+    euler = Rotation.from_matrix(motion.rotations[:, joints].reshape(-1, 3, 3)).as_euler(
+        "ZXY", degrees=True).reshape(motion.frames, len(joints), 3)
+    angles = JointAngles(times=motion.times, values=np.unwrap(euler, period=360.0, axis=0),
+                         segments=[motion.names[j] for j in joints], sequence="ZXY",
+                         parents=[joints.index(motion.skeleton.parents[j])
+                                  if motion.skeleton.parents[j] in joints else -1
+                                  for j in joints])
+    write_angles_csv(angles, args.output)
+    print(f"wrote {args.output}: {who} doing {args.action}, {angles.frames} frames of local "
+          "joint rotations (Euler ZXY, degrees) on the corpus' rig")
     return 0
 
 
@@ -283,7 +334,8 @@ def evaluate(args: argparse.Namespace) -> int:
     if args.plot is not None:
         _check_output(args.plot, (".png", ".pdf", ".svg"))
     corpus = _load_corpus(args)
-    result = leave_one_out(corpus, progress=progress, **_model_options(args))
+    result = leave_one_out(corpus, progress=progress, hold_out=args.hold_out,
+                           **_model_options(args))
     if args.plot is not None:
         plot_evaluation(result, args.plot)
     if args.json:
@@ -368,6 +420,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     _add_model_options(parser)
     parser.add_argument("--leave-one-out", action="store_true",
                         help="hold out every captured cell in turn (the evaluation performed)")
+    parser.add_argument("--hold-out", choices=("cell", "take"), default="cell",
+                        help="score against the held-out cell's mean capture (cell, default) "
+                             "or, with several takes per cell, fit on the other takes and "
+                             "score each take the model never saw (take)")
     parser.add_argument("--plot", metavar="OUT.png",
                         help="draw synthesised vs captured curves of some cells")
     parser.add_argument("--json", action="store_true", help="print the results as JSON")

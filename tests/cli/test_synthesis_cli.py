@@ -123,7 +123,7 @@ def test_evaluate_leave_one_out_with_plot(capsys, tmp_path, corpus):
     assert result["baseline_rms_deg"] > result["synthesis_rms_deg"]
     assert (tmp_path / "loo.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     status, out, _ = run(capsys, "evaluate", folder, "--samples", 40, "--leave-one-out")
-    assert "overall RMS joint-angle error" in out and "person recognition: 20/20" in out
+    assert "overall RMS joint-rotation error" in out and "person recognition: 20/20" in out
 
 
 @pytest.mark.parametrize("argv, message", [

@@ -125,7 +125,7 @@ def test_bvh_corpus_gives_the_marker_corpus_angles(tmp_path):
             io.write(trial, tmp_path / "c3d" / f"{name}.c3d")
             write_bvh(motion_from_trial(trial, markerset), tmp_path / "bvh" / f"{name}.bvh")
     markers = load_corpus(tmp_path / "c3d", markerset=markerset, samples=50)
-    motions = load_corpus(tmp_path / "bvh", samples=50)
+    motions = load_corpus(tmp_path / "bvh", samples=50, representation="euler")
     assert motions.segments == markers.segments and motions.columns == markers.columns
     assert np.allclose(motions.angles, markers.angles, atol=1e-3)
     assert np.allclose(motions.durations, markers.durations, atol=1e-6)

@@ -1,0 +1,55 @@
+"""Reading and decomposing a real 7 × 6 × 3 corpus (bandai2), whole process, per step.
+
+Runs ``mocap decompose`` and ``mocap evaluate --leave-one-out`` on
+``../shared/realdata/bandai2/manifest.csv`` with ``--cycles`` as a user would (fresh Python
+process each, so imports count), and reports wall and CPU seconds of each, beside the same
+commands with ``--body`` (every trial mapped onto the 15-segment body model, the older
+route; with a BVH reader that cannot map the rig this fails — printed, not raised).
+CPU seconds are the ones to compare on a shared machine. Never asserts.
+
+    PYTHONPATH=$PWD python benchmarks/synthesis_corpus.py [--manifest FILE.csv]
+"""
+from __future__ import annotations
+
+import argparse
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+DEFAULT = Path(__file__).resolve().parents[1] / ".." / "shared" / "realdata" / "bandai2" / \
+    "manifest.csv"
+
+
+def run(arguments: list[str]) -> tuple[float, float, int, str]:
+    """Wall seconds, CPU seconds (children), exit status, last stderr line."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    done = subprocess.run([sys.executable, "-m", "mocap", *arguments], capture_output=True,
+                          text=True)
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    last = (done.stderr.strip().splitlines() or [""])[-1]
+    return wall, cpu, done.returncode, last
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--manifest", default=str(DEFAULT))
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as folder:
+        model = str(Path(folder) / "model.npz")
+        for label, extra in (("rig joints (new)", []), ("body model (--body)", ["--body"])):
+            for command in (["decompose", "--manifest", args.manifest, "--cycles", "-o", model],
+                            ["evaluate", "--manifest", args.manifest, "--cycles",
+                             "--leave-one-out", "--json"]):
+                wall, cpu, status, last = run(command + extra)
+                note = "" if status == 0 else f"  exit {status}: {last}"
+                print(f"{label:<22} {command[0]:<10} wall {wall:7.2f} s  cpu {cpu:7.2f} s{note}")
+
+
+if __name__ == "__main__":
+    main()
