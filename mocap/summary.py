@@ -57,6 +57,9 @@ def summarise(trial: Trial) -> dict:
         summary["modelled_points"] = list(trial.metadata["modelled"]["labels"])
     if "events" in trial.metadata:
         summary["events"] = trial.metadata["events"]
+    if trial.poses is not None:
+        summary["rotations"] = list(trial.poses.labels)
+        summary["rotation_rate"] = trial.poses.rate
     return summary
 
 
@@ -80,6 +83,10 @@ def format_summary(summary: dict, list_markers: bool = False) -> str:
     if summary["analog_channels"]:
         lines.append(f"analogs:   {summary['analog_channels']} channels at "
                      f"{summary['analog_rate']:g} Hz")
+    if summary.get("rotations"):
+        names = summary["rotations"]
+        lines.append(f"rotations: {len(names)} segment poses at {summary['rotation_rate']:g} "
+                     f"Hz ({', '.join(names[:8])}{', …' if len(names) > 8 else ''})")
     if summary.get("modelled_points"):
         lines.append(f"modelled:  {len(summary['modelled_points'])} computed points "
                      f"(angles, forces …) kept apart from the markers")

@@ -70,6 +70,42 @@ class Trial:
         """Time of each frame in seconds from the first frame, shape (frames,)."""
         return np.arange(self.frames) / self.rate
 
+    @property
+    def poses(self):
+        """Segment poses of a markerless C3D file (ROTATION group), or None.
+
+        :class:`mocap.io.c3d.rotations.SegmentPoses`: ``labels``, ``rotations``
+        (frames, segments, 3, 3), ``positions`` (frames, segments, 3) in metres.
+        """
+        return self.metadata.get("rotations")
+
+    def time_base(self) -> tuple[np.ndarray, np.ndarray]:
+        """Frame numbers and times of the frames as the source file numbered them.
+
+        A trial read from a TRC file keeps its Frame# and Time columns
+        (``metadata["frame_numbers"]``, ``metadata["frame_times"]``); a C3D trial
+        starts at ``metadata["first_frame"]`` with frame 1 at 0 s (the C3D
+        convention). Other trials, or a trial whose frame count changed since it was
+        read, count from frame ``first_frame`` (default 1) at ``start_time``
+        (default: (first_frame − 1) / rate).
+
+        Returns
+        -------
+        frame_numbers : ndarray, shape (frames,), int
+        times : ndarray, shape (frames,), seconds
+        """
+        numbers = self.metadata.get("frame_numbers")
+        times = self.metadata.get("frame_times")
+        if numbers is not None and times is not None and len(numbers) == self.frames \
+                and len(times) == self.frames:
+            return np.asarray(numbers, dtype=np.int64), np.asarray(times, dtype=float)
+        first = int(self.metadata.get("first_frame", 1) or 1)
+        start = self.metadata.get("start_time")
+        if start is None or not np.isfinite(start):
+            start = (first - 1) / self.rate if self.rate > 0 else 0.0
+        numbers = first + np.arange(self.frames, dtype=np.int64)
+        return numbers, float(start) + self.times
+
     def index(self, label: str) -> int:
         """Column of marker ``label`` in ``points`` (KeyError if absent)."""
         try:

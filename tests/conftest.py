@@ -27,3 +27,20 @@ def realdata_path(*parts: str) -> Path:
 def realdata() -> Path:
     """The ../shared/realdata folder (skip or fail when absent, see realdata_path)."""
     return realdata_path()
+
+
+def require_module(name: str):
+    """Import an external tool the interop tests run (opensim, bvhio).
+
+    Skips when it is not installed, except under CI (MOCAP_REQUIRE_REALDATA=1, set by
+    .ci/run, which installs the ``interop`` extra): there a missing tool fails.
+    """
+    import importlib
+
+    try:
+        return importlib.import_module(name)
+    except ImportError as error:
+        message = f"{name} is not installed ({error}); pip install '.[interop]'"
+        if REQUIRE_REALDATA:
+            pytest.fail(message + " (MOCAP_REQUIRE_REALDATA=1)")
+        pytest.skip(message)

@@ -38,9 +38,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                "-o angles/")
     parser.add_argument("inputs", nargs="+", metavar="IN",
                         help="marker file(s) (.c3d, .trc, .csv) or folders of them")
-    parser.add_argument("--markerset", "-m", required=True, metavar="SET",
+    parser.add_argument("--markerset", "-m", metavar="SET",
                         help="marker set: a preset name (plugingait-lower, synthetic15) or a "
-                             "TOML file defining segments and virtual markers")
+                             "TOML file defining segments and virtual markers (needed "
+                             "unless --from-rotations)")
+    parser.add_argument("--from-rotations", action="store_true",
+                        help="angles of a markerless C3D file from its segment poses "
+                             "(ROTATION group, e.g. Theia3D) instead of markers; the "
+                             "hierarchy comes from the segment names or --segments")
+    parser.add_argument("--segments", metavar="FILE.toml",
+                        help="with --from-rotations: the hierarchy as a [parents] table "
+                             "(child = \"parent\", \"\" for the root) instead of the guess from "
+                             "the names")
     parser.add_argument("--sequence", "-s", default="ZXY", metavar="SEQ",
                         help="Euler sequence as in scipy: upper case intrinsic (ZXY, YXZ, ZYZ "
                              "...), lower case extrinsic (zxy ...); 24 in all (default ZXY)")
@@ -70,7 +79,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run_angles(args: argparse.Namespace) -> int:
     """Handler of ``mocap angles``; returns the exit status."""
     check_sequence(args.sequence)
-    markerset = load_markerset(args.markerset)
+    if args.from_rotations:
+        if args.markerset or args.fill_gaps is not None or args.lowpass is not None:
+            raise MocapError("--from-rotations reads segment poses: --markerset, --fill-gaps "
+                             "and --lowpass apply to markers")
+        markerset = None
+    elif args.segments:
+        raise MocapError("--segments goes with --from-rotations")
+    elif not args.markerset:
+        raise MocapError("give --markerset (markers) or --from-rotations (segment poses of "
+                         "a markerless C3D file)")
+    else:
+        markerset = load_markerset(args.markerset)
     files = find_files(args.inputs, MARKER_SUFFIXES)
     output = Path(args.output)
     folder_mode = (len(files) > 1 or any(Path(i).is_dir() for i in args.inputs)
@@ -110,6 +130,15 @@ def run_angles(args: argparse.Namespace) -> int:
 
 def _angles_one(source: Path, target: Path, plot: Path | None, markerset,
                 args: argparse.Namespace) -> None:
+    if markerset is None:
+        from mocap.io import read
+        from mocap.io.c3d.rotations import rotation_angles
+
+        angles = rotation_angles(read(source), args.sequence, args.segments)
+        write_angles_csv(angles, target)
+        if plot is not None:
+            plot_angles(angles, plot, title=f"{source.name} (segment poses, {args.sequence})")
+        return
     cleaning = Cleaning(max_gap_seconds=args.fill_gaps, lowpass_hz=args.lowpass,
                         order=args.order, short_runs=args.short_runs)
     with warnings.catch_warnings(record=True) as caught:

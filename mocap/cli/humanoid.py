@@ -104,6 +104,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     export.add_argument("--sequence", default="ZXY", metavar="SEQ",
                         help="Euler sequence of csv and mot angles, scipy convention "
                              "(default ZXY)")
+    export.add_argument("--model", choices=("gait2392", "rajagopal"),
+                        help="with --format mot: write the coordinates of this OpenSim model "
+                             "(pelvis_tilt … pelvis_tx/ty/tz, hip_flexion_r, knee_angle_r, "
+                             "ankle_angle_r …) with its names, signs and units, Y up "
+                             "(docs/opensim.md)")
+    from mocap.cli.io import add_output_options
+    add_output_options(export)
     export.set_defaults(func=run_export)
 
     animate = subparsers.add_parser(
@@ -195,10 +202,18 @@ def run_check(args: argparse.Namespace) -> int:
 def run_export(args: argparse.Namespace) -> int:
     """Handler of ``mocap export``."""
 
+    if args.model and args.format != "mot":
+        raise MocapError("--model goes with --format mot (OpenSim coordinates)")
+    if args.precision is not None and args.format not in ("trc", "mot"):
+        raise MocapError("--precision applies to trc and mot output")
+    if args.up != "z" and args.format not in ("c3d", "trc"):
+        raise MocapError("--up applies to c3d and trc joint markers (bvh, mot and json are "
+                         "Y up already; csv angles are in the Z-up lab)")
     motion = _load(args)
     if args.body:
         motion = reduce_to_segments(motion)
-    export_motion(motion, args.output, args.format, sequence=args.sequence)
+    export_motion(motion, args.output, args.format, sequence=args.sequence,
+                  model=args.model, up=args.up, precision=args.precision)
     print(f"wrote {args.output} ({args.format}, {motion.frames} frames)", file=sys.stderr)
     return 0
 

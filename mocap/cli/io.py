@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 from tqdm.auto import tqdm
 
+from mocap.cli import options
 from mocap.cli.commands import summary
 from mocap.errors import MocapError, MocapWarning
 from mocap.io import format_of, read, suffixes, write
@@ -54,7 +55,20 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     convert.add_argument("--units", choices=("mm", "cm", "m"), default="mm",
                          help="length unit stored in a C3D or TRC output (default mm; CSV "
                               "output is always metres)")
+    add_output_options(convert)
     convert.set_defaults(func=run_convert)
+
+
+def add_output_options(parser: argparse.ArgumentParser) -> None:
+    """``--up`` and ``--precision``, shared by ``convert`` and ``export``."""
+    parser.add_argument("--up", choices=("z", "y"), default="z",
+                        help="vertical axis of the written lab: z as captured (C3D, Vicon: "
+                             "X anterior, Y left, Z up) or y for OpenSim and Blender (X "
+                             "anterior, Y up, Z right: the lab turned -90 degrees about X)")
+    parser.add_argument("--precision", type=options.whole(0, 15), metavar="DECIMALS",
+                        help="decimal places of coordinates in a TRC or CSV output, in the "
+                             "file's unit (default: 1 nm, i.e. 6 in mm, 9 in m; at least 1 "
+                             "um: 3 in mm, 6 in m)")
 
 
 # ---------------------------------------------------------------- info
@@ -130,17 +144,28 @@ def run_convert(args: argparse.Namespace) -> int:
                          f"{target_format.description}", target)
     if source.exists() and target.exists() and source.resolve() == target.resolve():
         raise MocapError("output is the input file; choose another name", target)
-    trial = read_marker_file(source)
+    if args.precision is not None and target_format.name not in ("trc", "csv"):
+        raise MocapError(f"--precision applies to TRC and CSV output; {target.suffix} "
+                         f"stores 32-bit floats", target)
+    from mocap.io.lab import rotate_trial
+
+    source_trial = read_marker_file(source)
+    trial = rotate_trial(source_trial, args.up)
     options = {"units": args.units} if target_format.name in ("c3d", "trc") else {}
-    write(trial, target, **options)
+    if target_format.name in ("trc", "csv"):
+        options["precision"] = args.precision
+    notes = write(trial, target, **options) or []
     dropped = []
     if trial.analog_labels and target_format.name != "c3d":
         dropped.append(f"{len(trial.analog_labels)} analog channels")
-    if "modelled" in trial.metadata:
-        dropped.append(f"{len(trial.metadata['modelled']['labels'])} modelled points "
+    if "modelled" in source_trial.metadata:
+        dropped.append(f"{len(source_trial.metadata['modelled']['labels'])} modelled points "
                        f"(angles, forces …)")
-    if dropped:
+    if dropped and target_format.name != "c3d":
         print(f"note: {' and '.join(dropped)} not written; {target.suffix} holds markers",
+              file=sys.stderr)
+    elif dropped or notes:
+        print(f"note: not kept in {target.name}: {'; '.join(dropped + list(notes))}",
               file=sys.stderr)
     print(f"wrote {target} ({trial.frames} frames, {len(trial.labels)} markers, "
           f"{trial.rate:g} Hz)", file=sys.stderr)

@@ -191,14 +191,15 @@ def check_rate(rate: float, frames: int, markers: int, path: str | os.PathLike) 
                          f"{MIN_RATE_HZ:g} to {MAX_RATE_HZ:g} Hz)", path)
 
 
-def write(obj: Any, path: str | os.PathLike, **options: Any) -> None:
+def write(obj: Any, path: str | os.PathLike, **options: Any) -> Any:
     """Write ``obj`` (a Trial for marker formats) to ``path`` by its suffix.
 
     The file appears all-or-nothing (temporary name, then rename). ``options``
-    go to the format's writer (e.g. ``units="mm"`` for C3D and TRC).
+    go to the format's writer (e.g. ``units="mm"`` for C3D and TRC). Returns what
+    the writer returns: for C3D, the list of source parameters it could not keep.
     """
     file_format = format_of(path, for_writing=True)
-    _resolve(file_format.writer)(obj, path, **options)
+    return _resolve(file_format.writer)(obj, path, **options)
 
 
 __all__ = ["read", "write", "check_rate", "register_format", "formats", "format_of", "suffixes", "FileFormat"]

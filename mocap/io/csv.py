@@ -33,7 +33,8 @@ import numpy as np
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.io.c3d.read import infer_unit_factor, unique_labels, unit_factor
-from mocap.io.text_table import format_rows, mark_missing, parse_numeric_rows, read_lines
+from mocap.io.text_table import (check_label, coordinate_decimals, format_table, mark_missing,
+                                 parse_numeric_rows, parse_table, read_head)
 from mocap.trial import Trial
 
 _AXIS_COLUMN = re.compile(r"^(?P<label>.+?)[_.: ](?P<axis>[xyzXYZ])$")
@@ -61,17 +62,17 @@ def read_csv(path: str | os.PathLike) -> Trial:
     MocapError
         Missing file, empty file, or a header that fits neither layout.
     """
-    lines = read_lines(path, "utf-8-sig")
-    first_cells = [line.split(",")[0].strip().lower() for line in lines[:1]]
-    if not lines or not lines[0].strip():
+    head, body = read_head(path, 1, "utf-8-sig")
+    if not head or not head[0].strip():
         raise MocapError("empty CSV file", path)
-    if first_cells[0] in _VICON_SECTIONS:
+    if head[0].split(",")[0].strip().lower() in _VICON_SECTIONS:
+        lines = head + body.decode("utf-8", errors="replace").splitlines()
         return _read_vicon(lines, path)
-    return _read_plain(lines, path)
+    return _read_plain(head[0], body, path)
 
 
-def _read_plain(lines: list[str], path) -> Trial:
-    header = [cell.strip() for cell in lines[0].split(",")]
+def _read_plain(first_line: str, body: bytes, path) -> Trial:
+    header = [cell.strip() for cell in first_line.split(",")]
     if header[0].lower() not in ("time", "time_s", "time (s)", "t"):
         raise MocapError("not a marker CSV: the first column must be 'time' (seconds) "
                          "or the file a Vicon Nexus 'Trajectories' export", path)
@@ -91,10 +92,9 @@ def _read_plain(lines: list[str], path) -> Trial:
                              f"be <label>_x, <label>_y, <label>_z", path)
         labels.append(names.pop())
     labels, warnings = unique_labels(labels)
-    data_lines = [line for line in lines[1:] if line.strip(" ,")]
-    table = parse_numeric_rows(data_lines, ",", 1 + len(columns))
+    table = parse_table(body, ",", 1 + len(columns))
     times = table[:, 0]
-    points = mark_missing(table[:, 1:].reshape(len(data_lines), len(labels), 3))
+    points = mark_missing(table[:, 1:].reshape(table.shape[0], len(labels), 3))
     rate = 0.0
     if len(times) > 1 and np.isfinite(times).all():
         span = times[-1] - times[0]
@@ -105,8 +105,9 @@ def _read_plain(lines: list[str], path) -> Trial:
                 warnings.append("time column is not evenly spaced; the mean rate was used")
     if rate == 0.0:
         warnings.append("no rate: the time column needs two or more increasing times")
-    finite = points[np.isfinite(points)]
-    if finite.size and infer_unit_factor(points)[0] == "mm":
+    # the unit check looks at up to ~100 000 coordinates spread over the trial
+    sample = points[::max(1, points.shape[0] * max(points.shape[1], 1) // 33000)]
+    if np.isfinite(sample).any() and infer_unit_factor(sample)[0] == "mm":
         warnings.append("coordinates look like millimetres, but this CSV layout is in "
                         "metres: check the file")
     metadata = {"start_time": float(times[0]) if times.size else 0.0, "warnings": warnings}
@@ -142,7 +143,7 @@ def _read_vicon(lines: list[str], path) -> Trial:
                  metadata=metadata)
 
 
-def write_csv(trial: Trial, path: str | os.PathLike) -> None:
+def write_csv(trial: Trial, path: str | os.PathLike, precision: int | None = None) -> None:
     """Write a trial in this project's CSV layout (metres, empty cells for NaN).
 
     Parameters
@@ -150,14 +151,26 @@ def write_csv(trial: Trial, path: str | os.PathLike) -> None:
     trial : Trial
     path : str or PathLike
         Written all-or-nothing.
+    precision : int, optional
+        Decimal places of the coordinates (metres); default 9 (1 nm), at least 6
+        (1 µm).
+
+    The time column is the trial's own (:meth:`Trial.time_base`), to 1 ps.
     """
-    if any("," in label or '"' in label or not label for label in trial.labels):
-        raise MocapError("marker labels must be non-empty and free of commas and quotes "
-                         "to write CSV", path)
+    decimals = coordinate_decimals("m", precision, path)
+    for label in trial.labels:
+        check_label(label, ',"', "marker", path)
     header = "time," + ",".join(f"{label}_{axis}" for label in trial.labels
                                 for axis in "xyz")
     table = np.empty((trial.frames, 1 + 3 * len(trial.labels)))
-    table[:, 0] = trial.times
+    table[:, 0] = trial.time_base()[1]
     table[:, 1:] = trial.points.reshape(trial.frames, -1)
+    places = np.full(table.shape[1], decimals)
+    # 1 ps: the rate is read back from the times (12 places fit the fast writer up to
+    # 9000 s; longer trials get 9)
+    places[0] = 12 if not trial.frames or np.nanmax(np.abs(table[:, 0])) < 9000 else 9
+    rows = format_table(table, places, ",", nan="", as_bytes=True)
     with atomic_path(path) as tmp:
-        tmp.write_text(header + "\n" + format_rows(table, ","), encoding="utf-8")
+        with open(tmp, "wb") as handle:
+            handle.write((header + "\n").encode("utf-8"))
+            handle.write(rows)

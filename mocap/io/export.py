@@ -19,14 +19,18 @@ from mocap.errors import MocapError
 from mocap.io import write
 from mocap.io.angles_csv import write_angles_csv
 from mocap.io.bvh import write_bvh
+from mocap.io.lab import rotate_trial
 from mocap.io.mot import write_motion_mot
+from mocap.io.opensim_models import write_model_mot
 from mocap.trial import Trial
 
 #: The formats :func:`export_motion` writes (``--format`` of ``mocap export``).
 EXPORT_FORMATS = ("bvh", "csv", "c3d", "trc", "mot", "json")
 
 
-def export_motion(motion, path: str | Path, file_format: str, sequence: str = "ZXY") -> None:
+def export_motion(motion, path: str | Path, file_format: str, sequence: str = "ZXY",
+                  model: str | None = None, up: str = "z",
+                  precision: int | None = None) -> None:
     """Write a motion in one of :data:`EXPORT_FORMATS` (all-or-nothing).
 
     Parameters
@@ -39,9 +43,18 @@ def export_motion(motion, path: str | Path, file_format: str, sequence: str = "Z
         One of :data:`EXPORT_FORMATS`.
     sequence : str
         Euler sequence of the angle outputs (``csv``, ``mot``), scipy convention.
+    model : {"gait2392", "rajagopal"}, optional
+        ``mot``: write the coordinates of this OpenSim model
+        (:mod:`mocap.io.opensim_models`) instead of the generic joint angles.
+    up : {"z", "y"}
+        ``c3d``, ``trc``: the written lab's vertical axis (:mod:`mocap.io.lab`).
+    precision : int, optional
+        Decimal places of ``trc`` coordinates and ``mot`` values.
     """
     if file_format == "bvh":
         write_bvh(motion, path)
+    elif file_format == "mot" and model:
+        write_model_mot(motion, path, model, precision=6 if precision is None else precision)
     elif file_format == "mot":
         write_motion_mot(motion, path, sequence=sequence)
     elif file_format == "csv":
@@ -51,8 +64,9 @@ def export_motion(motion, path: str | Path, file_format: str, sequence: str = "Z
         index, ends = motion.end_site_positions(world)
         points = np.concatenate([world[1], ends], axis=1) @ Z_UP_TO_Y_UP   # Y up → Z-up lab
         labels = list(motion.names) + [f"{motion.names[i]}_end" for i in index]
-        trial = Trial(labels, points, motion.rate, units="m", format=file_format)
-        write(trial, path)
+        trial = rotate_trial(Trial(labels, points, motion.rate, units="m",
+                                   format=file_format), up)
+        write(trial, path, **({"precision": precision} if file_format == "trc" else {}))
     elif file_format == "json":
         sk = motion.skeleton
         quats = Rotation.from_matrix(motion.rotations.reshape(-1, 3, 3)).as_quat()

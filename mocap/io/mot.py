@@ -1,4 +1,4 @@
-"""OpenSim ``.mot`` writer (storage file of joint coordinates over time).
+"""OpenSim ``.mot`` / ``.sto`` files (storage files of joint coordinates over time).
 
 The header OpenSim reads::
 
@@ -11,12 +11,15 @@ The header OpenSim reads::
     time<TAB>col1<TAB>col2 …
 
 followed by tab-separated rows. Angles are written in degrees (``inDegrees=yes``),
-translations in metres.
+translations in metres. :func:`read_mot` reads them back (OpenSim's own ``.mot`` and
+``.sto`` files too, tab- or space-separated), angles in degrees.
 """
 from __future__ import annotations
 
 import io
 import os
+import re
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -97,3 +100,81 @@ def _axis_labels(sequence: str) -> list[str]:
 
 def _safe(name: str) -> str:
     return "".join(c if c.isalnum() or c in "_-." else "_" for c in name)
+
+
+@dataclass
+class Storage:
+    """The columns of a ``.mot`` / ``.sto`` file.
+
+    Attributes
+    ----------
+    times : ndarray, shape (frames,), seconds
+    labels : list of str
+        Column names after ``time`` (model coordinates in a motion file).
+    values : ndarray, shape (frames, len(labels))
+        Rotations in degrees (converted when the file says ``inDegrees=no``),
+        translations in metres; NaN where empty.
+    name : str
+        The file's first header line.
+    header : dict
+        ``key=value`` header lines.
+    """
+
+    times: np.ndarray
+    labels: list[str]
+    values: np.ndarray
+    name: str = ""
+    header: dict = field(default_factory=dict)
+
+    def column(self, label: str) -> np.ndarray:
+        """One column by name, shape (frames,)."""
+        try:
+            return self.values[:, self.labels.index(label)]
+        except ValueError:
+            raise KeyError(label) from None
+
+
+def read_mot(path: str | os.PathLike, rotational: set[str] | None = None) -> Storage:
+    """Read an OpenSim ``.mot`` or ``.sto`` file.
+
+    Parameters
+    ----------
+    path : str or PathLike
+    rotational : set of str, optional
+        Columns that are angles, converted from radians when ``inDegrees=no``; by
+        default every column except ``*_tx``, ``*_ty``, ``*_tz`` and forces.
+
+    Raises
+    ------
+    MocapError
+        Missing file, no ``endheader`` line, or no ``time`` column.
+    """
+    from mocap.io.text_table import parse_table, read_head
+
+    head, _ = read_head(path, 400)
+    end = next((i for i, line in enumerate(head) if line.strip().lower() == "endheader"), None)
+    if end is None or end + 1 >= len(head):
+        raise MocapError("not an OpenSim storage file (no 'endheader' line followed by "
+                         "column labels)", path)
+    header = {}
+    for line in head[1:end]:
+        key, sep, value = line.partition("=")
+        if sep:
+            header[key.strip()] = value.strip()
+    columns = [c for c in re.split(r"\t" if "\t" in head[end + 1] else r"\s+",
+                                   head[end + 1].strip()) if c]
+    if not columns or columns[0].lower() != "time":
+        raise MocapError("the first column of an OpenSim storage file must be 'time'", path)
+    _, body = read_head(path, end + 2)
+    text = body.decode("utf-8", errors="replace")
+    if "\t" not in text[:10000]:
+        text = re.sub(r"[ ]+", "\t", text)
+    table = parse_table(re.sub(r"(?m)^[ \t]+", "", text), "\t", len(columns))
+    values = table[:, 1:]
+    if header.get("inDegrees", "yes").lower() == "no":
+        for k, label in enumerate(columns[1:]):
+            angle = label in rotational if rotational is not None else \
+                not re.search(r"_t[xyz]$|force|_f[xyz]$|_p[xyz]$|moment|torque", label)
+            if angle:
+                values[:, k] = np.degrees(values[:, k])
+    return Storage(table[:, 0], columns[1:], values, head[0].strip(), header)

@@ -10,8 +10,12 @@ Layout (tab-separated; comma-separated exports such as Vicon's are read too)::
     <blank line>
     1  0.000  12.3  …
 
-Missing samples are empty cells (or a marker at exactly 0, 0, 0, which many
-exporters write for a gap): both read as NaN, and NaN is written as empty cells.
+Missing samples are empty cells, ``NaN`` (or a marker at exactly 0, 0, 0, which
+many exporters write for a gap): all read as NaN, and NaN is written as ``NaN``
+(OpenSim 4.6 rejects a row whose last cells are empty). Coordinates are written
+with a fixed number of decimals, 1 nm by default; Frame# and Time are written as
+the trial was read. Columns without a label on line 4 are named after their column
+(``M004``) with a warning, never dropped.
 
 A header whose NumFrames disagrees with the rows in the file (the pyomeca
 sample announces 652 frames and holds 93 rows) is not an error: the rows that
@@ -29,7 +33,8 @@ import numpy as np
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.io.c3d.read import infer_unit_factor, unique_labels, unit_factor
-from mocap.io.text_table import format_rows, mark_missing, parse_numeric_rows, read_lines
+from mocap.io.text_table import (check_label, coordinate_decimals, format_table, mark_missing,
+                                 parse_table, read_head)
 from mocap.trial import Trial
 
 
@@ -46,15 +51,17 @@ def read_trc(path: str | os.PathLike) -> Trial:
     -------
     Trial
         ``rate`` from DataRate; ``units`` from Units; ``metadata`` holds
-        ``start_time`` (s, the first row's Time), ``header`` (the header fields
-        as text) and ``warnings``.
+        ``frame_numbers`` and ``frame_times`` (the Frame# and Time columns as read,
+        kept when the trial is written again), ``first_frame``, ``start_time`` (s,
+        the first row's Time), ``header`` (the header fields as text) and
+        ``warnings``.
 
     Raises
     ------
     MocapError
-        Missing file, or a file that is not a TRC file.
+        Missing file, a file that is not a TRC file, or one without marker columns.
     """
-    lines = read_lines(path)
+    lines, body = read_head(path, 5)
     if len(lines) < 5 or not lines[0].lower().startswith("pathfiletype"):
         raise MocapError("not a TRC file (it must start with 'PathFileType')", path)
     delimiter = "\t" if "\t" in lines[0] + lines[1] else ","
@@ -81,19 +88,30 @@ def read_trc(path: str | os.PathLike) -> Trial:
     label_cells = [cell.strip() for cell in lines[3].split(delimiter)]
     if len(label_cells) < 2 or not label_cells[0].lower().startswith("frame"):
         raise MocapError("TRC line 4 must start with 'Frame#' and 'Time'", path)
-    # Labels sit every third column from column 2; the blanks between them
-    # belong to the Y and Z of the label before.
-    raw_labels = [cell for cell in label_cells[2:] if cell]
+    warnings: list[str] = []
+    raw_labels = _marker_labels(label_cells[2:])
+    axis_cells = [cell.strip() for cell in lines[4].split(delimiter)]
+    axis_markers = sum(1 for cell in axis_cells if cell[:1].upper() == "X")
+    width = _first_row_width(body, delimiter)
+    data_markers = max(width - 2, 0) // 3
     count = len(raw_labels)
+    if count < max(axis_markers, data_markers) and (count == 0 or axis_markers > count):
+        # Columns without a label on line 4: named after their column, never dropped.
+        extra = max(axis_markers, data_markers if count == 0 else 0) - count
+        warnings.append(f"{extra} marker column(s) have no label on line 4; named "
+                        f"M{count + 1:03d}… after their column")
+        raw_labels += [""] * extra
+        count = len(raw_labels)
+    if count == 0:
+        raise MocapError("TRC file has no marker columns (line 4 names no markers and "
+                         "the rows hold only Frame# and Time)", path)
     announced = _int_or_none(header.get("NumMarkers"))
-    warnings = []
     if announced is not None and announced != count:
         warnings.append(f"header announces {announced} markers, line 4 names {count}")
     labels, notes = unique_labels(raw_labels)
     warnings += notes
 
-    data_lines = [line for line in lines[5:] if line.strip(" \t,")]
-    table = parse_numeric_rows(data_lines, delimiter, 2 + 3 * count)
+    table = parse_table(body, delimiter, 2 + 3 * count)
     announced_frames = _int_or_none(header.get("NumFrames"))
     if announced_frames is not None and announced_frames != table.shape[0]:
         warnings.append(f"header announces {announced_frames} frames but the file holds "
@@ -104,14 +122,48 @@ def read_trc(path: str | os.PathLike) -> Trial:
     if factor is None:
         guess, factor = infer_unit_factor(points)
         warnings.append(f"Units is {units!r}; {guess} inferred from the coordinates' magnitude")
-    times = table[:, 1]
-    metadata = {
-        "start_time": float(times[0]) if times.size and np.isfinite(times[0]) else 0.0,
-        "header": header,
-        "warnings": warnings,
-    }
+    frames, times = table[:, 0], table[:, 1]
+    metadata: dict = {"header": header, "warnings": warnings}
+    if times.size and np.isfinite(times).all():
+        metadata["frame_times"] = times.copy()
+        metadata["start_time"] = float(times[0])
+    if frames.size and np.isfinite(frames).all() and (frames == np.round(frames)).all():
+        metadata["frame_numbers"] = frames.astype(np.int64)
+        metadata["first_frame"] = int(frames[0])
     return Trial(labels, points * factor, rate, units, os.fspath(path), "trc",
                  metadata=metadata)
+
+
+def _marker_labels(cells: list[str]) -> list[str]:
+    """Labels of line 4 after Frame# and Time: one per marker, "" where unlabelled.
+
+    Labels sit every third column (the two blanks after one belong to its Y and Z);
+    when a file does not keep to that, its non-empty cells are the labels.
+    """
+    while cells and not cells[-1]:
+        cells = cells[:-1]
+    filled = [i for i, cell in enumerate(cells) if cell]
+    if all(i % 3 == 0 for i in filled):
+        return [cells[i] if i < len(cells) else "" for i in range(0, len(cells), 3)]
+    return [cell for cell in cells if cell]
+
+
+def _first_row_width(body: bytes, delimiter: str) -> int:
+    """Cells in the first non-blank data row (0 when there is none)."""
+    start = 0
+    for _ in range(64):
+        end = body.find(b"\n", start)
+        line = body[start:] if end < 0 else body[start:end]
+        start = end + 1
+        text = line.decode("utf-8", errors="replace").strip(" \r\t" + delimiter)
+        if text:
+            cells = line.decode("utf-8", errors="replace").rstrip("\r").split(delimiter)
+            while cells and not cells[-1].strip():
+                cells.pop()
+            return len(cells)
+        if end < 0:
+            break
+    return 0
 
 
 def _int_or_none(text: str | None) -> int | None:
@@ -121,7 +173,12 @@ def _int_or_none(text: str | None) -> int | None:
         return None
 
 
-def write_trc(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:
+#: Decimal places of the Time column (1 ns).
+TIME_DECIMALS = 9
+
+
+def write_trc(trial: Trial, path: str | os.PathLike, units: str = "mm",
+              precision: int | None = None) -> None:
     """Write a trial as an OpenSim TRC file (tab-separated).
 
     Parameters
@@ -132,37 +189,51 @@ def write_trc(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:
         Written all-or-nothing.
     units : {"mm", "cm", "m"}
         Unit of the coordinates in the file (the Units field).
+    precision : int, optional
+        Decimal places of the coordinates in ``units``; default 1 nm (6 in mm, 9 in
+        m); coarser than 1 µm is refused.
+
+    Notes
+    -----
+    Missing samples are written ``NaN``, which OpenSim reads (it drops empty cells
+    at the end of a row and then rejects the file). Frame# and Time are the
+    trial's own (:meth:`Trial.time_base`): a TRC read and written again keeps its
+    frame numbers and times, a C3D keeps its first frame.
     """
     factor = unit_factor(units)
     if factor is None or units not in ("mm", "cm", "m"):
         raise MocapError(f"cannot write TRC in units {units!r} (use mm, cm or m)", path)
-    if any("\t" in label or not label for label in trial.labels):
-        raise MocapError("marker labels must be non-empty and free of tabs to write TRC",
-                         path)
+    decimals = coordinate_decimals(units, precision, path)
+    for label in trial.labels:
+        check_label(label, "\t", "marker", path)
     frames, markers = trial.frames, len(trial.labels)
-    rate = repr(float(trial.rate))
+    numbers, times = trial.time_base()
+    rate = _number(trial.rate)
     lines = [
         f"PathFileType\t4\t(X/Y/Z)\t{Path(path).name}",
         "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\t"
         "OrigDataStartFrame\tOrigNumFrames",
-        f"{rate}\t{rate}\t{frames}\t{markers}\t{units}\t{rate}\t1\t{frames}",
+        f"{rate}\t{rate}\t{frames}\t{markers}\t{units}\t{rate}\t"
+        f"{int(numbers[0]) if frames else 1}\t{frames}",
         "Frame#\tTime\t" + "\t".join(f"{label}\t\t" for label in trial.labels),
         "\t\t" + "\t".join(f"X{i}\tY{i}\tZ{i}" for i in range(1, markers + 1)),
         "",
     ]
     table = np.empty((frames, 2 + 3 * markers))
-    table[:, 0] = np.arange(1, frames + 1)
-    table[:, 1] = trial.times
+    table[:, 0] = numbers
+    table[:, 1] = times
     table[:, 2:] = (trial.points / factor).reshape(frames, 3 * markers)
-    text = "\n".join(lines) + "\n" + _integer_frames(format_rows(table, "\t"))
+    places = np.full(table.shape[1], decimals)
+    places[:2] = (0, TIME_DECIMALS)
+    head = ("\n".join(lines) + "\n").encode("utf-8")
+    rows = format_table(table, places, "\t", as_bytes=True)
     with atomic_path(path) as tmp:
-        tmp.write_text(text, encoding="utf-8")
+        with open(tmp, "wb") as handle:
+            handle.write(head)
+            handle.write(rows)
 
 
-def _integer_frames(rows: str) -> str:
-    """Data rows with frame numbers written as ``1`` rather than ``1.0``."""
-    out = []
-    for line in rows.split("\n"):
-        head, sep, rest = line.partition("\t")
-        out.append(head.removesuffix(".0") + sep + rest)
-    return "\n".join(out)
+def _number(value: float) -> str:
+    """A rate as short text: ``100`` rather than ``100.0``, else the exact repr."""
+    value = float(value)
+    return str(int(value)) if value.is_integer() else repr(value)

@@ -41,7 +41,9 @@ kept in ``trial.metadata["modelled"]`` instead (``labels``, ``kinds`` and
 ``values`` of shape (frames, n, 3) in the file's units for each kind, e.g.
 degrees for angles, NaN where invalid). ``metadata["parameters"]`` holds every
 C3D parameter (``{group: {name: value}}``, e.g. FORCE_PLATFORM for the analogs),
-``metadata["events"]`` the EVENT group (label, context, time, frame).
+``metadata["events"]`` the EVENT group (label, context, time, frame), and
+``metadata["rotations"]`` the segment poses of a markerless file's ROTATION group
+(:class:`mocap.io.c3d.rotations.SegmentPoses`, also ``trial.poses``).
 
 Units: POINT:UNITS ``mm``/``cm``/``m`` (and their long spellings) are honoured.
 When the file has no usable unit, the unit is inferred from the magnitude of
@@ -220,7 +222,13 @@ def _read_ezc3d(layout: C3DLayout):
 
 
 def _analog_transform(layout: C3DLayout, raw: np.ndarray) -> np.ndarray:
-    """Apply ANALOG:OFFSET, SCALE and GEN_SCALE to raw stored analog values."""
+    """Apply ANALOG:OFFSET, SCALE and GEN_SCALE to raw stored analog values.
+
+    With ANALOG:FORMAT "UNSIGNED" the stored words and OFFSET are unsigned 16-bit
+    integers (C3D User Guide; :func:`mocap.io.c3d.parameters.analog_offsets`).
+    """
+    from mocap.io.c3d.parameters import analog_format_unsigned, analog_offsets
+
     channels = layout.analog_channels
     group = layout.parameters.get("ANALOG", {})
 
@@ -232,15 +240,13 @@ def _analog_transform(layout: C3DLayout, raw: np.ndarray) -> np.ndarray:
             out[:flat.size] = flat
         return out
 
-    offsets = per_channel("OFFSET", 0.0)
-    if "OFFSET" not in group:
-        offsets = per_channel("OFFSETS", 0.0)
+    offsets = analog_offsets(group, channels)
     scales = per_channel("SCALE", 1.0)
     gen_scale = group.get("GEN_SCALE")
     gen = float(gen_scale.reshape(-1)[0]) if isinstance(gen_scale, np.ndarray) \
         and gen_scale.size else 1.0
     values = raw
-    if not layout.is_float and str(group.get("FORMAT", "")).strip().upper() == "UNSIGNED":
+    if not layout.is_float and analog_format_unsigned(group):
         values = np.where(values < 0, values + 65536, values)
     return (values - offsets) * scales * gen
 
@@ -352,6 +358,7 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
         "reader": reader,
         "processor": layout.processor,
         "first_frame": layout.first_frame,
+        "c3d_frames": layout.frames,
         "warnings": notes,
         "parameters": layout.parameters,
     }
@@ -365,6 +372,15 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
     events = _events(layout)
     if events:
         metadata["events"] = events
+    from mocap.io.c3d.layout import decode_floats
+    from mocap.io.c3d.rotations import read_rotations
+
+    # poses are in POINT:UNITS; without one, the markers' inferred unit, else mm (Theia)
+    pose_factor = (unit_factor(units) if units else None) or \
+        (factor if np.isfinite(markers).any() else 1e-3)
+    poses = read_rotations(layout, decode_floats, pose_factor)
+    if poses is not None:
+        metadata["rotations"] = poses
     for group, key in (("MANUFACTURER", "COMPANY"), ("MANUFACTURER", "SOFTWARE"),
                        ("SUBJECTS", "NAMES")):
         value = layout.parameters.get(group, {}).get(key)
