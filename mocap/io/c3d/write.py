@@ -1,4 +1,10 @@
-"""Writing C3D files (with ezc3d): markers in the chosen unit, analogs, events."""
+"""C3D writing (with ezc3d): markers, analogs, events, segment poses and the source's parameters.
+
+Points are stored as 32-bit floats in the chosen unit; a missing sample is residual −1.
+A trial read from a C3D file keeps its first frame, EVENT group and every parameter group
+its data still match (:mod:`mocap.io.c3d.parameters`); :func:`write_c3d` returns, one
+phrase each, what it could not keep.
+"""
 from __future__ import annotations
 
 import os
@@ -7,11 +13,24 @@ import numpy as np
 
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
-from mocap.io.c3d.read import MODELLED_KINDS, unique_labels, unit_factor
+from mocap.io.c3d.parameters import carry_parameters, offsets_to_keep, patch_int_parameter
+from mocap.io.c3d.read import unit_factor
 from mocap.trial import Trial
 
 
-def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:
+def _analog_gain(group: dict, channels: int) -> np.ndarray:
+    """SCALE × GEN_SCALE per channel (what one stored unit is worth), shape (channels,)."""
+    scale = np.ones(channels)
+    value = group.get("SCALE")
+    if isinstance(value, np.ndarray) and value.size:
+        flat = value.reshape(-1)[:channels].astype(float)
+        scale[:flat.size] = flat
+    gen = group.get("GEN_SCALE")
+    gen = float(gen.reshape(-1)[0]) if isinstance(gen, np.ndarray) and gen.size else 1.0
+    return scale * gen
+
+
+def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> list[str]:
     """Write a trial's markers (and analogs) to a C3D file with ezc3d.
 
     Parameters
@@ -23,10 +42,18 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:
     units : {"mm", "cm", "m"}
         Length unit stored in the file (POINT:UNITS); points are converted.
 
+    Returns
+    -------
+    list of str
+        What of the source file's parameters could not be kept (see
+        :mod:`mocap.io.c3d.parameters`); empty when everything was.
+
     Missing samples are written as residual -1 with zero coordinates, the C3D
     convention; the data are stored as 32-bit floats (POINT:SCALE -1). Analogs
-    (when their rate is a whole multiple of the point rate) and
-    ``metadata["events"]`` are written too.
+    (when their rate is a whole multiple of the point rate), ``metadata["events"]``
+    (at their times from the capture's start), the first frame
+    (``metadata["first_frame"]``) and every parameter group of a C3D source that
+    the written data still match are written too.
     """
     import ezc3d   # deferred: reading C3D needs no ezc3d, only writing does
 
@@ -53,20 +80,33 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:
     coordinates = trial.points.transpose(2, 1, 0) / factor
     missing = ~np.isfinite(coordinates).all(axis=0)
     values[:3] = np.where(missing[None], 0.0, coordinates)
-    for event in trial.metadata.get("events", []):
-        # Written files start at frame 1, time 0: an event's time is its frame / rate.
+    first_frame = int(trial.time_base()[0][0])
+    if not 1 <= first_frame <= 65535:
+        first_frame = 1
+    source = trial.metadata.get("parameters") or {}
+    # The trial's frames are those read: its EVENT group is kept as it was (events
+    # outside the stored frames included); otherwise it is built from the events.
+    verbatim_events = ("EVENT" in source and trial.metadata.get("c3d_frames") == frames
+                       and trial.metadata.get("first_frame") == first_frame)
+    for event in [] if verbatim_events else trial.metadata.get("events", []):
+        # EVENT:TIMES count from the capture's start (frame 1 at 0 s).
         frame = int(event.get("frame", round(float(event.get("time", 0.0)) * trial.rate)))
         if 0 <= frame < frames:
-            c3d.add_event([0, frame / trial.rate], context=str(event.get("context", "")),
+            seconds = (first_frame - 1 + frame) / trial.rate
+            c3d.add_event([seconds // 60, seconds - 60 * (seconds // 60)],
+                          context=str(event.get("context", "")),
                           label=str(event.get("label", "")))
-    if frames > 65535:
+    c3d["header"]["points"]["first_frame"] = first_frame - 1      # ezc3d counts from 0
+    last_frame = first_frame + frames - 1
+    if last_frame > 65535 or "ACTUAL_START_FIELD" in source.get("TRIAL", {}):
         # The header and POINT:FRAMES are 16-bit; TRIAL:ACTUAL_*_FIELD carry the
         # frame range as two 16-bit words (low, high), as Vicon writes them.
         def words(value: int) -> list[int]:
             return [int(np.int16(np.uint16(value & 0xFFFF))),
                     int(np.int16(np.uint16(value >> 16)))]
 
-        for name, frame in (("ACTUAL_START_FIELD", 1), ("ACTUAL_END_FIELD", frames)):
+        for name, frame in (("ACTUAL_START_FIELD", first_frame),
+                            ("ACTUAL_END_FIELD", last_frame)):
             c3d.add_parameter("TRIAL", name, words(frame))
             # ezc3d stores Python integers as floats; these are 16-bit integers.
             c3d["parameters"]["TRIAL"][name]["type"] = ezc3d.ezc3d.INT
@@ -75,22 +115,56 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> None:
     residuals = np.where(missing, -1.0, 0.0)[None]
     c3d["data"]["meta_points"]["residuals"] = residuals
     c3d["data"]["meta_points"]["camera_masks"] = np.zeros((7, markers, frames), dtype=bool)
+    analogs_written = False
+    notes: list[str] = []
+    offsets = None
     if trial.analogs is not None and trial.analog_rate and len(trial.analog_labels):
         per_frame = trial.analog_rate / trial.rate
         if (abs(per_frame - round(per_frame)) < 1e-9 and per_frame >= 1
                 and trial.analogs.shape[0] == frames * round(per_frame)):
             c3d["parameters"]["ANALOG"]["RATE"]["value"] = [float(trial.analog_rate)]
             c3d["parameters"]["ANALOG"]["LABELS"]["value"] = list(trial.analog_labels)
-            c3d["data"]["analogs"] = np.asarray(trial.analogs, dtype=float).T[None]
+            analogs = np.asarray(trial.analogs, dtype=float)
+            group = source.get("ANALOG", {})
+            offsets = offsets_to_keep(group, analogs.shape[1], notes) if group else None
+            gain = _analog_gain(group, analogs.shape[1])
+            unusable = ~(np.isfinite(gain) & (gain != 0))
+            if offsets is not None:
+                offsets[unusable] = 0
+                # ezc3d stores value / (SCALE · GEN_SCALE) and writes OFFSET 0: shift the
+                # values by the offset's worth so the words are the offset ones, then
+                # put OFFSET back after writing (patch_int_parameter)
+                c3d["parameters"]["ANALOG"]["OFFSET"]["value"] = np.zeros(
+                    analogs.shape[1])
+                analogs = analogs + offsets * np.where(unusable, 0.0, gain)
+            c3d["data"]["analogs"] = analogs.T[None]
+            analogs_written = True
+        else:
+            notes.append(f"{len(trial.analog_labels)} analog channels (their rate is not a "
+                         f"whole multiple of the point rate)")
+    notes += carry_parameters(c3d, trial, analogs_written, events=verbatim_events)
+    if analogs_written and unusable.any():
+        # a SCALE (or GEN_SCALE) of 0 cannot store a value: such channels get scale 1
+        scale = np.where(unusable, 1.0, gain)
+        c3d.add_parameter("ANALOG", "SCALE", scale)
+        c3d.add_parameter("ANALOG", "GEN_SCALE", np.array([1.0]))
+        notes.append(f"ANALOG:SCALE of {int(unusable.sum())} channel(s) that was 0 (set to 1)")
+    poses = trial.metadata.get("rotations")
+    if poses is not None:
+        notes += poses.write_to(c3d, 1.0 / factor)
     with atomic_path(path) as tmp:
         # ezc3d appends ".c3d" to any other suffix (".C3D" included).
         ezc3d_name = tmp.with_suffix(".c3d")
         try:
             c3d.write(str(ezc3d_name))
+            if offsets is not None and not patch_int_parameter(ezc3d_name, "ANALOG",
+                                                               "OFFSET", offsets):
+                raise RuntimeError("ANALOG:OFFSET not found in the written file")
             os.replace(ezc3d_name, tmp)
         except Exception as error:   # ezc3d reports write problems as RuntimeError/OSError
             ezc3d_name.unlink(missing_ok=True)
             raise MocapError(f"cannot write C3D: {error}", path) from None
+    return notes
 
 
 __all__ = ["write_c3d"]
