@@ -1,0 +1,109 @@
+"""TRC and CSV text: NaN cells, precision, time base, up axis, labels that would corrupt."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mocap.cli import main
+from mocap.errors import MocapError
+from mocap.io import read, write
+from mocap.io.text_table import format_table, parse_table
+from mocap.trial import Trial
+from tests.conftest import realdata_path
+
+
+def _trial(labels=("A", "B"), frames=4):
+    rng = np.random.default_rng(3)
+    points = rng.uniform(-2, 2, (frames, len(labels), 3))
+    points[1, 1] = np.nan                                  # a gap at the end of a row
+    return Trial(list(labels), points, 50.0)
+
+
+def test_gap_at_the_end_of_a_row_is_written_nan_not_empty(tmp_path):
+    write(_trial(), tmp_path / "t.trc")
+    row = (tmp_path / "t.trc").read_text().splitlines()[7].split("\t")
+    assert row[-3:] == ["NaN", "NaN", "NaN"] and len(row) == 2 + 6
+
+
+def test_parse_table_equals_python_float_and_keeps_empty_and_words_missing():
+    rng = np.random.default_rng(0)
+    values = rng.normal(0, 1, (300, 7)) * 10.0 ** rng.integers(-12, 12, (300, 7))
+    text = "\n".join("\t".join(repr(v) for v in row) for row in values.tolist()) + "\n"
+    np.testing.assert_array_equal(parse_table(text, "\t", 7), values)       # exact
+    odd = parse_table(b"1,,x, 2.5 ,NaN,1e400,-0.0\n\n3\r\n", ",", 7)
+    assert odd.shape == (2, 7) and odd[0, 3] == 2.5 and odd[0, 5] == np.inf
+    assert np.isnan(odd[0, [1, 2, 4]]).all() and np.isnan(odd[1, 1:]).all()
+    fixed = format_table(np.array([[1.23456789, -0.0000004, np.nan, 7.0]]), [3, 6, 2, 0], ",")
+    assert fixed == "1.235,0.000000,NaN,7\n"          # no "-0" after rounding
+
+
+@pytest.mark.parametrize("units, places, worst", [("mm", None, 5e-10), ("m", None, 5e-10),
+                                                  ("mm", 3, 5e-7), ("m", 6, 5e-7)])
+def test_precision_is_decimals_in_the_files_unit(tmp_path, units, places, worst):
+    trial = _trial(frames=50)
+    write(trial, tmp_path / "p.trc", units=units, precision=places)
+    error = np.nanmax(np.abs(read(tmp_path / "p.trc").points - trial.points))
+    assert worst / 10 < error <= worst * 1.000001
+
+
+def test_precision_coarser_than_a_micrometre_is_refused(tmp_path):
+    with pytest.raises(MocapError, match="coarser than 1 µm"):
+        write(_trial(), tmp_path / "p.trc", units="m", precision=5)
+    write(_trial(), tmp_path / "a.trc")
+    assert main(["convert", str(tmp_path / "a.trc"), str(tmp_path / "b.trc"),
+                 "--precision", "2"]) == 2
+    assert main(["convert", str(tmp_path / "a.trc"), str(tmp_path / "b.c3d"),
+                 "--precision", "6"]) == 2
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.trc"]
+
+
+@pytest.mark.parametrize("label, suffix", [("LA\nSI", ".trc"), ("LA\rSI", ".csv"),
+                                           ("LA,SI", ".csv"), ("LA\tSI", ".trc"),
+                                           ("LA\nSI", ".csv")])
+def test_labels_that_would_corrupt_a_text_file_are_refused(tmp_path, label, suffix):
+    bad = tmp_path / "bad.c3d"
+    write(Trial([label, "B"], _trial().points, 50.0), bad)     # C3D holds any text
+    out = tmp_path / f"out{suffix}"
+    assert main(["convert", str(bad), str(out)]) == 2
+    assert not out.exists()
+
+
+def test_unlabelled_trc_columns_are_named_not_dropped(tmp_path):
+    path = tmp_path / "u.trc"
+    path.write_text("PathFileType\t4\t(X/Y/Z)\tu.trc\nDataRate\tCameraRate\tNumFrames\t"
+                    "NumMarkers\tUnits\n100\t100\t2\t2\tmm\nFrame#\tTime\n\t\tX1\tY1\tZ1\tX2\tY2\t"
+                    "Z2\n\n1\t0\t1\t2\t3\t4\t5\t6\n2\t0.01\t1\t2\t3\t4\t5\t7\n")
+    trial = read(path)
+    assert trial.labels == ["M001", "M002"]
+    assert any("no label on line 4" in w for w in trial.metadata["warnings"])
+    np.testing.assert_allclose(trial.points[1, 1], [0.004, 0.005, 0.007])
+    path.write_text("PathFileType\t4\t(X/Y/Z)\tu.trc\nDataRate\tNumFrames\n100\t1\n"
+                    "Frame#\tTime\n\n\n1\t0\n")
+    with pytest.raises(MocapError, match="no marker columns"):
+        read(path)
+
+
+def test_c3d_to_trc_keeps_the_first_frame_and_up_y_turns_the_lab(tmp_path):
+    source = realdata_path("pycgm", "Test_Files", "Movement_trial.c3d")
+    trial = read(source)
+    assert trial.metadata["first_frame"] == 695
+    assert main(["convert", str(source), str(tmp_path / "z.trc")]) == 0
+    assert main(["convert", str(source), str(tmp_path / "y.trc"), "--up", "y"]) == 0
+    z, y = read(tmp_path / "z.trc"), read(tmp_path / "y.trc")
+    numbers, times = z.time_base()
+    assert numbers[0] == 695 and times[0] == pytest.approx(694 / 120.0)
+    lines = (tmp_path / "z.trc").read_text().splitlines()
+    assert lines[2].split("\t")[6] == "695"                     # OrigDataStartFrame
+    # Y up: (x, y, z) -> (x, z, -y): height is the second coordinate
+    np.testing.assert_allclose(y.points, np.stack([z.points[..., 0], z.points[..., 2],
+                                                   -z.points[..., 1]], axis=-1), atol=2e-9)
+
+
+def test_c3d_rewrite_says_in_one_line_what_it_could_not_keep(tmp_path, capsys):
+    source = realdata_path("pycgm", "Test_Files", "Movement_trial.c3d")
+    assert main(["convert", str(source), str(tmp_path / "copy.c3d")]) == 0
+    notes = [line for line in capsys.readouterr().err.splitlines() if line.startswith("note")]
+    assert notes == ["note: not kept in copy.c3d: 80 modelled points (angles, forces …)"]
+    back = read(tmp_path / "copy.c3d")
+    assert back.metadata["first_frame"] == 695
+    assert int(back.metadata["parameters"]["FORCE_PLATFORM"]["USED"][0]) == 4
