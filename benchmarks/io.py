@@ -147,10 +147,12 @@ def text_formats(trial: Trial, folder: Path) -> None:
     write(trial, folder / "warm.trc")               # compiled loops: load once
     read(folder / "warm.trc")
     print(f"\ntext tables, {frames} frames × {markers} markers, 2 % gaps (best of 3):")
+    ours = {}
     for suffix in (".trc", ".csv"):
         target = folder / f"big{suffix}"
         ours_write = best_of(lambda: write(trial, target), 3)
         ours_read = best_of(lambda: read(target), 3)
+        ours[suffix] = (ours_write, ours_read)
         back = read(target)
         error = np.nanmax(np.abs(back.points - trial.points))
         print(f"  mocap {suffix}: write {ours_write:6.3f} s, read {ours_read:6.3f} s "
@@ -171,8 +173,7 @@ def text_formats(trial: Trial, folder: Path) -> None:
     old_text = previous_format_rows(table, delimiter)
     lines = old_text.splitlines()
     old_read = best_of(lambda: previous_parse_rows(lines, delimiter, table.shape[1]), 1)
-    trc_write = best_of(lambda: write(trial, folder / "big.trc"), 1)
-    trc_read = best_of(lambda: read(folder / "big.trc"), 1)
+    trc_write, trc_read = ours[".trc"]
     print(f"  previous text code (repr cells, loadtxt/split): write {old_write:6.3f} s, read "
           f"{old_read:6.3f} s -> mocap TRC now {old_write / trc_write:4.1f}x faster writing, "
           f"{old_read / trc_read:4.1f}x reading")
