@@ -151,10 +151,10 @@ def run_convert(args: argparse.Namespace) -> int:
 
     source_trial = read_marker_file(source)
     trial = rotate_trial(source_trial, args.up)
-    options = {"units": args.units} if target_format.name in ("c3d", "trc") else {}
+    writer_options = {"units": args.units} if target_format.name in ("c3d", "trc") else {}
     if target_format.name in ("trc", "csv"):
-        options["precision"] = args.precision
-    notes = write(trial, target, **options) or []
+        writer_options["precision"] = args.precision
+    notes = write(trial, target, **writer_options) or []
     dropped = []
     if trial.analog_labels and target_format.name != "c3d":
         dropped.append(f"{len(trial.analog_labels)} analog channels")
