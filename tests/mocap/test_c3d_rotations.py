@@ -66,7 +66,7 @@ def test_angles_from_rotations_match_a_hand_calculation(theia, ezc3d_poses, tmp_
     (trace formula) equals the rotation of the written Euler angles."""
     from scipy.spatial.transform import Rotation
 
-    from mocap.angles import read_angles_csv
+    from mocap.io.angles_csv import read_angles_csv
 
     out = tmp_path / "angles.csv"
     assert main(["angles", str(theia), "--from-rotations", "-o", str(out)]) == 0
