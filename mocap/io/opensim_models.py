@@ -35,6 +35,8 @@ keeps their defaults). Angles are degrees (``inDegrees=yes``), translations metr
 """
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 from mocap.errors import MocapError
@@ -136,8 +138,6 @@ def model_coordinates(motion, model: str) -> tuple[np.ndarray, list[str], np.nda
 
 def write_model_mot(motion, path, model: str, precision: int = 6) -> None:
     """Write a motion as a ``.mot`` of the model's coordinates (all-or-nothing)."""
-    import os
-
     from mocap.io.mot import write_mot
 
     times, labels, values = model_coordinates(motion, model)

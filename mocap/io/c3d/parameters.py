@@ -57,7 +57,7 @@ def analog_offsets(group: dict, channels: int) -> np.ndarray:
 
 def _set(c3d, group: str, name: str, value) -> None:
     """Set one parameter on an ezc3d object with the C3D type of ``value``."""
-    import ezc3d
+    import ezc3d   # deferred: only writing needs ezc3d (its type codes)
 
     if isinstance(value, str):
         c3d.add_parameter(group, name, value)          # 1-D character parameter

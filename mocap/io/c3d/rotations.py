@@ -245,7 +245,7 @@ def segment_parents(labels: list[str], path=None) -> dict[str, str | None]:
 
 def load_parents(path: str | os.PathLike) -> dict[str, str | None]:
     """A ``[parents]`` table from a TOML file: ``child = "parent"`` (``""`` for the root)."""
-    import tomllib
+    import tomllib   # deferred: only a given hierarchy file needs it
 
     try:
         with open(path, "rb") as handle:
