@@ -223,3 +223,28 @@ def test_mot_of_a_plugingait_trial_is_gait2392_coordinates_for_opensim(tmp_path,
             expected = turn @ relative[frame, body.names.index(f"{side}_thigh")] @ turn.T
             np.testing.assert_allclose(_rotation(thigh.findTransformBetween(state, pelvis)),
                                        expected, atol=1e-6)
+
+
+@pytest.mark.filterwarnings("ignore::mocap.errors.MocapWarning")
+@pytest.mark.parametrize("model, pattern", [("gait2392", "gait2392*.osim"),
+                                            ("rajagopal", "Rajagopal*.osim")])
+def test_mot_columns_are_coordinates_of_the_real_model_files(tmp_path, opensim, model, pattern):
+    """Where the corpus holds the OpenSim model files themselves (opensim-models'
+    gait2392_simbody.osim, Rajagopal2015.osim), every column of the export is one of the
+    model's coordinates, as OpenSim loads the model."""
+    from mocap.cli import main
+
+    realdata_path()
+    files = sorted(REALDATA.rglob(pattern))
+    if not files:
+        pytest.skip(f"no {pattern} in the corpus (the kinematic stand-in above checks the "
+                    f"joint definitions)")
+    trial = realdata_path("biomechzoo_sample_study", "HC030A", "Straight", "HC030A05.c3d")
+    out = tmp_path / "walk.mot"
+    assert main(["export", str(trial), "-m", "plugingait-lower", "--format", "mot",
+                 "--model", model, "-o", str(out)]) == 0
+    labels = list(opensim.TimeSeriesTable(str(out)).getColumnLabels())
+    osim = opensim.Model(str(files[0]))
+    osim.initSystem()
+    coordinates = osim.getCoordinateSet()
+    assert [label for label in labels if not coordinates.contains(label)] == []
