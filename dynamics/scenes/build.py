@@ -8,6 +8,7 @@ The tables are read through :class:`dynamics.scenes.schema.Table` (every key che
 """
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -203,7 +204,7 @@ def _add_bodies(system: System, document: dict, path) -> tuple[list, list]:
         _finish_body(system, body, t, [0.6, 0.4, 0.2])
     for t in tables_of(document, "cloth", path):
         resolution = t.vector("resolution", [16, 16], length=2, integer=True, minimum=2)
-        _check_count(t, int(np.prod(resolution)), system, "resolution")
+        _check_count(t, math.prod(int(r) for r in resolution), system, "resolution")
         try:
             body = builders.cloth_grid(
                 t.vector("origin"), _positive_sizes(t, "size", 2), resolution,
@@ -215,7 +216,7 @@ def _add_bodies(system: System, document: dict, path) -> tuple[list, list]:
         _finish_body(system, body, t, [0.2, 0.4, 0.8])
     for t in tables_of(document, "lattice", path):
         resolution = t.vector("resolution", [5, 5, 5], integer=True, minimum=2)
-        _check_count(t, int(np.prod(resolution)), system, "resolution")
+        _check_count(t, math.prod(int(r) for r in resolution), system, "resolution")
         size = _positive_sizes(t, "size")
         try:
             body = builders.lattice_block(

@@ -19,6 +19,9 @@ from dynamics.sim.rigid import newton_euler_step
 
 #: Largest in-memory result (saved frames) a run may build, bytes.
 MAX_OUTPUT_BYTES = 4_000_000_000
+#: Most heat-conduction sub-steps per time step (explicit diffusion is stable only below
+#: ``stable_dt``; beyond this the run would take hours).
+MAX_HEAT_SUBSTEPS = 10_000
 
 
 @dataclass
@@ -100,6 +103,13 @@ def run_scene(scene: Scene, show_progress: bool | None = None) -> SimulationResu
         raise MocapError(f"the saved frames would take {size / 1e9:.1f} GB ({saved} frames of "
                          f"{n} particles); raise [simulation] save_every or lower steps",
                          scene.path)
+    if system.heat is not None:
+        stable = 0.9 * system.heat.stable_dt(n, system.springs)
+        substeps = scene.dt / stable if np.isfinite(stable) and stable > 0 else 1.0
+        if not substeps <= MAX_HEAT_SUBSTEPS:
+            raise MocapError(f"heat conduction would need {substeps:.3g} sub-steps per time "
+                             f"step (at most {MAX_HEAT_SUBSTEPS}); lower [heat] conductivity "
+                             "or [simulation] dt, or raise capacity", scene.path)
     times = np.empty(saved)
     positions = np.empty((saved, n, 3))
     energy = np.empty((saved, 4))

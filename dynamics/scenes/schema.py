@@ -97,6 +97,8 @@ class Table:
             raise self.error(key, f"must be a list of {length} {kind}, not {value!r}")
         if minimum is not None and any(v < minimum for v in value):
             raise self.error(key, f"must have every entry >= {minimum}, not {value!r}")
+        if integer and any(abs(v) > 2 ** 62 for v in value):
+            raise self.error(key, f"has an entry beyond 2**62, not {value!r}")
         return np.asarray(value, dtype=int if integer else float)
 
     def choice(self, key: str, choices, default=None) -> str:

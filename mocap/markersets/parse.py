@@ -132,6 +132,12 @@ def _string_list(value: Any, what: str, path: str | None) -> tuple[str, ...]:
     return tuple(value)
 
 
+#: Most segments and virtual markers one marker set may define (full-body sets have ~20
+#: segments; a larger file is a mistake, and ordering it must stay quick).
+MAX_SEGMENTS = 500
+MAX_VIRTUAL = 2000
+
+
 def markerset_from_dict(data: dict, path: str | None = None) -> MarkerSet:
     """A validated MarkerSet from parsed TOML (see the module docstring)."""
     name = data.get("name", Path(path).stem if path else "markerset")
@@ -145,6 +151,9 @@ def markerset_from_dict(data: dict, path: str | None = None) -> MarkerSet:
     raw_segments = data.get("segment", [])
     if not isinstance(raw_segments, list) or not raw_segments:
         raise _fail("no [[segment]] tables", path)
+    if len(raw_segments) > MAX_SEGMENTS:
+        raise _fail(f"{len(raw_segments)} segments; a marker set may have at most "
+                    f"{MAX_SEGMENTS}", path)
     segments = [_parse_segment(i, raw, path) for i, raw in enumerate(raw_segments)]
     _check_names([s.name for s in segments], "segment", path)
     segments = _order_segments(segments, path)
@@ -152,6 +161,9 @@ def markerset_from_dict(data: dict, path: str | None = None) -> MarkerSet:
     raw_virtual = data.get("virtual", [])
     if not isinstance(raw_virtual, list):
         raise _fail("'virtual' must be [[virtual]] tables", path)
+    if len(raw_virtual) > MAX_VIRTUAL:
+        raise _fail(f"{len(raw_virtual)} virtual markers; a marker set may have at most "
+                    f"{MAX_VIRTUAL}", path)
     virtual = [_parse_virtual(i, raw, path) for i, raw in enumerate(raw_virtual)]
     _check_names([v.name for v in virtual], "virtual marker", path)
     virtual = _order_virtual(virtual, path)
@@ -207,18 +219,24 @@ def _order_segments(segments: list[Segment], path: str | None) -> list[Segment]:
             raise _fail(f"segment '{s.name}' has unknown parent '{s.parent}'", path)
         if s.parent == s.name:
             raise _fail(f"segment '{s.name}' is its own parent", path)
+    depth: dict[str, int] = {}          # segments known to reach a root: their depth
     for s in segments:
         chain = [s.name]
+        on_chain = {s.name}
         current = s
-        while current.parent is not None:
-            if current.parent in chain:
+        while current.parent is not None and current.name not in depth:
+            if current.parent in on_chain:
                 cycle = chain[chain.index(current.parent):] + [current.parent]
                 raise _fail(f"segment parents form a cycle: {' -> '.join(cycle)}", path)
             chain.append(current.parent)
+            on_chain.add(current.parent)
             current = by_name[current.parent]
+        base = depth.get(current.name, 0)
+        for k, name in enumerate(reversed(chain)):
+            depth.setdefault(name, base + k)
     ordered: list[Segment] = []
     placed: set[str] = set()
-    while len(ordered) < len(segments):
+    while len(ordered) < len(segments):     # at most MAX_SEGMENTS passes
         for s in segments:
             if s.name not in placed and (s.parent is None or s.parent in placed):
                 ordered.append(s)
@@ -297,26 +315,32 @@ def _parse_virtual(i: int, raw: Any, path: str | None) -> VirtualMarker:
 
 
 def _order_virtual(virtual: list[VirtualMarker], path: str | None) -> list[VirtualMarker]:
-    """Inputs before dependants; a cycle among virtual markers is an error."""
+    """Inputs before dependants (file order otherwise); a cycle among virtual markers is an
+    error. Iterative, linear in the markers and their inputs (any chain depth)."""
     by_name = {v.name: v for v in virtual}
+    # a fallback marker's own name may be recorded; a dependency on it is still a
+    # dependency on the virtual definition
+    needs = {v.name: [item for item in v.inputs if item in by_name] for v in virtual}
     ordered: list[VirtualMarker] = []
-    state: dict[str, int] = {}  # 1 visiting, 2 done
-
-    def visit(v: VirtualMarker, chain: list[str]) -> None:
-        if state.get(v.name) == 2:
-            return
-        if state.get(v.name) == 1:
-            cycle = chain[chain.index(v.name):] + [v.name]
-            raise _fail(f"virtual markers form a cycle: {' -> '.join(cycle)}", path)
-        state[v.name] = 1
-        for item in v.inputs:
-            # a fallback marker's own name may be recorded; a dependency on
-            # it is still a dependency on the virtual definition
-            if item in by_name:
-                visit(by_name[item], chain + [v.name])
-        state[v.name] = 2
-        ordered.append(v)
-
-    for v in virtual:
-        visit(v, [])
+    state: dict[str, int] = {}  # 1 on the current path, 2 done
+    for root in virtual:
+        if state.get(root.name) == 2:
+            continue
+        path_names = [root.name]
+        pending = [iter(needs[root.name])]
+        state[root.name] = 1
+        while pending:
+            item = next(pending[-1], None)
+            if item is None:
+                done = path_names.pop()
+                pending.pop()
+                state[done] = 2
+                ordered.append(by_name[done])
+            elif state.get(item) == 1:
+                cycle = path_names[path_names.index(item):] + [item]
+                raise _fail(f"virtual markers form a cycle: {' -> '.join(cycle)}", path)
+            elif state.get(item) != 2:
+                state[item] = 1
+                path_names.append(item)
+                pending.append(iter(needs[item]))
     return ordered
