@@ -13,7 +13,9 @@ import argparse
 import importlib
 import os
 import re
+import signal
 import sys
+import threading
 import warnings
 
 from mocap.cli.commands import COMMANDS
@@ -115,16 +117,57 @@ def _os_error_line(error: OSError) -> str:
     return f"{where}{error.strerror or error}"
 
 
+def _user_cache_folders() -> None:
+    """Point numba's compiled-kernel cache at the user's cache folder (unless the user chose
+    one with NUMBA_CACHE_DIR), so the kernels compile once per user and machine, not on
+    every first use in a fresh install or a read-only site-packages. Only the command line
+    does this: it is process state, which library code leaves alone."""
+    if "NUMBA_CACHE_DIR" not in os.environ:
+        base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+        os.environ["NUMBA_CACHE_DIR"] = os.path.join(base, "mocap", "numba")
+
+
+class _Interrupts:
+    """Ctrl-C as KeyboardInterrupt, remembered: CPython swallows an exception raised inside
+    some callbacks (an import lock's weakref callback prints "Exception ignored"), and the
+    command must still end as interrupted."""
+
+    def __init__(self):
+        self.seen = False
+        self.previous = None
+
+    def __enter__(self):
+        if (threading.current_thread() is threading.main_thread()
+                and signal.getsignal(signal.SIGINT) is signal.default_int_handler):
+            self.previous = signal.signal(signal.SIGINT, self._raise)
+        return self
+
+    def _raise(self, signum, frame):
+        self.seen = True
+        raise KeyboardInterrupt
+
+    def __exit__(self, *exc):
+        if self.previous is not None:
+            signal.signal(signal.SIGINT, self.previous)
+        return False
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``mocap`` console script; returns the exit status.
 
     A user's mistake (:class:`MocapError`, a file the system refuses) is one line and exit
     status 2; Ctrl-C is one line and 130, whenever it comes.
     """
+    with _Interrupts() as interrupts:
+        return _main(argv, interrupts)
+
+
+def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
     command = "mocap"
     subparser = None
     try:
         words = sys.argv[1:] if argv is None else list(argv)
+        _user_cache_folders()
         parser = build_parser(_command_of(words) or "")
         try:
             args = parser.parse_args(words)
@@ -138,12 +181,15 @@ def main(argv: list[str] | None = None) -> int:
             warnings.simplefilter("always", MocapWarning)
             warnings.showwarning = _warning_printer(command)
             status = args.func(args)
+        if interrupts.seen:                     # an interrupt Python swallowed on the way
+            raise KeyboardInterrupt
     except MocapError as error:
         words = as_flags(str(error), subparser) if subparser is not None else str(error)
         print(f"mocap {command}: error: {words}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
-        print(f"mocap {command}: interrupted", file=sys.stderr)
+        print(f"mocap {command}: interrupted" if command != "mocap" else "mocap: interrupted",
+              file=sys.stderr)
         return 130
     except BrokenPipeError:
         # the reader of our output went away (``mocap info … | head``): stop quietly
@@ -165,6 +211,16 @@ def run() -> None:
     except KeyboardInterrupt:
         print("mocap: interrupted", file=sys.stderr)
         status = 130
+    if status == 130:
+        # An interrupt caught inside an import leaves CPython convinced it went unhandled
+        # (under ``python -m`` it would then kill itself with SIGINT); our files are already
+        # cleaned up by their ``finally`` blocks, so leave with the status we promised.
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
+        os._exit(130)
     sys.exit(status)
 
 

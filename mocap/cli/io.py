@@ -8,14 +8,13 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from tqdm.auto import tqdm
 
 from mocap.cli import options
 from mocap.cli.commands import summary
 from mocap.errors import MocapError, MocapWarning
 from mocap.io import format_of, read, suffixes, write
 from mocap.io.discovery import find_files
-from mocap.progress import progress
+from mocap.progress import progress, write_line
 from mocap.summary import format_summary, summarise
 from mocap.trial import Trial
 
@@ -110,7 +109,7 @@ def run_info(args: argparse.Namespace) -> int:
             trial = read_marker_file(path, quiet=True)
         except MocapError as error:
             # One line per bad file, printed above the progress bar, and go on.
-            tqdm.write(f"mocap info: error: {error}", file=sys.stderr)
+            write_line(f"mocap info: error: {error}")
             status = 2
             continue
         _print_summary(summarise(trial), args)

@@ -1,0 +1,142 @@
+"""Whole-process timings of the ``mocap`` command beside plain-library references (issue 11).
+
+Each line is the median wall time of several runs of a fresh process (start-up, imports,
+work, exit), as a user meets it::
+
+    python benchmarks/startup.py [C3D_FILE] [--runs 5] [--frames 100000]
+
+- ``mocap --help`` beside ``python -c pass``;
+- ``mocap info FILE`` beside ``python -c "import ezc3d; ezc3d.c3d(FILE)"``;
+- ``mocap angles`` on FRAMES frames x 15 segments (synthetic15, written once as C3D) beside
+  a plain ezc3d + numpy + scipy + ``np.savetxt`` script computing the same angles;
+- ``mocap check`` on a BVH, first run (empty numba cache) and second run.
+
+FILE defaults to a real Vicon walk of the shared corpus when it is there.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+REAL = ROOT.parent / "shared" / "realdata" / "biomechzoo_sample_study" / "HC002D" / "Straight" \
+    / "HC002D06.c3d"
+BVH = ROOT / "tests" / "data" / "mocapbank_walk.bvh"
+
+#: The plain reference of ``mocap angles``: read with ezc3d, frames from three markers,
+#: child-in-parent rotations, scipy Euler angles, ``np.savetxt``.
+REFERENCE_ANGLES = r'''
+import sys, numpy as np, ezc3d
+from scipy.spatial.transform import Rotation
+source, target, segments = sys.argv[1], sys.argv[2], sys.argv[3].split(";")
+c3d = ezc3d.c3d(source)
+labels = c3d["parameters"]["POINT"]["LABELS"]["value"]
+points = c3d["data"]["points"][:3].transpose(2, 1, 0) / 1000.0
+frames = {}
+for item in segments:
+    name, parent, o, a, l = item.split(",")
+    po, pa, pl = (points[:, labels.index(m)] for m in (o, a, l))
+    e1 = pa - po; e1 /= np.linalg.norm(e1, axis=1, keepdims=True)
+    e3 = np.cross(e1, pl - po); e3 /= np.linalg.norm(e3, axis=1, keepdims=True)
+    e2 = np.cross(e3, e1)
+    frames[name] = (parent, np.stack([e1, e2, e3], axis=2))
+columns, times = [], np.arange(points.shape[0]) / float(c3d["header"]["points"]["frame_rate"])
+for name, (parent, R) in frames.items():
+    if parent:
+        R = np.einsum("fji,fjk->fik", frames[parent][1], R)
+    columns.append(np.unwrap(np.radians(Rotation.from_matrix(R).as_euler("ZXY", degrees=True)), axis=0))
+table = np.column_stack([times] + [np.degrees(c) for c in columns])
+np.savetxt(target, table, fmt="%.6f", delimiter=",")
+'''
+
+
+def median_wall(argv: list[str], runs: int, env: dict | None = None, fresh=None) -> float:
+    """Median wall time of ``runs`` fresh processes of ``argv`` (``fresh()`` before each)."""
+    times = []
+    for _ in range(runs):
+        if fresh is not None:
+            fresh()
+        start = time.perf_counter()
+        subprocess.run(argv, check=True, env=env, stdout=subprocess.DEVNULL,
+                       stderr=subprocess.DEVNULL)
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def _long_trial(folder: Path, frames: int) -> tuple[Path, str]:
+    """A synthetic15 walk tiled to ``frames`` frames, as C3D; and the segment spec."""
+    sys.path.insert(0, str(ROOT))
+    from mocap.io import write
+    from mocap.markersets import load_markerset
+    from mocap.synthetic import synthesize_trial
+    from mocap.trial import Trial
+
+    trial, _ = synthesize_trial(0, "walk", seed=0, cycles=4)
+    reps = -(-frames // trial.frames)
+    points = np.concatenate([trial.points] * reps)[:frames]
+    path = folder / "long_walk.c3d"
+    write(Trial(trial.labels, points, trial.rate), path)
+    markerset = load_markerset("synthetic15")
+    spec = ";".join(f"{s.name},{s.parent or ''},{','.join(s.markers)}"
+                    for s in markerset.segments)
+    return path, spec
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("file", nargs="?", default=str(REAL), help="C3D file for info")
+    parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--frames", type=int, default=100_000)
+    args = parser.parse_args()
+    python = sys.executable
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
+    mocap = [python, "-m", "mocap"]
+    rows = []
+
+    def report(name: str, seconds: float, reference: float | None = None, label: str = ""):
+        ratio = f"  {seconds / reference:5.2f} x {label}" if reference else ""
+        rows.append(f"{name:<44} {seconds:7.3f} s{ratio}")
+        print(rows[-1], flush=True)
+
+    bare = median_wall([python, "-c", "pass"], args.runs, env)
+    report("python -c pass", bare)
+    report("mocap --help", median_wall(mocap + ["--help"], args.runs, env), bare, "python -c pass")
+    reference = median_wall([python, "-c", f"import ezc3d; ezc3d.c3d({args.file!r})"],
+                            args.runs, env)
+    report("python -c 'import ezc3d; ezc3d.c3d(FILE)'", reference)
+    report("mocap info FILE", median_wall(mocap + ["info", args.file], args.runs, env),
+           reference, "the ezc3d reference")
+
+    with tempfile.TemporaryDirectory() as folder:
+        folder = Path(folder)
+        source, spec = _long_trial(folder, args.frames)
+        plain = median_wall([python, "-c", REFERENCE_ANGLES, str(source),
+                             str(folder / "ref.csv"), spec], max(3, args.runs // 2), env)
+        report(f"plain ezc3d+numpy+scipy+savetxt ({args.frames} fr)", plain)
+        ours = median_wall(mocap + ["angles", str(source), "-m", "synthetic15", "-o",
+                                    str(folder / "ours.csv")], max(3, args.runs // 2), env)
+        report(f"mocap angles ({args.frames} frames x 15 segments)", ours, plain,
+               "the plain script")
+
+        cache = folder / "numba"
+        numba_env = {**env, "NUMBA_CACHE_DIR": str(cache)}
+
+        def empty_cache():
+            subprocess.run(["rm", "-rf", str(cache)], check=True)
+
+        check = mocap + ["check", str(BVH), "--json"]
+        report("mocap check BVH, first run (empty cache)",
+               median_wall(check, 1, numba_env, fresh=empty_cache))
+        report("mocap check BVH, second run", median_wall(check, args.runs, numba_env))
+
+
+if __name__ == "__main__":
+    main()
