@@ -5,6 +5,7 @@ tqdm is imported only when a bar is shown (it costs ~40 ms of start-up, more tha
 """
 from __future__ import annotations
 
+import contextlib
 import sys
 from typing import Iterable, Iterator, TypeVar
 
@@ -41,3 +42,23 @@ def write_line(text: str) -> None:
         tqdm.write(text, file=sys.stderr)
     else:
         print(text, file=sys.stderr)
+
+
+class _NoBar:
+    def update(self, count: int = 1) -> None:
+        pass
+
+
+@contextlib.contextmanager
+def progress_bar(total: int, description: str, enabled: bool | None = None):
+    """A bar of ``total`` steps for work that is not a loop of ours (``bar.update(1)``);
+    shown only on a terminal unless ``enabled``."""
+    if enabled is None:
+        enabled = sys.stderr.isatty()
+    if not enabled:
+        yield _NoBar()
+        return
+    from tqdm.auto import tqdm
+    with tqdm(total=total, desc=description, file=sys.stderr, leave=False,
+              dynamic_ncols=True) as bar:
+        yield bar

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from dynamics.viz.render import check_animation_path, save_animation
+from dynamics.viz.render import check_animation_path, real_time_stride, save_animation
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 
@@ -49,7 +49,8 @@ def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float |
     secondary : dynamics.secondary.SecondaryMotion, optional
         Cape (grid lines) and rope (polyline) drawn with the figure.
     fps : float, optional
-        Animation frame rate; default the motion's rate divided by the frame stride.
+        Playback frame rate; default real time (a frame stride whose duration is a whole
+        number of centiseconds, the GIF delay unit).
     max_frames : int
         Frames are subsampled evenly down to at most this many.
     dpi : int
@@ -74,10 +75,14 @@ def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float |
     bones = [(i, p) for i, p in enumerate(sk.parents) if p >= 0]
     bones += [(sk.count + k, j) for k, j in enumerate(end_index)]
     bones = np.array(bones, dtype=int).reshape(-1, 2)
-    chosen = np.unique(np.linspace(0, motion.frames - 1,
-                                   min(max_frames, motion.frames)).astype(int))
-    stride = chosen[1] - chosen[0] if chosen.size > 1 else 1
-    fps = float(fps) if fps else max(1.0, motion.rate / stride)
+    if fps:                     # the user's playback rate: frames evenly spaced
+        chosen = np.unique(np.linspace(0, motion.frames - 1,
+                                       min(max_frames, motion.frames)).astype(int))
+        fps = float(fps)
+    else:                       # real time: a stride whose frame delay is whole centiseconds
+        stride, delay = real_time_stride(motion.rate, motion.frames, max_frames)
+        chosen = np.arange(0, motion.frames, stride)
+        fps = 100.0 / delay
 
     cloth_lines = rope = cape = None
     if secondary is not None:

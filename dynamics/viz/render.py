@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from mocap.atomic import atomic_path
+from mocap.progress import progress_bar
 from mocap.errors import MocapError
 
 from dynamics.sim.springs import BEND
@@ -152,15 +153,50 @@ def check_animation_path(path: str | os.PathLike) -> Path:
     return path
 
 
-def save_animation(figure, draw, frames, path: Path, fps: float, dpi: int) -> None:
+def gif_delay(fps: float) -> int:
+    """The GIF frame delay, whole centiseconds (the format's unit), closest to ``1/fps``:
+    at least 2, because browsers replay shorter delays at 10 cs (several times slower)."""
+    return max(2, int(round(100.0 / fps)))
+
+
+def real_time_stride(rate: float, frames: int, max_frames: int) -> tuple[int, int]:
+    """Frame stride and GIF delay (cs) that replay ``frames`` at ``rate`` Hz in real time:
+    at most ``max_frames`` frames drawn, and the stride whose real-time delay is closest to
+    a whole number of centiseconds (``stride / rate`` seconds per drawn frame): the smallest
+    stride within 5 % of real time, else the closest of up to four times the least."""
+    least = max(1, int(np.ceil(rate / 50.0)), int(np.ceil(frames / max(max_frames, 1))))
+
+    def error(stride: int) -> float:
+        centiseconds = 100.0 * stride / rate
+        return abs(max(2, round(centiseconds)) - centiseconds) / centiseconds
+
+    candidates = range(least, 4 * least + 1)
+    best = next((s for s in candidates if error(s) <= 0.05 + 1e-9), None)
+    if best is None:
+        best = min(candidates, key=error)
+    return best, max(2, int(round(100.0 * best / rate)))
+
+
+def save_animation(figure, draw, frames, path: Path, fps: float, dpi: int,
+                   show_progress: bool | None = None) -> None:
     """Render ``draw(frame)`` for each of ``frames`` of ``figure`` (a
     ``matplotlib.figure.Figure``) into ``path`` (GIF by Pillow, MP4 by ffmpeg), all or
-    nothing."""
+    nothing, with a progress bar on a terminal. A GIF's frames last ``gif_delay(fps)``
+    centiseconds each (the delays Pillow writes are exactly that)."""
     # deferred: matplotlib is slow to import and only drawing needs it
     from matplotlib import animation
 
+    frames = list(frames)
+
+    class GifWriter(animation.PillowWriter):
+        def finish(self):
+            self._frames[0].save(self.outfile, save_all=True, append_images=self._frames[1:],
+                                 duration=10 * gif_delay(fps), loop=0)
+
     movie = animation.FuncAnimation(figure, draw, frames=frames, blit=False)
-    writer = (animation.PillowWriter(fps=fps) if path.suffix.lower() == ".gif"
+    writer = (GifWriter(fps=100.0 / gif_delay(fps)) if path.suffix.lower() == ".gif"
               else animation.FFMpegWriter(fps=fps))
-    with atomic_path(path) as tmp:
-        movie.save(str(tmp), writer=writer, dpi=dpi)
+    with progress_bar(len(frames), f"drawing {path.name}", enabled=show_progress) as bar:
+        with atomic_path(path) as tmp:
+            movie.save(str(tmp), writer=writer, dpi=dpi,
+                       progress_callback=lambda i, n: bar.update(1))

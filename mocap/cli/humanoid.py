@@ -131,6 +131,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                          help="body mass for --physics (default 75)")
     animate.add_argument("--max-frames", type=options.whole(1, 100000), default=200, metavar="N",
                          help="draw at most N frames, evenly spaced (default 200)")
+    animate.add_argument("--fps", type=options.FPS, metavar="FPS",
+                         help="playback frames per second (default: real time, the "
+                              "motion's own speed)")
     animate.add_argument("--dpi", type=options.whole(10, 600), default=80, help="resolution (default 80)")
     animate.add_argument("-o", "--output", required=True, metavar="OUT",
                          help="animation file: .gif (or .mp4 when ffmpeg is installed)")
@@ -240,7 +243,7 @@ def run_animate(args: argparse.Namespace) -> int:
     secondary = None
     if args.cape or args.rope:
         secondary = simulate_secondary(motion, cape=args.cape, rope=args.rope)
-    frames = animate_motion(motion, output, secondary=secondary, max_frames=args.max_frames,
-                            dpi=args.dpi, title=title)
+    frames = animate_motion(motion, output, secondary=secondary, fps=args.fps,
+                            max_frames=args.max_frames, dpi=args.dpi, title=title)
     print(f"wrote {output} ({frames} frames)", file=sys.stderr)
     return 0

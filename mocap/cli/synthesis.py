@@ -317,14 +317,56 @@ def recognize(args: argparse.Namespace) -> int:
     model = MotionModel.load(args.model)
     curve, duration = model.read_trial(args.trial)
     result = model.recognize(curve, args.action)
+    limit = args.max_distance if args.max_distance is not None else \
+        UNKNOWN_FACTOR * person_spacing(model, result.action)
+    person, nearest = open_set_person(result.person, result.distances, limit)
     if args.json:
-        _print_json(result.to_json())
+        _print_json({**result.to_json(), "person": person, "nearest_person": nearest,
+                     "max_distance_deg": limit})
         return 0
-    print(f"{args.trial}: {result.person} doing {result.action}")
+    if person == UNKNOWN:
+        print(f"{args.trial}: unknown person doing {result.action} (nearest {nearest} at "
+              f"{result.distances[nearest]:.2f}°, beyond the {limit:.2f}° limit)")
+    else:
+        print(f"{args.trial}: {person} doing {result.action}")
     for person in sorted(result.scores, key=result.scores.get, reverse=True):
         print(f"  {person:<16} score {result.scores[person]:.3f}   "
               f"distance {result.distances[person]:.2f}°")
     return 0
+
+
+#: The answer of ``recognize`` for a trial farther from every known person than the limit.
+UNKNOWN = "unknown"
+#: Default limit of ``recognize``: this fraction of the typical distance between two known
+#: people's modelled motions (:func:`person_spacing`): a trial nearer to one person than
+#: half-way to their nearest neighbour is that person; beyond it, nobody known.
+UNKNOWN_FACTOR = 0.5
+
+
+def person_spacing(model, action: str) -> float:
+    """Median over the known people of the RMS distance (degrees) from the person's modelled
+    ``action`` to the nearest other person's (NaN with fewer than two people)."""
+    a = model.actions.index(action)
+    nearest = []
+    for person in model.people:
+        try:
+            cycle = model.synthesize_angles(person, action)
+        except MocapError:
+            continue
+        row = model.distances(cycle.values.reshape(cycle.frames, -1))[:, a]
+        row[model.people.index(person)] = np.nan
+        if np.isfinite(row).any():
+            nearest.append(float(np.nanmin(row)))
+    return float(np.median(nearest)) if nearest else math.nan
+
+
+def open_set_person(best: str, distances: dict, limit: float) -> tuple[str, str]:
+    """``(answer, nearest)``: the nearest person, or :data:`UNKNOWN` when even the nearest
+    is farther than ``limit`` degrees RMS (a stranger is not named). A limit that is not
+    finite (a model too small for leave-one-out) accepts the nearest."""
+    if math.isfinite(limit) and distances.get(best, math.inf) > limit:
+        return UNKNOWN, best
+    return best, best
 
 
 def evaluate(args: argparse.Namespace) -> int:
@@ -405,6 +447,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "BVH or AMC")
     parser.add_argument("--action", metavar="A",
                         help="the trial's action when known (otherwise recognised too)")
+    parser.add_argument("--max-distance", type=options.real(above=0, maximum=360),
+                        metavar="DEG",
+                        help="answer 'unknown' when the nearest person's model motion is "
+                             "farther than this RMS distance in degrees (default: "
+                             f"{UNKNOWN_FACTOR:g} x the median distance between a known "
+                             "person's modelled motion and the nearest other person's)")
     parser.add_argument("--json", action="store_true",
                         help='print {"person": …, "action": …, "scores": {person: score}} '
                              "as JSON")

@@ -220,3 +220,25 @@ def test_ctrl_c_at_any_moment_is_one_line_and_130(delay, walk, tmp_path):
     assert process.returncode == 130, err
     assert err.strip().splitlines()[-1].endswith("interrupted") and "Traceback" not in err
     assert not [p for p in tmp_path.iterdir() if ".part" in p.name]
+
+
+# ---------------------------------------------------------------- animations
+
+def _gif_delays(path: Path) -> list[int]:
+    from PIL import Image
+    delays = []
+    with Image.open(path) as image:
+        for index in range(image.n_frames):
+            image.seek(index)
+            delays.append(image.info["duration"])
+    return delays
+
+
+def test_gifs_play_at_their_real_speed_or_the_asked_fps(tmp_path, capsys):
+    bvh = DATA / "mocapbank_walk.bvh"              # 10 frames at 30 Hz: 0.3 s of motion
+    assert main(["animate", str(bvh), "-o", str(tmp_path / "real.gif")]) == 0
+    delays = _gif_delays(tmp_path / "real.gif")
+    assert all(d >= 20 and d % 10 == 0 for d in delays)
+    assert abs(sum(delays) / 1000 - 10 / 30) <= 0.1 * 10 / 30 + 0.07    # real time ± a frame
+    assert main(["animate", str(bvh), "-o", str(tmp_path / "fps.gif"), "--fps", "5"]) == 0
+    assert set(_gif_delays(tmp_path / "fps.gif")) == {200}

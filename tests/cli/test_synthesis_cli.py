@@ -147,3 +147,19 @@ def test_user_mistakes_exit_2_with_one_line_and_no_output(argv, message, model_p
     assert status == 2
     assert message in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "x.csv").exists() and not (tmp_path / "x.npz").exists()
+
+
+def test_recognize_answers_unknown_for_a_stranger(model_path, capsys, tmp_path, corpus):
+    """A motion far from every known person (here: everyone's mean walk of the action
+    shifted by 15 degrees on every angle) is "unknown", not the least unlike person."""
+    stranger = corpus.subset(people=["p4"], actions=["descend"])
+    stranger.angles[0, 0] = np.nanmean(corpus.angles[:, corpus.actions.index("descend")],
+                                       axis=0) + 15.0
+    trial = write_corpus(tmp_path / "s", stranger)
+    status, out, _ = run(capsys, "recognize", model_path, trial / "p4_descend.csv", "--json")
+    result = json.loads(out)
+    assert status == 0 and result["person"] == "unknown"
+    assert result["nearest_person"] in corpus.people
+    assert result["distances_deg"][result["nearest_person"]] > result["max_distance_deg"]
+    status, out, _ = run(capsys, "recognize", model_path, trial / "p4_descend.csv")
+    assert out.startswith(f"{trial / 'p4_descend.csv'}: unknown person")
