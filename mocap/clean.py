@@ -15,8 +15,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import CubicSpline
-from scipy.signal import butter, sosfiltfilt
 
 from mocap.errors import MocapError
 from mocap.trial import Trial
@@ -167,6 +165,8 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
                                            "marker never seen" if not valid.any()
                                            else "only one valid sample"))
             continue
+        # deferred: scipy.interpolate costs ~0.2 s of start-up, and only gap filling needs it
+        from scipy.interpolate import CubicSpline
         spline = CubicSpline(all_frames[valid], points[valid, m, :], axis=0)
         for s, n in zip(starts, lengths):
             s, n = int(s), int(n)
@@ -265,6 +265,8 @@ def butterworth_sos(cutoff_hz: float, rate: float, order: int = 4,
                          f"frequency {nyquist:g} Hz (half the {rate:g} Hz sampling rate)", path)
     if int(order) != order or order < 1:
         raise MocapError(f"filter order must be a positive whole number, not {order}", path)
+    # deferred: scipy.signal costs ~0.5 s of start-up, and only low-pass filtering needs it
+    from scipy.signal import butter
     return butter(int(order), cutoff_hz, btype="lowpass", fs=rate, output="sos")
 
 
@@ -312,6 +314,8 @@ def lowpass(trial: Trial, cutoff_hz: float, order: int = 4, short_runs: str = "e
     """
     if short_runs not in ("error", "keep", "drop"):
         raise ValueError(f"short_runs must be 'error', 'keep' or 'drop', not {short_runs!r}")
+    # deferred: see butterworth_sos
+    from scipy.signal import sosfiltfilt
     sos = butterworth_sos(cutoff_hz, trial.rate, order, trial.path)
     padlen = 3 * (2 * len(sos) + 1)
     points = trial.points.copy()

@@ -55,8 +55,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "foot skating, floor penetration, floating, peak joint torques, and a "
                     "verdict with reasons. The floor is y = 0, Y up (z = 0 of a "
                     "Z-up marker lab). A lower-body marker set is enough: the trunk, head "
-                    "and arms are then carried rigidly by the pelvis. In --json, joint "
-                    "torques are named by the segment the joint moves (l_thigh: left hip, "
+                    "and arms are then carried rigidly by the pelvis. In text and --json, "
+                    "joint torques are named by the segment the joint moves (l_thigh: left hip, "
                     "l_shank: left knee, l_foot: left ankle).",
         epilog="Examples: mocap check walk.bvh --mass 70 --json;  "
                "mocap check 01_01.amc --plot check.png;  "
@@ -88,7 +88,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "export", help=summary("export"),
         description="Convert a motion: bvh (hierarchy + channels, centimetres), csv (joint "
                     "angles as mocap angles writes them, in a Z-up lab), c3d/trc (one marker per joint and "
-                    "end site, Z-up lab, metres), mot (OpenSim storage: root translation and "
+                    "end site, Z-up lab, stored in millimetres as C3D and TRC files usually "
+                    "are), mot (OpenSim storage: root translation and "
                     "joint Euler angles in degrees: the csv's angles, Z-up lab), json "
                     "(skeleton, root translation, joint quaternions and joint positions).",
         epilog="Examples: mocap export 01_01.amc --format bvh -o 01_01.bvh;  "
@@ -187,9 +188,10 @@ def run_check(args: argparse.Namespace) -> int:
           f"{summary['floating_mm']:.1f} mm ({summary['floating_frames']} frames unsupported)")
 
     def joint(segment: str) -> str:
-        side = segment[:2] if segment[:2] in ("l_", "r_") else ""
-        return side + JOINT_OF_SEGMENT.get(segment_kind(segment), segment)
+        joint_name = JOINT_OF_SEGMENT.get(segment_kind(segment))
+        return f"{segment} ({joint_name})" if joint_name else segment
 
+    # named as in --json (by the segment each joint moves), the joint in brackets
     print("  peak joint torques (N·m): " + ", ".join(
         f"{joint(name)} {value:.0f}" for name, value in summary["peak_joint_torque_Nm"].items()))
     if summary["floor_m"]:

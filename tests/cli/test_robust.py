@@ -132,6 +132,10 @@ def test_generate_refuses_an_existing_corpus_and_a_failure_leaves_nothing(tmp_pa
     assert main(["generate", str(corpus), "--people", "1", "--actions", "walk", "--force"]) == 0
     assert sorted(p.name for p in corpus.iterdir()) == ["ana_walk.c3d", "truth"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["corpus"]
+    # one folder rule: the corpus's trials, never its ground truth in truth/
+    capsys.readouterr()
+    assert main(["info", str(corpus), "--json"]) == 0
+    assert len(capsys.readouterr().out.strip().splitlines()) == 1
 
 
 def test_a_killed_write_leaves_a_part_file_the_next_write_removes(tmp_path):
@@ -242,3 +246,14 @@ def test_gifs_play_at_their_real_speed_or_the_asked_fps(tmp_path, capsys):
     assert abs(sum(delays) / 1000 - 10 / 30) <= 0.1 * 10 / 30 + 0.07    # real time ± a frame
     assert main(["animate", str(bvh), "-o", str(tmp_path / "fps.gif"), "--fps", "5"]) == 0
     assert set(_gif_delays(tmp_path / "fps.gif")) == {200}
+
+
+def test_check_names_torques_the_same_way_in_text_and_json(capsys):
+    import json
+    bvh = str(DATA / "mocapbank_walk.bvh")
+    assert main(["check", bvh, "--json"]) == 0
+    names = json.loads(capsys.readouterr().out)["peak_joint_torque_Nm"]
+    assert main(["check", bvh]) == 0
+    line = next(l for l in capsys.readouterr().out.splitlines() if "peak joint torques" in l)
+    shown = [item.strip().split(" ")[0] for item in line.split(":", 1)[1].split(",")]
+    assert shown == list(names)
