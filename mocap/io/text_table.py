@@ -1,8 +1,10 @@
 """Helpers shared by the text formats (CSV, TRC, MOT): numeric tables as delimited text.
 
-Numbers are read and written by two compiled loops (numba, cached on disk), one pass
-over the bytes each: reading and writing a 20 000 × 60 marker table takes tenths of a
-second where a Python loop per cell took seconds (``benchmarks/io.py``).
+Large tables are read and written by two compiled loops (numba, cached on disk,
+:mod:`mocap.io.text_kernels`), one pass over the bytes each: reading and writing a
+20 000 × 60 marker table takes tenths of a second where a Python loop per cell took
+seconds (``benchmarks/io.py``). Small ones (up to :data:`COMPILED_ABOVE` cells) are done
+in Python with the same results, so a small file does not pay for loading numba.
 
 Reading is exact: a number with at most 15 significant digits and a decimal
 exponent within ±22 (every number a TRC or CSV file holds in practice) is an exact
@@ -19,14 +21,15 @@ from __future__ import annotations
 
 import os
 
-import numba
 import numpy as np
 
 from mocap.errors import MocapError
 
 #: Bytes the parser treats as blank around a cell.
 _SPACE, _CR, _NL = 32, 13, 10
-_POW10 = np.array([10.0 ** k for k in range(23)])
+#: Tables of more cells than this go to the compiled loops (:mod:`mocap.io.text_kernels`);
+#: smaller ones are done in Python, which spares a small file the ~1.5 s of loading numba.
+COMPILED_ABOVE = 100_000
 
 
 def read_lines(path: str | os.PathLike, encoding: str = "utf-8") -> list[str]:
@@ -56,146 +59,41 @@ def read_head(path: str | os.PathLike, count: int,
     """The first ``count`` lines of a file as text and the rest as raw bytes.
 
     The header of a text table is small and read as text; the body goes to
-    :func:`parse_table` unsplit.
+    :func:`parse_table` unsplit (read straight from the file, not copied).
     """
     try:
         with open(path, "rb") as handle:
-            raw = handle.read()
+            head = handle.read(65536)
+            while head.count(b"\n") < count:
+                more = handle.read(65536)
+                if not more:
+                    break
+                head += more
+            if encoding == "utf-8-sig" and head.startswith(b"\xef\xbb\xbf"):
+                head = head[3:]
+                skip = 3
+            else:
+                skip = 0
+            lines = []
+            position = 0
+            for _ in range(count):
+                end = head.find(b"\n", position)
+                if end < 0:
+                    lines.append(head[position:])
+                    position = len(head)
+                    break
+                lines.append(head[position:end])
+                position = end + 1
+            handle.seek(position + skip)
+            body = handle.read()
     except FileNotFoundError:
         raise MocapError("no such file", path) from None
     except IsADirectoryError:
         raise MocapError("is a directory, not a file", path) from None
     except OSError as error:
         raise MocapError(f"cannot read file: {error.strerror or error}", path) from None
-    if encoding == "utf-8-sig" and raw.startswith(b"\xef\xbb\xbf"):
-        raw = raw[3:]
-    lines = []
-    position = 0
-    for _ in range(count):
-        end = raw.find(b"\n", position)
-        if end < 0:
-            lines.append(raw[position:])
-            position = len(raw)
-            break
-        lines.append(raw[position:end])
-        position = end + 1
     text = [line.decode("utf-8", errors="replace").rstrip("\r") for line in lines]
-    return text, raw[position:]
-
-
-@numba.njit(cache=True, nogil=True)
-def _parse_kernel(data, delimiter, width, pow10):         # pragma: no cover - compiled
-    n = data.size
-    lines = 1
-    for i in range(n):
-        if data[i] == 10:
-            lines += 1
-    table = np.empty((lines, width))
-    slow_rows = [0]
-    slow_cols = [0]
-    slow_start = [0]
-    slow_end = [0]
-    slow = 0
-    row = 0
-    start = 0
-    while start < n:
-        end = start
-        blank = True
-        while end < n and data[end] != 10:
-            c = data[end]
-            if blank and c != delimiter and c != 32 and c != 13 and c != 9:
-                blank = False
-            end += 1
-        if blank:
-            start = end + 1
-            continue
-        col = 0
-        i = start
-        while i <= end and col < width:
-            j = i
-            while j < end and data[j] != delimiter:
-                j += 1
-            a = i
-            b = j
-            while a < b and (data[a] == 32 or data[a] == 13 or data[a] == 9):
-                a += 1
-            while b > a and (data[b - 1] == 32 or data[b - 1] == 13 or data[b - 1] == 9):
-                b -= 1
-            value = np.nan
-            ok = True
-            if b > a:
-                k = a
-                negative = data[k] == 45
-                if negative or data[k] == 43:
-                    k += 1
-                mantissa = 0
-                first = k
-                while k < b and 48 <= data[k] <= 57:
-                    mantissa = mantissa * 10 + (data[k] - 48)
-                    k += 1
-                count = k - first
-                fraction = 0
-                if k < b and data[k] == 46:
-                    k += 1
-                    first = k
-                    while k < b and 48 <= data[k] <= 57:
-                        mantissa = mantissa * 10 + (data[k] - 48)
-                        k += 1
-                    fraction = k - first
-                    count += fraction
-                exponent = 0
-                if count > 0 and k < b and (data[k] == 101 or data[k] == 69):
-                    k += 1
-                    exp_negative = False
-                    if k < b and (data[k] == 45 or data[k] == 43):
-                        exp_negative = data[k] == 45
-                        k += 1
-                    first = k
-                    while k < b and 48 <= data[k] <= 57 and k - first < 6:
-                        exponent = exponent * 10 + (data[k] - 48)
-                        k += 1
-                    if k == first:
-                        ok = False
-                    if exp_negative:
-                        exponent = -exponent
-                if ok and count > 0 and k == b and count <= 18 \
-                        and mantissa <= 9007199254740992:
-                    power = exponent - fraction
-                    value = float(mantissa)
-                    if 0 <= power <= 22:
-                        value = value * pow10[power]
-                    elif -22 <= power < 0:
-                        value = value / pow10[-power]
-                    elif mantissa != 0:
-                        ok = False
-                    if negative:
-                        value = -value
-                elif not (b - a == 3 and (data[a] == 78 or data[a] == 110)
-                          and (data[a + 1] == 65 or data[a + 1] == 97)
-                          and (data[a + 2] == 78 or data[a + 2] == 110)):
-                    ok = False
-                if not ok:
-                    value = np.nan
-                    slow_rows.append(row)
-                    slow_cols.append(col)
-                    slow_start.append(a)
-                    slow_end.append(b)
-                    slow += 1
-            table[row, col] = value
-            col += 1
-            i = j + 1
-        while col < width:
-            table[row, col] = np.nan
-            col += 1
-        row += 1
-        start = end + 1
-    fallback = np.empty((slow, 4), dtype=np.int64)
-    for m in range(slow):
-        fallback[m, 0] = slow_rows[m + 1]
-        fallback[m, 1] = slow_cols[m + 1]
-        fallback[m, 2] = slow_start[m + 1]
-        fallback[m, 3] = slow_end[m + 1]
-    return table[:row], fallback
+    return text, body
 
 
 def parse_table(data: bytes | str, delimiter: str, width: int) -> np.ndarray:
@@ -216,13 +114,33 @@ def parse_table(data: bytes | str, delimiter: str, width: int) -> np.ndarray:
     """
     if isinstance(data, str):
         data = data.encode("utf-8")
+    if len(data) < 12 * COMPILED_ABOVE:
+        return _parse_python(data.decode("utf-8", errors="replace"), delimiter, width)
+    from mocap.io.text_kernels import POW10, parse_kernel
+
     buffer = np.frombuffer(data, dtype=np.uint8)
-    table, fallback = _parse_kernel(buffer, np.uint8(ord(delimiter)), int(width), _POW10)
+    table, fallback = parse_kernel(buffer, np.uint8(ord(delimiter)), int(width), POW10)
     for row, col, a, b in fallback:
         try:
             table[row, col] = float(data[a:b])
         except ValueError:
             pass            # a stray word in a number column: missing
+    return table
+
+
+def _parse_python(text: str, delimiter: str, width: int) -> np.ndarray:
+    """:func:`parse_table` of a small table, one ``float`` per cell."""
+    blank = " \t\r" + delimiter
+    rows = [line for line in text.split("\n") if line.strip(blank)]
+    table = np.full((len(rows), width), np.nan)
+    for r, line in enumerate(rows):
+        for c, cell in enumerate(line.split(delimiter)[:width]):
+            cell = cell.strip(" \t\r")
+            if cell:
+                try:
+                    table[r, c] = float(cell)
+                except ValueError:
+                    pass            # a stray word in a number column: missing
     return table
 
 
@@ -234,53 +152,6 @@ def parse_numeric_rows(lines: list[str], delimiter: str, width: int) -> np.ndarr
     if not lines:
         return np.zeros((0, width))
     return parse_table("\n".join(lines) + "\n", delimiter, width)
-
-
-@numba.njit(cache=True, nogil=True)
-def _format_kernel(table, decimals, delimiter, pow10, nan_cells):   # pragma: no cover
-    rows, cols = table.shape
-    max_decimals = 0
-    for c in range(cols):
-        if decimals[c] > max_decimals:
-            max_decimals = decimals[c]
-    out = np.empty(rows * cols * (23 + max_decimals) + 1, dtype=np.uint8)
-    digits = np.empty(40, dtype=np.uint8)
-    position = 0
-    for r in range(rows):
-        for c in range(cols):
-            x = table[r, c]
-            if x != x:
-                if nan_cells:
-                    out[position] = 78
-                    out[position + 1] = 97
-                    out[position + 2] = 78
-                    position += 3
-            else:
-                places = decimals[c]
-                negative = x < 0
-                magnitude = -x if negative else x
-                if magnitude >= 9.0e15 / pow10[places] or not magnitude < np.inf:
-                    return out[:0], False
-                scaled = np.int64(np.floor(magnitude * pow10[places] + 0.5))
-                if scaled == 0:
-                    negative = False
-                if negative:
-                    out[position] = 45
-                    position += 1
-                count = 0
-                while scaled > 0 or count <= places:
-                    digits[count] = 48 + scaled % 10
-                    scaled //= 10
-                    count += 1
-                for k in range(count - 1, -1, -1):
-                    out[position] = digits[k]
-                    position += 1
-                    if k == places and places > 0:
-                        out[position] = 46
-                        position += 1
-            out[position] = delimiter if c < cols - 1 else 10
-            position += 1
-    return out[:position], True
 
 
 def format_table(table: np.ndarray, decimals, delimiter: str, nan: str = "NaN",
@@ -314,14 +185,23 @@ def format_table(table: np.ndarray, decimals, delimiter: str, nan: str = "NaN",
         raise ValueError("decimal places must be 0 to 15")
     if table.size == 0:
         return b"" if as_bytes else ""
-    raw, ok = _format_kernel(table, places, np.uint8(ord(delimiter)), _POW10, nan == "NaN")
-    if ok:
-        return raw.tobytes() if as_bytes else raw.tobytes().decode("ascii")
-    # a number too large for the compiled loop (or infinite): Python's own formatting
-    text = "".join(delimiter.join(nan if value != value else f"{value:.{p}f}"
+    if table.size > COMPILED_ABOVE:
+        from mocap.io.text_kernels import POW10, format_kernel
+
+        raw, ok = format_kernel(table, places, np.uint8(ord(delimiter)), POW10, nan == "NaN")
+        if ok:
+            return raw.tobytes() if as_bytes else raw.tobytes().decode("ascii")
+    # a small table, or a number too large for the compiled loop: Python's own formatting
+    text = "".join(delimiter.join(nan if value != value else _fixed(value, p)
                                   for value, p in zip(row, places.tolist())) + "\n"
                    for row in table.tolist())
     return text.encode("ascii") if as_bytes else text
+
+
+def _fixed(value: float, places: int) -> str:
+    """``value`` with ``places`` decimals; no sign on a value that rounds to zero."""
+    text = f"{value:.{places}f}"
+    return text[1:] if text[0] == "-" and not text.strip("-0.") else text
 
 
 def format_fixed(table: np.ndarray, decimals: int = 6, delimiter: str = ",") -> bytes:
@@ -341,7 +221,8 @@ def mark_missing(points: np.ndarray) -> np.ndarray:
     points : ndarray, shape (frames, markers, 3)
         Modified in place and returned.
     """
-    missing = ~np.isfinite(points).all(axis=2) | (points == 0).all(axis=2)
+    # one pass each: a NaN or infinite coordinate makes the sum non-finite
+    missing = ~np.isfinite(points.sum(axis=2)) | ~points.any(axis=2)
     points[missing] = np.nan
     return points
 

@@ -116,12 +116,14 @@ def read_trc(path: str | os.PathLike) -> Trial:
     if announced_frames is not None and announced_frames != table.shape[0]:
         warnings.append(f"header announces {announced_frames} frames but the file holds "
                         f"{table.shape[0]} rows; the rows were loaded")
-    points = mark_missing(table[:, 2:].reshape(table.shape[0], count, 3))
     units = header.get("Units", "").strip()
     factor = unit_factor(units) if units else None
     if factor is None:
-        guess, factor = infer_unit_factor(points)
+        guess, factor = infer_unit_factor(mark_missing(
+            table[:, 2:].reshape(table.shape[0], count, 3)))
         warnings.append(f"Units is {units!r}; {guess} inferred from the coordinates' magnitude")
+    # scaled in one pass into a contiguous array, then gaps marked
+    points = mark_missing(np.multiply(table[:, 2:], factor).reshape(table.shape[0], count, 3))
     frames, times = table[:, 0], table[:, 1]
     metadata: dict = {"header": header, "warnings": warnings}
     if times.size and np.isfinite(times).all():
@@ -130,8 +132,7 @@ def read_trc(path: str | os.PathLike) -> Trial:
     if frames.size and np.isfinite(frames).all() and (frames == np.round(frames)).all():
         metadata["frame_numbers"] = frames.astype(np.int64)
         metadata["first_frame"] = int(frames[0])
-    return Trial(labels, points * factor, rate, units, os.fspath(path), "trc",
-                 metadata=metadata)
+    return Trial(labels, points, rate, units, os.fspath(path), "trc", metadata=metadata)
 
 
 def _marker_labels(cells: list[str]) -> list[str]:

@@ -107,3 +107,26 @@ def test_c3d_rewrite_says_in_one_line_what_it_could_not_keep(tmp_path, capsys):
     back = read(tmp_path / "copy.c3d")
     assert back.metadata["first_frame"] == 695
     assert int(back.metadata["parameters"]["FORCE_PLATFORM"]["USED"][0]) == 4
+
+
+def test_compiled_and_python_paths_agree(monkeypatch):
+    """Large tables go to the numba loops, small ones to Python: the same numbers."""
+    from mocap.io import text_table
+
+    rng = np.random.default_rng(5)
+    values = rng.normal(0, 1, (400, 9)) * 10.0 ** rng.integers(-8, 8, (400, 9))
+    values[rng.random(values.shape) < 0.1] = np.nan
+    text = "\n".join("\t".join("" if v != v else repr(v) for v in row)
+                     for row in values.tolist()) + "\n\n \t\n"
+    python = parse_table(text, "\t", 10)
+    fixed_python = format_table(values, 6, ",")
+    monkeypatch.setattr(text_table, "COMPILED_ABOVE", 0)
+    compiled = parse_table(text, "\t", 10)
+    np.testing.assert_array_equal(compiled, python)              # both exact, NaN alike
+    assert python.shape == (400, 10) and np.isnan(python[:, 9]).all()
+    fixed_compiled = format_table(values, 6, ",")
+    a, b = parse_table(fixed_python, ",", 9), parse_table(fixed_compiled, ",", 9)
+    np.testing.assert_array_equal(np.isnan(a), np.isnan(values))
+    # both are the value rounded to 6 decimals (they may differ in a last-digit tie)
+    np.testing.assert_allclose(a, b, rtol=0, atol=1.0000001e-6)
+    np.testing.assert_allclose(a, values, rtol=1e-15, atol=5.000001e-7)
