@@ -31,6 +31,8 @@ SEQUENCES = tuple(
 )
 #: Default sequence (DESIGN 3.2).
 DEFAULT_SEQUENCE = "ZXY"
+#: Column suffixes of clinical (Plug-in Gait) angles, Cardan YXZ.
+CLINICAL_AXES = ("flexion", "adduction", "rotation")
 #: Degrees from gimbal lock at which joint_angles warns.
 GIMBAL_TOLERANCE = 5.0
 
@@ -60,6 +62,9 @@ class JointAngles:
     parents : list of int
         Parent of each segment (-1 for a root, or when unknown, as after
         reading a CSV without a marker set).
+    axes : list of 3 str, optional
+        Column suffixes instead of the sequence's letters, e.g. Plug-in Gait's
+        ``["flexion", "adduction", "rotation"]`` (clinical angles).
     """
 
     times: np.ndarray
@@ -67,6 +72,7 @@ class JointAngles:
     segments: list[str]
     sequence: str
     parents: list[int]
+    axes: list[str] | None = None
 
     @property
     def frames(self) -> int:
@@ -76,7 +82,7 @@ class JointAngles:
     @property
     def columns(self) -> list[str]:
         """CSV header: ``time`` then ``<segment>.<axis>`` (DESIGN 3.2)."""
-        names = axis_names(self.sequence)
+        names = self.axes or axis_names(self.sequence)
         return ["time"] + [f"{s}.{a}" for s in self.segments for a in names]
 
     def segment(self, name: str) -> np.ndarray:
@@ -305,10 +311,17 @@ def unwrap_columns(values: np.ndarray, period: float = 360.0) -> np.ndarray:
     >>> unwrap_columns(np.array([[170.0], [np.nan], [-170.0]]))[:, 0].tolist()
     [170.0, nan, 190.0]
     """
-    values = np.array(values, dtype=float)
+    # C order: the reshape below must be a view, or the columns' writes are lost
+    values = np.array(values, dtype=float, order="C")
     valid = ~np.isnan(values)
     if valid.all():
-        return np.unwrap(values, period=period, axis=0)
+        # np.unwrap's result (whole turns removed where a step exceeds half a turn),
+        # in a third of its time: the turns are counted as integers
+        step = np.diff(values, axis=0)
+        turns = np.rint(step / period)
+        turns[np.abs(step) <= period / 2] = 0.0
+        values[1:] -= period * np.cumsum(turns, axis=0)
+        return values
     flat, valid = values.reshape(values.shape[0], -1), valid.reshape(values.shape[0], -1)
     for column in np.flatnonzero(~valid.all(axis=0)):   # loop over columns with gaps only
         rows = valid[:, column]
@@ -316,6 +329,32 @@ def unwrap_columns(values: np.ndarray, period: float = 360.0) -> np.ndarray:
     complete = valid.all(axis=0)
     flat[:, complete] = np.unwrap(flat[:, complete], period=period, axis=0)
     return values
+def unwrap_turns(values: np.ndarray) -> np.ndarray:
+    """The principal branch's continuity: whole turns of the first and third angles.
+
+    The middle angle keeps scipy's principal range (no frame ever changes
+    branch, so no 180° set can leak past a gap or a fill); the first and
+    third are unwrapped by :func:`unwrap_columns` (a gap is skipped: the first
+    valid frame after it continues from the last one before).
+
+    Parameters
+    ----------
+    values : ndarray, shape (frames, ..., 3), degrees (principal values)
+
+    Returns
+    -------
+    ndarray, same shape; NaN where ``values`` is NaN.
+
+    Examples
+    --------
+    >>> unwrap_turns(np.array([[170.0, 0, 0], [-175, 0, 0], [np.nan] * 3, [-170, 0, 0]]))[:, 0]
+    array([170., 185.,  nan, 190.])
+    """
+    out = np.array(values, dtype=float, copy=True)
+    out[..., [0, 2]] = unwrap_columns(out[..., [0, 2]])
+    return out
+
+
 
 
 #: Frames per block of Unwrapper work in unwrap_angles.
@@ -425,9 +464,13 @@ def near_gimbal_lock(principal: np.ndarray, sequence: str,
         return np.abs(middle) >= 90.0 - tolerance
 
 
+#: Angle branches joint_angles offers.
+BRANCHES = ("principal", "continuous")
+
+
 def joint_angles(trial: Trial, markerset: MarkerSet, sequence: str = DEFAULT_SEQUENCE,
-                 *, unwrap: bool = True, gimbal_tolerance: float = GIMBAL_TOLERANCE
-                 ) -> JointAngles:
+                 *, unwrap: bool = True, branch: str = "principal",
+                 gimbal_tolerance: float = GIMBAL_TOLERANCE) -> JointAngles:
     """Joint angles of every segment of ``markerset`` over ``trial``.
 
     Parameters
@@ -438,7 +481,14 @@ def joint_angles(trial: Trial, markerset: MarkerSet, sequence: str = DEFAULT_SEQ
     sequence : str
         scipy Euler sequence, default ``"ZXY"``.
     unwrap : bool
-        Continuous angles (unwrap_angles); False keeps scipy's principal values.
+        Remove 360° jumps (see ``branch``); False keeps scipy's principal values
+        frame by frame.
+    branch : {"principal", "continuous"}
+        ``"principal"`` (default): the middle angle stays in the principal
+        range ([-90, 90] Tait-Bryan, [0, 180] proper Euler) and only the first
+        and third angles are unwrapped by whole turns, within each run of
+        valid frames (unwrap_turns).  ``"continuous"``: the branch too follows
+        the motion through gimbal lock, across gaps (unwrap_angles).
     gimbal_tolerance : float
         Degrees; frames this near gimbal lock give a GimbalLockWarning per
         segment (naming the segment and the first such frame).
@@ -464,11 +514,14 @@ def joint_angles(trial: Trial, markerset: MarkerSet, sequence: str = DEFAULT_SEQ
     """
 
     check_sequence(sequence)
+    if branch not in BRANCHES:
+        raise ValueError(f"branch must be one of {BRANCHES}, not {branch!r}")
     full = markerset.apply_virtual(trial)
     columns = markerset.marker_columns(full.labels)
     parents = markerset.parent_index
     values = np.empty((trial.frames, len(parents), 3))
     near = np.zeros((trial.frames, len(parents)), dtype=bool)
+    continuous = unwrap and branch == "continuous"
     unwrapper = Unwrapper(sequence, len(parents))
     # block by block of frames, so the intermediate matrices stay in the cache
     for block, components in iter_frame_blocks(full.points, columns,
@@ -477,7 +530,9 @@ def joint_angles(trial: Trial, markerset: MarkerSet, sequence: str = DEFAULT_SEQ
         matrices = np.ascontiguousarray(np.moveaxis(relative, (0, 1), (2, 3)))
         principal = matrices_to_angles(matrices, sequence)
         near[block] = near_gimbal_lock(principal, sequence, gimbal_tolerance)
-        values[block] = unwrapper(principal) if unwrap else principal
+        values[block] = unwrapper(principal) if continuous else principal
+    if unwrap and not continuous:
+        values = unwrap_turns(values)
     _warn_gimbal(near, sequence, markerset.segment_names, trial, gimbal_tolerance)
     return JointAngles(times=trial.times, values=values, segments=markerset.segment_names,
                        sequence=sequence, parents=list(parents))

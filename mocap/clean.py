@@ -106,8 +106,10 @@ def _max_gap(trial: Trial, max_gap_frames: int | None, max_gap_seconds: float | 
 
 def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
               max_gap_seconds: float | None = None,
-              donors: dict[str, list[str]] | None = None) -> tuple[Trial, GapReport]:
-    """Fill short gaps of every marker from a donor marker or with a cubic spline.
+              donors: dict[str, list[str]] | None = None,
+              only: list[str] | None = None,
+              references: dict[str, np.ndarray] | None = None) -> tuple[Trial, GapReport]:
+    """Fill short gaps of every marker from donor markers or with a cubic spline.
 
     Parameters
     ----------
@@ -121,8 +123,17 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
     donors : dict of str to list of str, optional
         Markers on the same rigid body as each marker (``MarkerSet.donors``).
         A gap is filled from the donors seen throughout the gap and on both edges,
-        keeping the marker rigid with them (see :func:`_rigid_fill`); otherwise by
-        the spline.
+        keeping the marker rigid with them (see :func:`_rigid_fill`), unless the
+        marker's own spline fills the same gap better where it can be rehearsed
+        on recorded data next to it (:func:`_rigid_rehearses_better`); otherwise
+        by the spline.
+    only : list of str, optional
+        Fill only these labels (the others are left as they are, not reported).
+    references : dict of str to ndarray (frames, 3), optional
+        For a marker filled from two donors: a direction that turns with its
+        segment about the donors' axis (a joint axis, say), from which the
+        marker's angle about that axis is measured and interpolated; the lab
+        axis most orthogonal to the donors' axis otherwise.
 
     Returns
     -------
@@ -155,8 +166,11 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
     donor_columns = {label: [index[d] for d in names if d in index and d != label]
                      for label, names in (donors or {}).items()}
     # a Python loop over markers (not frames): each marker has its own gaps
+    wanted = None if only is None else set(only)
     for m in np.flatnonzero(missing.any(axis=0)):
         label = trial.labels[m]
+        if wanted is not None and label not in wanted:
+            continue
         starts, lengths = _runs(missing[:, m])
         valid = ~missing[:, m]
         if valid.sum() < 2:
@@ -178,59 +192,202 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
                 report.unfilled.append(Gap(label, s, n, f"longer than {limit} frames"))
             else:
                 guess = spline(all_frames[s:s + n])
-                used = _rigid_fill(points, missing, s, n, m, donor_columns.get(label, []), guess)
+                reference = (references or {}).get(label)
+                columns = donor_columns.get(label, [])
+                if columns and not _rigid_rehearses_better(points, missing, s, n, m, columns,
+                                                           reference):
+                    columns = []
+                used = _rigid_fill(points, missing, s, n, m, columns, guess, reference)
                 if used:
                     names = ",".join(trial.labels[d] for d in used)
                     report.filled.append(Gap(label, s, n, method=f"rigid {names}"))
                 else:
                     points[s:s + n, m] = guess
                     report.filled.append(Gap(label, s, n, method="spline"))
-    return trial.with_points(points), report
+    out = trial.with_points(points)
+    out.metadata["filled"] = filled_masks(trial, report)
+    return out, report
+
+
+def filled_masks(trial: Trial, report: GapReport) -> dict[str, np.ndarray]:
+    """Per label, the frames a fill wrote (bool (frames,)), merged with earlier fills.
+
+    Whole-trial estimates (leg length, pelvis width, joint-centre offsets) skip
+    these frames, so a fill never changes them (``Trial.metadata["filled"]``).
+    """
+    masks = {label: np.array(mask, dtype=bool)
+             for label, mask in (trial.metadata.get("filled") or {}).items()}
+    for gap in report.filled:
+        mask = masks.setdefault(gap.label, np.zeros(trial.frames, dtype=bool))
+        mask[gap.start:gap.start + gap.length] = True
+    return masks
+
+
+def recorded_frames(trial: Trial, labels) -> np.ndarray:
+    """Frames where none of ``labels`` was written by a gap fill, bool (frames,)."""
+    masks = trial.metadata.get("filled") or {}
+    keep = np.ones(trial.frames, dtype=bool)
+    for label in labels:
+        mask = masks.get(label)
+        if mask is not None and len(mask) == trial.frames:
+            keep &= ~np.asarray(mask, dtype=bool)
+    return keep
 
 
 def _rigid_fill(points: np.ndarray, missing: np.ndarray, start: int, length: int,
-                marker: int, donors: list[int], guess: np.ndarray) -> list[int]:
+                marker: int, donors: list[int], guess: np.ndarray,
+                reference: np.ndarray | None = None) -> list[int]:
     """Fill ``points[start:start+length, marker]`` from donors on the same rigid body.
 
     Donors seen throughout the gap and on both edges keep their distances to the
-    marker (taken on the edges).  Three or more donors fix the marker's position
-    (best-fit rigid transform, Kabsch, from each edge, blended across the gap); two
-    leave it on a circle about their axis and one on a sphere about it, where the
-    point nearest the spline ``guess`` (gap, 3) is taken.  Returns the donors used
-    (none: nothing filled).
+    marker.  Three or more donors fix the marker's position (best-fit rigid
+    transform, Kabsch, from each edge, blended across the gap).  Two leave it on
+    a circle about their axis: its angle on that circle (from a lab direction
+    orthogonal to the axis) is interpolated by a cubic through the valid frames
+    next to the gap.  One leaves it on a sphere about the donor: the direction
+    from the donor is interpolated the same way.  Whatever the method, the fill
+    is then corrected by the linear blend of its misfit at the two edge frames,
+    so it meets the recorded trajectory at both ends of the gap.  ``guess`` (the
+    marker's own spline, (gap, 3)) is unused now but kept for callers.  Returns
+    the donors used (none: nothing filled).
     """
     before, after = start - 1, start + length
     usable = [d for d in donors if not missing[before:after + 1, d].any()]
     if not usable:
         return []
-    gap = slice(start, after)
-    weight = (np.arange(1, length + 1) / (length + 1))[:, None]              # (gap, 1)
+    span = slice(before, after + 1)                                          # gap + edges
+    weight = (np.arange(0, length + 2) / (length + 1))[:, None]              # (gap+2, 1)
     edges = np.array([before, after])
     donor_edges = points[edges][:, usable]                                   # (2, k, 3)
     marker_edges = points[edges, marker]                                     # (2, 3)
-    current = points[gap][:, usable]                                         # (gap, k, 3)
+    current = points[span][:, usable]                                        # (gap+2, k, 3)
+    frames = np.arange(before, after + 1)
     if len(usable) >= 3:
         estimates = [_kabsch_place(donor_edges[e], marker_edges[e], current) for e in (0, 1)]
-        points[gap, marker] = estimates[0] * (1 - weight) + estimates[1] * weight
-        return usable
-    radii = np.linalg.norm(marker_edges[:, None] - donor_edges, axis=2).mean(axis=0)   # (k,)
-    first = current[:, 0]
-    if len(usable) == 1:
-        direction = guess - first
-        points[gap, marker] = first + radii[0] * direction / np.maximum(
-            np.linalg.norm(direction, axis=1, keepdims=True), 1e-12)
-        return usable
-    axis = current[:, 1] - first
-    separation = np.maximum(np.linalg.norm(axis, axis=1, keepdims=True), 1e-12)
-    axis = axis / separation
-    along = (separation ** 2 + radii[0] ** 2 - radii[1] ** 2) / (2 * separation)   # (gap, 1)
-    centre = first + along * axis
-    radius = np.sqrt(np.maximum(radii[0] ** 2 - along ** 2, 0.0))
-    offset = guess - centre
-    offset -= np.sum(offset * axis, axis=1, keepdims=True) * axis
-    points[gap, marker] = centre + radius * offset / np.maximum(
-        np.linalg.norm(offset, axis=1, keepdims=True), 1e-12)
+        placed = estimates[0] * (1 - weight) + estimates[1] * weight
+    else:
+        window = _edge_window(missing, marker, usable, start, length)
+        if len(usable) == 1:
+            placed = _sphere_place(points, marker, usable[0], window, frames)
+        else:
+            placed = _circle_place(points, marker, usable, window, frames, reference)
+    misfit = placed[[0, -1]] - marker_edges                                  # (2, 3)
+    placed = placed - (misfit[0] * (1 - weight) + misfit[1] * weight)
+    points[start:after, marker] = placed[1:-1]
     return usable
+
+
+def _rigid_rehearses_better(points: np.ndarray, missing: np.ndarray, start: int,
+                            length: int, marker: int, donors: list[int],
+                            reference: np.ndarray | None) -> bool:
+    """Does the rigid fill beat the marker's spline on the same gap rehearsed nearby?
+
+    The gap is replayed on recorded data just before and just after it (where
+    the marker and its donors are seen); both methods fill the replayed gaps and
+    the one with the smaller position error there is used for the real gap.
+    Without room to rehearse, the rigid fill is used.  Only small windows of
+    frames are copied.
+    """
+    errors = {"rigid": 0.0, "spline": 0.0}
+    rehearsed = 0
+    frames = len(points)
+    for trial_start in (start - length - 2, start + length + 2):
+        lo, hi = trial_start - 3 * length - 2, trial_start + 4 * length + 2
+        if lo < 0 or hi > frames or trial_start < 1 or trial_start + length + 1 > frames:
+            continue
+        span = slice(trial_start - 1, trial_start + length + 1)
+        if missing[span, marker].any() or missing[span][:, donors].any():
+            continue
+        window = points[lo:hi].copy()
+        holes = missing[lo:hi].copy()
+        local = trial_start - lo
+        truth = window[local:local + length, marker].copy()
+        holes[local:local + length, marker] = True
+        window[local:local + length, marker] = np.nan
+        seen = np.flatnonzero(~holes[:, marker])
+        if len(seen) < 4:
+            continue
+        from scipy.interpolate import CubicSpline   # deferred: scipy's start-up, see fill_gaps
+        spline = CubicSpline(seen, window[seen, marker], axis=0)(
+            np.arange(local, local + length))
+        if not _rigid_fill(window, holes, local, length, marker, donors, spline,
+                           None if reference is None else reference[lo:hi]):
+            continue
+        rigid = window[local:local + length, marker]
+        errors["rigid"] += float(np.mean(np.sum((rigid - truth) ** 2, axis=1)))
+        errors["spline"] += float(np.mean(np.sum((spline - truth) ** 2, axis=1)))
+        rehearsed += 1
+    return rehearsed == 0 or errors["rigid"] <= errors["spline"]
+
+
+def _edge_window(missing: np.ndarray, marker: int, donors: list[int], start: int,
+                 length: int, reach: int = 8) -> np.ndarray:
+    """Up to ``reach`` frames on each side of a gap where the marker and donors are seen."""
+    seen = ~missing[:, marker]
+    for d in donors:
+        seen &= ~missing[:, d]
+    before = [f for f in range(start - 1, max(start - 1 - reach * 3, -1), -1) if seen[f]][:reach]
+    after_first = start + length
+    after = [f for f in range(after_first, min(after_first + reach * 3, len(seen)))
+             if seen[f]][:reach]
+    return np.array(sorted(before) + after)
+
+
+def _interpolate(window: np.ndarray, values: np.ndarray, frames: np.ndarray) -> np.ndarray:
+    """Cubic (or lower, with few samples) through ``values`` at ``window``, at ``frames``."""
+    if len(window) >= 4:
+        from scipy.interpolate import CubicSpline   # deferred: scipy's start-up, see fill_gaps
+        return CubicSpline(window, values, axis=0)(frames)
+    out = np.empty((len(frames),) + values.shape[1:])
+    flat = values.reshape(len(window), -1)
+    for j in range(flat.shape[1]):
+        out.reshape(len(frames), -1)[:, j] = np.interp(frames, window, flat[:, j])
+    return out
+
+
+def _sphere_place(points: np.ndarray, marker: int, donor: int, window: np.ndarray,
+                  frames: np.ndarray) -> np.ndarray:
+    """One donor: interpolate the direction donor → marker, keep the distance."""
+    offset = points[window, marker] - points[window, donor]                  # (w, 3)
+    radius = np.linalg.norm(offset, axis=1).mean()
+    direction = _interpolate(window, offset / np.linalg.norm(offset, axis=1, keepdims=True),
+                             frames)
+    direction /= np.maximum(np.linalg.norm(direction, axis=1, keepdims=True), 1e-12)
+    return points[frames, donor] + radius * direction
+
+
+def _circle_place(points: np.ndarray, marker: int, donors: list[int], window: np.ndarray,
+                  frames: np.ndarray, reference: np.ndarray | None = None) -> np.ndarray:
+    """Two donors: keep the position along their axis and the radius about it;
+    interpolate the angle about the axis (from ``reference`` (frames, 3), else a
+    lab direction) across the gap."""
+    def unit_axis(f):
+        axis = points[f, donors[1]] - points[f, donors[0]]
+        return axis / np.maximum(np.linalg.norm(axis, axis=1, keepdims=True), 1e-12)
+
+    # one lab reference for the whole gap: the lab axis most orthogonal to the
+    # donors' axis (a reference that switched mid-gap would make the angle jump)
+    lab = np.eye(3)[np.argmin(np.abs(unit_axis(window).mean(axis=0)))]
+
+    def cylinder(f):
+        first = points[f, donors[0]]
+        axis = unit_axis(f)
+        ref = lab if reference is None else reference[f]
+        u = ref - np.sum(ref * axis, axis=1, keepdims=True) * axis
+        u /= np.linalg.norm(u, axis=1, keepdims=True)
+        v = np.cross(axis, u)
+        return first, axis, u, v
+
+    first, axis, u, v = cylinder(window)
+    rel = points[window, marker] - first
+    along = np.sum(rel * axis, axis=1)
+    radial = rel - along[:, None] * axis
+    radius = np.linalg.norm(radial, axis=1)
+    angle = np.unwrap(np.arctan2(np.sum(radial * v, axis=1), np.sum(radial * u, axis=1)))
+    phi = _interpolate(window, angle, frames)
+    first, axis, u, v = cylinder(frames)
+    return (first + along.mean() * axis
+            + radius.mean() * (np.cos(phi)[:, None] * u + np.sin(phi)[:, None] * v))
 
 
 def _kabsch_place(reference: np.ndarray, marker: np.ndarray, current: np.ndarray) -> np.ndarray:

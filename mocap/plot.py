@@ -34,7 +34,7 @@ def angles_figure(angles: JointAngles, title: str = ""):
     rows = max(1, -(-count // columns))
     figure = Figure(figsize=(4.2 * columns, 2.6 * rows))
     axes = figure.subplots(rows, columns, sharex=True, squeeze=False)
-    names = axis_names(angles.sequence)
+    names = angles.axes or axis_names(angles.sequence)
     for k, segment in enumerate(angles.segments):
         axis = axes[k // columns][k % columns]
         for j, name in enumerate(names):

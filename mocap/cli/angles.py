@@ -28,14 +28,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     """Add ``angles`` and ``generate`` to ``subparsers``."""
     parser = subparsers.add_parser(
         "angles", help=summary("angles"),
-        description="Compute segment frames from three markers per segment and write the "
-                    "joint angles (child relative to parent, the root relative to the lab) "
-                    "as CSV: time in seconds, then <segment>.<axis> in degrees, continuous. "
-                    "Frames where a segment's markers are missing give empty cells, unless "
-                    "--fill-gaps fills them.",
-        epilog="Examples: mocap angles walk.c3d --markerset plugingait-lower --sequence YXZ "
-               "-o walk.csv --plot walk.png;  mocap angles corpus/ --markerset synthetic15 "
-               "-o angles/")
+        description="Write joint angles as CSV. With -m plugingait-lower: Plug-in Gait's "
+                    "clinical joint angles (columns <side>_<joint>.flexion|adduction|rotation "
+                    "for pelvis, hip, knee and ankle, Vicon's axes and signs; --static "
+                    "calibrates them). Otherwise (or with --no-clinical): segment angles "
+                    "from three markers per segment, child relative to parent, the root "
+                    "relative to the lab, as <segment>.<axis> on the principal Euler branch. "
+                    "Time in seconds, angles in degrees; frames where markers are missing "
+                    "give empty cells, unless --fill-gaps fills them.",
+        epilog="Examples: mocap angles walk.c3d -m plugingait-lower --static static.c3d "
+               "-o walk.csv --cycles cycles.csv;  mocap angles walk.c3d -m plugingait-lower "
+               "--no-clinical --sequence YXZ -o walk.csv --plot walk.png;  mocap angles "
+               "corpus/ --markerset synthetic15 -o angles/")
     parser.add_argument("inputs", nargs="+", metavar="IN",
                         help="marker file(s) (.c3d, .trc, .csv) or folders of them")
     parser.add_argument("--markerset", "-m", metavar="SET",
@@ -50,13 +54,35 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="with --from-rotations: the hierarchy as a [parents] table "
                              "(child = \"parent\", \"\" for the root) instead of the guess from "
                              "the names")
-    parser.add_argument("--sequence", "-s", default="ZXY", metavar="SEQ",
-                        help="Euler sequence as in scipy: upper case intrinsic (ZXY, YXZ, ZYZ "
-                             "...), lower case extrinsic (zxy ...); 24 in all (default ZXY)")
+    parser.add_argument("--sequence", "-s", default=None, metavar="SEQ",
+                        help="Euler sequence of segment angles as in scipy: upper case "
+                             "intrinsic (ZXY, YXZ, ZYZ ...), lower case extrinsic (zxy ...); 24 "
+                             "in all (default ZXY; clinical angles are always Plug-in Gait's "
+                             "YXZ)")
+    parser.add_argument("--clinical", action=argparse.BooleanOptionalAction, default=None,
+                        help="Plug-in Gait joint angles in columns <side>_<joint>.flexion|"
+                             "adduction|rotation (pelvis, hip, knee, ankle; Vicon's signs, "
+                             "see docs/plugingait.md); the default with -m plugingait-lower. "
+                             "--no-clinical gives segment angles (<segment>.<axis>)")
+    parser.add_argument("--static", metavar="STATIC.c3d",
+                        help="static (standing) trial of the same subject: calibrates "
+                             "Plug-in Gait's foot offsets and missing subject measurements "
+                             "(clinical angles only)")
+    parser.add_argument("--flat-foot", choices=("auto", "on", "off"), default="auto",
+                        help="Plug-in Gait's foot-flat static option: on, off, or auto (the "
+                             "choice a previous Plug-in Gait run stored in the files, else "
+                             "off; default)")
+    parser.add_argument("--cycles", metavar="OUT.csv",
+                        help="also write each side's gait cycles (foot strike to foot "
+                             "strike, from the C3D events or detected from heel and toe "
+                             "markers) normalised to 0-100 %% in 101 samples as a tidy CSV "
+                             "(side, cycle, percent, angles) and the mean +- SD plot beside "
+                             "it (.png); with several inputs a folder")
     parser.add_argument("--fill-gaps", type=options.SECONDS_GAP, metavar="SECONDS",
-                        help="fill gaps up to this long with a cubic spline before computing "
-                             "angles; longer gaps, and gaps at either end, stay empty and are "
-                             "reported")
+                        help="fill gaps up to this long before computing angles, each marker "
+                             "from its own segment (rigid with its other markers and, for "
+                             "Plug-in Gait, the proximal joint centre; else a cubic spline); "
+                             "longer gaps, and gaps at either end, stay empty and are reported")
     parser.add_argument("--lowpass", type=options.CUTOFF, metavar="HZ",
                         help="zero-lag Butterworth low-pass of the markers at this cutoff "
                              "(after gap filling); must be below half the sampling rate")
@@ -78,7 +104,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run_angles(args: argparse.Namespace) -> int:
     """Handler of ``mocap angles``; returns the exit status."""
-    check_sequence(args.sequence)
     if args.from_rotations:
         if args.markerset or args.fill_gaps is not None or args.lowpass is not None:
             raise MocapError("--from-rotations reads segment poses: --markerset, --fill-gaps "
@@ -91,10 +116,32 @@ def run_angles(args: argparse.Namespace) -> int:
                          "a markerless C3D file)")
     else:
         markerset = load_markerset(args.markerset)
+    args.clinical_auto = args.clinical is None
+    if args.clinical is None:
+        args.clinical = markerset is not None and markerset.name == "plugingait-lower"
+    if args.clinical and markerset is None:
+        raise MocapError("--clinical computes Plug-in Gait angles from markers; it does not "
+                         "go with --from-rotations")
+    if args.clinical and args.sequence not in (None, "YXZ"):
+        raise MocapError(f"--sequence {args.sequence}: clinical angles use Plug-in Gait's "
+                         f"YXZ; give --no-clinical for segment angles in another sequence")
+    if args.static is not None and not args.clinical:
+        raise MocapError("--static calibrates the clinical (Plug-in Gait) angles; drop "
+                         "--no-clinical")
+    if args.sequence is None:
+        args.sequence = "YXZ" if args.clinical else "ZXY"
+    check_sequence(args.sequence)
+    args.static_trial = None
+    if args.static is not None:
+        from mocap.io import read
+        if not Path(args.static).exists():
+            raise MocapError("static trial not found", args.static)
+        args.static_trial = read(args.static)
     files = find_files(args.inputs, MARKER_SUFFIXES)
     output = Path(args.output)
     folder_mode = (len(files) > 1 or any(Path(i).is_dir() for i in args.inputs)
                    or output.is_dir() or args.output.endswith(os.sep))
+    args.cycles_folder = folder_mode and args.cycles is not None
     if not folder_mode:
         jobs = [(files[0], output, Path(args.plot) if args.plot else None)]
     else:
@@ -139,23 +186,105 @@ def _angles_one(source: Path, target: Path, plot: Path | None, markerset,
         if plot is not None:
             plot_angles(angles, plot, title=f"{source.name} (segment poses, {args.sequence})")
         return
-    cleaning = Cleaning(max_gap_seconds=args.fill_gaps, lowpass_hz=args.lowpass,
-                        order=args.order, short_runs=args.short_runs)
+    from mocap.clinical import estimate_missing
+    from mocap.io import read
+    from mocap.markersets.model import MissingMarkerWarning
+    from mocap.plugingait import (MARKERS, AnatomicalOffsetWarning, MissingMeasurementError,
+                                  markers_from_trial, subject_from_trial)
+
+    trial = read(source)
+    clinical = args.clinical
+    if clinical and args.clinical_auto and args.static_trial is None:
+        try:
+            estimate_missing(subject_from_trial(trial), markers_from_trial(trial, MARKERS)[0],
+                             trial.path)
+        except MissingMeasurementError as error:
+            print(f"mocap angles: warning: {error}; writing segment angles instead "
+                  f"(--clinical makes this an error)", file=sys.stderr)
+            clinical = False
+        except MocapError:
+            pass                       # the clinical run below reports it
+    ours = (GimbalLockWarning, AnatomicalOffsetWarning, MissingMarkerWarning)
     with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", GimbalLockWarning)
-        result = marker_file_angles(source, markerset, args.sequence, cleaning)
-    if result.gaps is not None and result.gaps.unfilled:
-        lines = result.gaps.summary().splitlines()
+        for category in ours:
+            warnings.simplefilter("always", category)
+        if clinical:
+            angles, gaps = _clinical_angles(trial, args)
+        else:
+            padded, absent, empty = markerset.pad_missing(trial)
+            if absent:
+                print(f"mocap angles: warning: {source}: no marker(s) {', '.join(absent)}: "
+                      f"segment(s) {', '.join(empty)} left empty", file=sys.stderr)
+            cleaning = Cleaning(max_gap_seconds=args.fill_gaps, lowpass_hz=args.lowpass,
+                                order=args.order, short_runs=args.short_runs)
+            result = marker_file_angles(padded, markerset, args.sequence, cleaning)
+            angles, gaps = result.angles, result.gaps
+    if gaps is not None and gaps.unfilled:
+        lines = gaps.summary().splitlines()
         shown = lines[:11] + ([f"  … {len(lines) - 11} more marker(s)"]
                               if len(lines) > 11 else [])
         print(f"mocap angles: {source}: " + "\n".join(shown), file=sys.stderr)
     for warning in caught:
-        if issubclass(warning.category, GimbalLockWarning):
+        if issubclass(warning.category, AnatomicalOffsetWarning):
+            if getattr(args, "offsets_said", False):
+                continue                   # said once per run, not once per file
+            args.offsets_said = True
+        if issubclass(warning.category, ours):
             print(f"mocap angles: warning: {warning.message}", file=sys.stderr)
         else:
             warnings.showwarning(warning.message, warning.category, warning.filename,
                                  warning.lineno)
-    write_angles_csv(result.angles, target)
+    cycles = None
+    if args.cycles is not None:
+        from mocap.events import check_events, gait_events, normalise_cycles
+
+        cycles = normalise_cycles(angles, gait_events(trial))
+        check_events(cycles, str(source))
+    write_angles_csv(angles, target)
+    label = "clinical, Plug-in Gait" if clinical else args.sequence
     if plot is not None:
-        plot_angles(result.angles, plot,
-                    title=f"{source.name} ({markerset.name}, {args.sequence})")
+        plot_angles(angles, plot, title=f"{source.name} ({markerset.name}, {label})")
+    if cycles is not None:
+        _write_cycles(cycles, source, args)
+
+
+def _clinical_angles(trial, args: argparse.Namespace):
+    """Plug-in Gait angles of one walk: subject first (whole-trial values from the
+    recorded data, so no fill can change them), then fill, low-pass, angles."""
+    import numpy as np
+
+    from mocap.clean import lowpass
+    from mocap.clinical import (fill_plugingait, plugingait_angles, plugingait_labels,
+                                prepare_subject)
+    from mocap.trial import Trial
+
+    used = plugingait_labels(trial)
+    columns = [trial.labels.index(label) for label in used]
+    trial = Trial(used, trial.points[:, columns, :], trial.rate, trial.units, trial.path,
+                  trial.format, metadata=dict(trial.metadata))
+    flat = {"on": True, "off": False}.get(args.flat_foot, "auto")
+    subject = prepare_subject(trial, static=args.static_trial, flat_foot=flat)
+    report = None
+    if args.fill_gaps is not None:
+        limit = int(np.floor(args.fill_gaps * trial.rate + 1e-9))
+        trial, report = fill_plugingait(trial, subject, limit)
+    if args.lowpass is not None:
+        trial = lowpass(trial, args.lowpass, order=args.order, short_runs=args.short_runs)
+    return plugingait_angles(trial, subject=subject), report
+
+
+def _write_cycles(cycles, source: Path, args: argparse.Namespace) -> None:
+    """The tidy cycles CSV and its mean ± SD plot beside it (.png)."""
+    from mocap.atomic import atomic_path
+    from mocap.events import cycles_figure, write_cycles_csv
+
+    where = Path(args.cycles)
+    csv_path = where / f"{source.stem}.csv" if args.cycles_folder else where
+    if args.cycles_folder:
+        where.mkdir(parents=True, exist_ok=True)
+    write_cycles_csv(cycles, csv_path)
+    figure = cycles_figure(cycles, title=f"{source.name}: mean ± SD of "
+                                         f"{cycles.side.count('l')} left and "
+                                         f"{cycles.side.count('r')} right cycles")
+    with atomic_path(csv_path.with_suffix(".png")) as tmp:
+        figure.savefig(tmp, dpi=100, format="png")

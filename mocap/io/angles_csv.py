@@ -1,5 +1,7 @@
 """Joint-angle CSV files (docs/formats/angles-csv.md): ``time`` then ``<segment>.<axis>``
-columns in degrees, empty cells where a segment's markers were missing."""
+columns in degrees, empty cells where a segment's markers were missing.  Clinical angles
+(Plug-in Gait, docs/plugingait.md) name their axes ``flexion``, ``adduction``, ``rotation``
+(Cardan YXZ)."""
 from __future__ import annotations
 
 import io
@@ -9,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mocap.angles import SEQUENCES, JointAngles, axis_names
+from mocap.angles import CLINICAL_AXES, SEQUENCES, JointAngles, axis_names
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.io.text_table import format_fixed, read_text
@@ -74,9 +76,14 @@ def read_angles_csv(path: str | os.PathLike, markerset: MarkerSet | None = None
             raise MocapError(f"segment '{parts[0][0]}' has axes {axes}, others {letters}",
                              path)
         segments.append(parts[0][0])
-    sequence = "".join(a.rstrip("2") for a in letters)
-    if sequence not in SEQUENCES or axis_names(sequence) != letters:
-        raise MocapError(f"axis columns {letters} name no Euler sequence", path)
+    axes = None
+    if letters == list(CLINICAL_AXES):
+        sequence, axes = "YXZ", list(CLINICAL_AXES)
+    else:
+        sequence = "".join(a.rstrip("2") for a in letters)
+        if sequence not in SEQUENCES or axis_names(sequence) != letters:
+            raise MocapError(f"axis columns {letters} name no Euler sequence (nor "
+                             f"flexion, adduction, rotation)", path)
     body = body.strip("\n")
     if body:
         try:
@@ -95,4 +102,5 @@ def read_angles_csv(path: str | os.PathLike, markerset: MarkerSet | None = None
                          f"'{markerset.name}' ({markerset.segment_names})", path)
     return JointAngles(times=table[:, 0].copy(),
                        values=table[:, 1:].reshape(len(table), len(segments), 3).copy(),
-                       segments=segments, sequence=sequence, parents=list(parents))
+                       segments=segments, sequence=sequence, parents=list(parents),
+                       axes=axes)

@@ -10,6 +10,7 @@ exactly one label has it.
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -18,6 +19,10 @@ from mocap.errors import MocapError
 from mocap.markersets.axes import axes_matrix
 from mocap.markersets.virtual import virtual_positions
 from mocap.trial import Trial
+
+
+class MissingMarkerWarning(UserWarning):
+    """A marker has no data: a fallback stands in for it, or segments stay empty."""
 
 
 @dataclass(frozen=True)
@@ -158,16 +163,55 @@ class MarkerSet:
 
     def donors(self, labels: list[str]) -> dict[str, list[str]]:
         """For gap filling: each recorded marker → the other recorded markers of its
-        segment(s), which move rigidly with it (``labels`` as found in the trial)."""
+        own segment, which move rigidly with it (``labels`` as found in the trial).
+
+        A marker's own segment is the first (parents first) that lists it among
+        its three markers: a knee marker that also defines the shank's origin
+        belongs to the thigh, so a fill never treats two segments across a
+        bending joint as one body.
+        """
         find = _LabelIndex(labels).find
-        donors: dict[str, list[str]] = {}
+        home: dict[str, str] = {}
+        members: dict[str, list[str]] = {}
         for segment in self.segments:
-            present = [labels[i] for i in (find(name) for name in segment.markers)
-                       if i is not None]
-            for label in present:
-                donors.setdefault(label, [])
-                donors[label] += [d for d in present if d != label and d not in donors[label]]
-        return donors
+            for i in (find(name) for name in segment.markers):
+                if i is not None and labels[i] not in home:
+                    home[labels[i]] = segment.name
+                    members.setdefault(segment.name, []).append(labels[i])
+        return {label: [d for d in members[seg] if d != label] for label, seg in home.items()}
+
+    def unavailable_segments(self, labels: list[str]) -> list[str]:
+        """Segments that cannot be computed from ``labels``: a marker they need
+        is absent, or their parent is unavailable (angles are relative to it)."""
+        out: list[str] = []
+        for segment in self.segments:
+            alone = MarkerSet(self.name, [Segment(segment.name, None, segment.markers,
+                                                  segment.axes, segment.origin)],
+                              self.virtual)
+            if alone.missing_markers(labels) or segment.parent in out:
+                out.append(segment.name)
+        return out
+
+    def pad_missing(self, trial: Trial) -> tuple[Trial, list[str], list[str]]:
+        """The trial with an all-NaN column for every marker the set lacks.
+
+        Returns the padded trial, the markers added and the segments that will
+        be NaN because of them.  Raises MocapError (check_trial's message) when
+        half the segments or more cannot be computed (the trial was captured
+        with another marker set).
+        """
+        missing = self.missing_markers(trial.labels)
+        if not missing:
+            return trial, [], []
+        empty = self.unavailable_segments(trial.labels)
+        if 2 * len(empty) >= len(self.segments):
+            self.check_trial(trial)
+        points = np.concatenate([trial.points, np.full((trial.frames, len(missing), 3),
+                                                       np.nan)], axis=1)
+        padded = Trial(list(trial.labels) + missing, points, trial.rate, trial.units,
+                       trial.path, trial.format, trial.analogs, trial.analog_labels,
+                       trial.analog_rate, dict(trial.metadata))
+        return padded, missing, empty
 
     def used_labels(self, labels: list[str]) -> list[str]:
         """The labels (of ``labels``, in their order) the set reads.
@@ -196,6 +240,8 @@ class MarkerSet:
                     missing.add(name)
                 else:
                     used.add(column)
+                if v is not None:     # keep what an empty recorded marker falls back on
+                    used.update(c for c in (index.find(i) for i in v.inputs) if c is not None)
                 return
             for item in v.inputs:
                 need(item)
@@ -251,13 +297,40 @@ class MarkerSet:
                 return added[column - trial.points.shape[1]]
             return trial.points[:, column, :]
 
+        by_name = {v.name: v for v in self.virtual}
+        recorded_count = trial.points.shape[1]
+
+        def sources(name: str) -> set[str]:
+            """Recorded labels a (virtual) marker is computed from."""
+            v = by_name.get(name)
+            column = index.find(name)
+            if v is None or (v.fallback and column is not None and column < recorded_count
+                             and column not in replaced):
+                return {labels[column]} if column is not None and column < recorded_count \
+                    else set()
+            return set().union(*(sources(item) for item in v.inputs))
+
         for v in self.virtual:
             existing = index.find(v.name)
             if v.fallback and existing is not None:
+                # keyed on data, not on the label: an empty recorded marker falls back
+                if existing >= recorded_count or \
+                        np.isfinite(trial.points[:, existing]).all(axis=1).any():
+                    continue
+                if any(index.find(m) is None for m in v.inputs):
+                    continue
+                warnings.warn(f"{trial.path or 'trial'}: {labels[existing]} has no data; "
+                              f"using the {v.type} of {', '.join(v.inputs)} instead",
+                              MissingMarkerWarning, stacklevel=2)
+                replaced[existing] = virtual_positions(v, get, trial)
                 continue
             if any(index.find(m) is None for m in v.inputs):
                 continue  # not needed by any segment (check_trial passed)
-            value = virtual_positions(v, get, trial)
+            keep = None
+            if v.type == "hip_joint_centre" and trial.metadata.get("filled"):
+                from mocap.clean import recorded_frames
+                keep = [recorded_frames(trial, sources(i)) for i in v.inputs]
+            value = virtual_positions(v, get, trial, keep)
             if existing is not None and labels[existing] == v.name:
                 if existing < trial.points.shape[1]:
                     replaced[existing] = value

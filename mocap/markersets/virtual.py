@@ -60,7 +60,8 @@ def _median_distance(a: np.ndarray, b: np.ndarray) -> float:
     return float(np.median(d)) if d.size else float("nan")
 
 
-def virtual_positions(v, get, trial: Trial) -> np.ndarray:
+def virtual_positions(v, get, trial: Trial, keep: list[np.ndarray] | None = None
+                      ) -> np.ndarray:
     """Positions of one virtual marker over all frames.
 
     Parameters
@@ -70,6 +71,10 @@ def virtual_positions(v, get, trial: Trial) -> np.ndarray:
         ``get(name)`` → positions of an input marker, ndarray (frames, 3), metres.
     trial : Trial
         The trial the inputs come from.
+    keep : list of ndarray of bool (frames,), optional
+        Per input of ``v.inputs``, the frames no gap fill wrote: a hip joint
+        centre's whole-trial estimates (pelvis width and depth, leg length) use
+        only those, so they equal the estimates of the unfilled trial.
 
     Returns
     -------
@@ -83,7 +88,7 @@ def virtual_positions(v, get, trial: Trial) -> np.ndarray:
         rotation = frame_from_markers(*inputs)
         return inputs[0] + np.einsum("fij,j->fi", rotation, np.asarray(v.offset))
     return _hip_joint_centre(v, *inputs, ankle=get(v.ankle) if v.ankle else None,
-                             trial=trial)
+                             trial=trial, keep=keep)
 
 
 def pelvis_frame(rasi: np.ndarray, lasi: np.ndarray, sacr: np.ndarray
@@ -160,10 +165,19 @@ def hip_joint_centre_offset(method: str, side: str, pelvis_width: float,
     return np.array([x, sign * y, z])
 
 
-def _hip_joint_centre(v, rasi, lasi, sacr, ankle, trial: Trial) -> np.ndarray:
+def _hip_joint_centre(v, rasi, lasi, sacr, ankle, trial: Trial,
+                      keep: list[np.ndarray] | None = None) -> np.ndarray:
     rotation, origin = pelvis_frame(rasi, lasi, sacr)
+    whole_origin = origin
+    if keep is not None:       # whole-trial values from recorded samples only
+        rasi, lasi, sacr = (np.where(k[:, None], p, np.nan)
+                            for p, k in zip((rasi, lasi, sacr), keep))
+        if ankle is not None and len(keep) > 3:
+            ankle = np.where(keep[3][:, None], ankle, np.nan)
+        origin = 0.5 * (rasi + lasi)
     width = _median_distance(lasi, rasi)
     depth = _median_distance(origin, sacr)
+    origin = whole_origin
     leg_length = v.leg_length
     if v.method == "davis" and leg_length is None:
         asis = lasi if v.side == "left" else rasi

@@ -25,7 +25,7 @@ def test_angles_csv_and_plot_of_real_walk(tmp_path, capsys):
     source = realdata_path(*WALK)
     out, png = tmp_path / "walk.csv", tmp_path / "walk.png"
     status, _, err = run(capsys, "angles", source, "--markerset", "plugingait-lower",
-                         "--sequence", "YXZ", "-o", out, "--plot", png)
+                         "--no-clinical", "--sequence", "YXZ", "-o", out, "--plot", png)
     assert status == 0, err
     header = out.read_text().splitlines()[0]
     assert header.startswith("time,pelvis.Y,pelvis.X,pelvis.Z,l_thigh.Y,")
@@ -48,7 +48,8 @@ def test_gaps_stay_empty_unless_filled_and_lowpass_smooths(tmp_path, capsys):
     write(trial.with_points(points), gappy)
 
     plain = tmp_path / "plain.csv"
-    status, _, err = run(capsys, "angles", gappy, "-m", "plugingait-lower", "-o", plain)
+    status, _, err = run(capsys, "angles", gappy, "-m", "plugingait-lower", "--no-clinical",
+                         "-o", plain)
     assert status == 0, err
     lines = plain.read_text().splitlines()
     # l_thigh (LKNE) and its child l_shank are empty cells in frames 60-65
@@ -61,8 +62,8 @@ def test_gaps_stay_empty_unless_filled_and_lowpass_smooths(tmp_path, capsys):
     assert np.isnan(angles.segment("r_foot")[120:170]).all()
 
     filled = tmp_path / "filled.csv"
-    status, _, err = run(capsys, "angles", gappy, "-m", "plugingait-lower", "-o", filled,
-                         "--fill-gaps", "0.1")
+    status, _, err = run(capsys, "angles", gappy, "-m", "plugingait-lower", "--no-clinical",
+                         "-o", filled, "--fill-gaps", "0.1")
     assert status == 0
     # the 50-frame gap is longer than 0.1 s: reported, left empty
     assert "RTOE: frames 120-169 (longer than 10 frames)" in err
@@ -71,8 +72,9 @@ def test_gaps_stay_empty_unless_filled_and_lowpass_smooths(tmp_path, capsys):
     assert np.isnan(angles.segment("r_foot")[120:170]).all()
 
     smooth = tmp_path / "smooth.csv"
-    status, _, err = run(capsys, "angles", gappy, "-m", "plugingait-lower", "-o", smooth,
-                         "--fill-gaps", "0.1", "--lowpass", "6", "--short-runs", "drop")
+    status, _, err = run(capsys, "angles", gappy, "-m", "plugingait-lower", "--no-clinical",
+                         "-o", smooth, "--fill-gaps", "0.1", "--lowpass", "6",
+                         "--short-runs", "drop")
     assert status == 0, err
     raw, low = read_angles_csv(filled).segment("l_shank")[:, 0], \
         read_angles_csv(smooth).segment("l_shank")[:, 0]
@@ -95,7 +97,12 @@ def test_many_inputs_go_to_a_folder(tmp_path, capsys):
 
 @pytest.mark.parametrize("extra, problem", [
     (["-m", "synthetic15"], "HC002D06.c3d: marker set 'synthetic15' needs "),
-    (["-m", "plugingait-lower", "--sequence", "ZZY"], "unknown Euler sequence 'ZZY'"),
+    (["-m", "plugingait-lower", "--no-clinical", "--sequence", "ZZY"],
+     "unknown Euler sequence 'ZZY'"),
+    (["-m", "plugingait-lower", "--sequence", "ZXY"], "clinical angles use Plug-in Gait's YXZ"),
+    (["-m", "plugingait-lower", "--static", "no-such-static.c3d"],
+     "no-such-static.c3d: static trial not found"),
+    (["-m", "synthetic15", "--static", "x.c3d"], "--static calibrates the clinical"),
     (["-m", "plugingait-lower", "--lowpass", "50"], "not below the Nyquist frequency 50 Hz"),
     (["-m", "no-such-set"], "no marker set preset 'no-such-set'"),
 ])
@@ -128,5 +135,6 @@ def test_help_explains_every_option():
         assert action.help, action.dest
     text = angles.format_help()
     for option in ("--markerset", "--sequence", "--fill-gaps", "--lowpass", "--order",
-                   "--short-runs", "--output", "--plot"):
+                   "--short-runs", "--output", "--plot", "--clinical", "--static",
+                   "--flat-foot", "--cycles"):
         assert option in text

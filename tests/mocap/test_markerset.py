@@ -8,6 +8,7 @@ from scipy.spatial.transform import Rotation
 from mocap.errors import MocapError
 from mocap.markersets import (frame_from_markers, hip_joint_centre_offset, load_markerset,
                               pelvis_frame, preset_names)
+from mocap.markersets.model import MissingMarkerWarning
 from mocap.trial import Trial
 
 GOOD = """
@@ -140,10 +141,19 @@ def test_midpoint_fallback_and_subject_prefix(tmp_path):
     # a recorded SACR wins over the fallback
     sacrum = Trial(["SACR", "B", "C"], pts[:, :3], 100.0)
     assert ms.missing_markers(sacrum.labels) == []
-    assert ms.used_labels(["RPSI", "LPSI"] + sacrum.labels) == ["SACR", "B", "C"]
+    # the fallback's inputs are kept too, in case the recorded SACR has no data
+    assert ms.used_labels(["RPSI", "LPSI"] + sacrum.labels) == ["RPSI", "LPSI", "SACR", "B", "C"]
     out = ms.apply_virtual(sacrum)
     assert out.labels == ["SACR", "B", "C"]
     np.testing.assert_array_equal(out.points, pts[:, :3])
+    # keyed on data, not on the label: an empty SACR falls back, with a warning
+    empty = pts.copy()
+    empty[:, 2] = np.nan
+    both = Trial(["RPSI", "LPSI", "SACR", "B", "C"], np.concatenate(
+        [pts[:, :2], empty[:, 2:3], pts[:, 1:3]], axis=1), 100.0)
+    with pytest.warns(MissingMarkerWarning, match="SACR has no data"):
+        out = ms.apply_virtual(both)
+    np.testing.assert_allclose(out.marker("SACR"), (pts[:, 0] + pts[:, 1]) / 2)
 
 
 def test_offset_marker_rides_with_its_frame(tmp_path):

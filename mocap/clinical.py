@@ -1,0 +1,319 @@
+"""Clinical gait angles of a walk with the Plug-in Gait model: the workflow.
+
+:mod:`mocap.plugingait` holds the model (joint centres, frames, angle
+conventions) and :mod:`mocap.calibration` the static calibration; this module
+puts them together for one walk: which subject values to use
+(:func:`prepare_subject`), gap filling that stays inside each rigid segment
+(:func:`fill_plugingait`), and the clinical angle table
+(:func:`plugingait_angles`).
+"""
+from __future__ import annotations
+
+import warnings
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from mocap.errors import MocapError
+from mocap.markersets.model import MissingMarkerWarning, _LabelIndex
+from mocap.plugingait import (JOINTS, MARKERS, PLANES, SIDES, AnatomicalOffsetWarning,
+                              MissingMeasurementError, Subject, clinical_angles, kinematics,
+                              markers_from_trial, progression_frame, subject_from_trial)
+from mocap.trial import Trial
+
+if TYPE_CHECKING:
+    from mocap.clean import GapReport
+
+
+def _merge(primary: Subject, secondary: Subject) -> Subject:
+    """``primary``'s values, ``secondary``'s where primary has none."""
+    out = replace(primary)
+    for key in ("leg_length", "asis_trochanter", "knee_width", "ankle_width"):
+        mine, other = getattr(primary, key), getattr(secondary, key)
+        setattr(out, key, {s: mine[s] if mine[s] is not None else other[s] for s in SIDES})
+    for key in ("tibial_torsion", "thigh_rotation", "shank_rotation"):
+        mine, other = getattr(primary, key), getattr(secondary, key)
+        setattr(out, key, {s: mine[s] or other[s] for s in SIDES})
+    if out.inter_asis is None:
+        out.inter_asis = secondary.inter_asis
+    return out
+
+
+def estimate_missing(subject: Subject, markers: dict, path: str | None = None,
+                     keep: dict | None = None) -> Subject:
+    """Fill the inter-ASIS distance and leg lengths from a walk, when unknown.
+
+    Only frames where the markers involved are all present count, so a gap
+    (or a gap fill) in some frames cannot change the estimate much; the median
+    ASIS distance and the 95th percentile ASIS–lateral malleolus distance plus
+    the marker radius (the leg extended) stand in for the measurements.
+    ``keep`` maps marker names to bool (frames,) of frames no gap fill wrote
+    (:func:`mocap.clean.recorded_frames`): only those count.
+    Raises MocapError when knee or ankle widths are unknown.
+    """
+    sub = replace(subject, leg_length=dict(subject.leg_length))
+    keep = keep or {}
+
+    def distance(a: str, b: str) -> np.ndarray:
+        d = np.linalg.norm(markers[a] - markers[b], axis=1)
+        for name in (a, b):
+            if name in keep:
+                d = np.where(keep[name], d, np.nan)
+        return d
+
+    if sub.inter_asis is None:
+        sub.inter_asis = float(np.nanmedian(distance("LASI", "RASI")))
+    for side in SIDES:
+        S = side.upper()
+        if sub.leg_length[side] is None and f"{S}ANK" in markers:
+            d = distance(f"{S}ASI", f"{S}ANK")
+            d = d[np.isfinite(d)]
+            if d.size:
+                sub.leg_length[side] = float(np.percentile(d, 95)) + sub.radius
+    known = [sub.leg_length[s] for s in SIDES if sub.leg_length[s] is not None]
+    if not known:
+        raise MocapError("Plug-in Gait needs the leg length (the file's PROCESSING group "
+                         "has none and no ankle marker gives an estimate)", path)
+    for side in SIDES:
+        if sub.leg_length[side] is None:
+            sub.leg_length[side] = known[0]
+    missing = [f"{S} {what}" for S, side in (("L", "l"), ("R", "r"))
+               for what, key in (("knee width", "knee_width"), ("ankle width", "ankle_width"))
+               if getattr(sub, key)[side] is None]
+    if missing:
+        raise MissingMeasurementError(f"Plug-in Gait needs subject measurements the file lacks: "
+                         f"{', '.join(missing)} (a C3D PROCESSING group, or a static with "
+                         f"medial knee/malleolus markers; --no-clinical gives segment "
+                         f"angles without them)", path)
+    return sub
+
+
+def prepare_subject(trial: Trial, subject: Subject | None = None, *,
+                    static: Trial | None = None, flat_foot: bool | str = False,
+                    warn: bool = True) -> Subject:
+    """The subject a walk is processed with: measurements, calibration, estimates.
+
+    Measurements come from ``subject``, else the walk's PROCESSING group, then
+    the static's; a ``static`` calibrates the offsets
+    (:func:`mocap.calibration.calibrate`); without one (and an uncalibrated
+    ``subject``) an :class:`AnatomicalOffsetWarning` says the offsets are
+    uncorrected.  What is still unknown is estimated from the walk's recorded
+    (never gap-filled) frames (:func:`estimate_missing`).  An empty SACR with
+    both PSIS markers gives a :class:`MissingMarkerWarning` (the PSIS midpoint
+    stands in).  ``warn=False`` says nothing (a caller that prepared the
+    subject already did).
+    """
+    path = trial.path
+    markers, empty = markers_from_trial(trial, MARKERS)
+    if warn and "SACR" in empty and "LPSI" in markers and "RPSI" in markers:
+        warnings.warn(f"{path or 'trial'}: SACR has no data; using the LPSI-RPSI "
+                      f"midpoint as the sacrum", MissingMarkerWarning, stacklevel=3)
+    if subject is None:
+        subject = subject_from_trial(trial)
+        if static is not None:
+            subject = _merge(subject, subject_from_trial(static))
+    if static is not None:
+        from mocap.calibration import calibrate, resolve_flat_foot
+
+        flat = resolve_flat_foot(static, subject, flat_foot, walk=trial)
+        subject = calibrate(static, subject, flat_foot=flat)
+    elif warn and not subject.calibrated:
+        warnings.warn(f"{path or 'trial'}: no static trial: anatomical offsets are "
+                      f"uncorrected (foot plantar-flexion and rotation offsets taken as 0; "
+                      f"give --static for Plug-in Gait's calibration)",
+                      AnatomicalOffsetWarning, stacklevel=3)
+    keep = None
+    if trial.metadata.get("filled"):
+        from mocap.clean import recorded_frames
+
+        index = _LabelIndex(trial.labels)
+        keep = {name: recorded_frames(trial, [trial.labels[index.find(name)]])
+                for name in markers if index.find(name) is not None}
+    return estimate_missing(subject, markers, path, keep)
+
+
+def clinical_columns() -> list[str]:
+    """Segment names of the clinical output: l_pelvis … r_ankle."""
+    return [f"{side}_{joint}" for side in SIDES for joint in JOINTS]
+
+
+def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
+                      static: Trial | None = None, flat_foot: bool | str = False):
+    """Plug-in Gait joint angles (clinical convention) of a walk.
+
+    Parameters
+    ----------
+    trial : Trial
+        The walk; ``points`` (frames, markers, 3) in metres.  Subject
+        measurements come from its C3D PROCESSING group (then the static's).
+    subject : Subject, optional
+        Measurements (and offsets, if ``calibrated``) to use instead, as
+        :func:`prepare_subject` gives them; nothing is then warned about again.
+    static : Trial, optional
+        Standing trial of the same subject: calibrates the foot offsets
+        (:func:`mocap.calibration.calibrate`).  Without a static or a
+        subject, an :class:`AnatomicalOffsetWarning` says the offsets are
+        uncorrected.
+    flat_foot : bool or "auto"
+        Plug-in Gait's foot-flat static option; ``"auto"`` takes the option
+        that reproduces the offsets a previous Plug-in Gait run stored in the
+        walk or the static (PROCESSING StaticPlantFlex), else off.
+
+    Returns
+    -------
+    JointAngles
+        Segments ``l_pelvis, l_hip, l_knee, l_ankle, r_…``, axes
+        ``flexion, adduction, rotation`` (degrees, Vicon's X, Y, Z of
+        ``<Side><Joint>Angles``), sequence ``"YXZ"``; NaN where markers are
+        missing; columns of joints whose markers are absent are all NaN (with a
+        :class:`MissingMarkerWarning`).
+    """
+    from mocap.angles import JointAngles
+
+    path = trial.path
+    markers, _ = markers_from_trial(trial, MARKERS)
+    given = subject is not None and static is None
+    subject = prepare_subject(trial, subject, static=static, flat_foot=flat_foot,
+                              warn=not given)
+    kin = kinematics(markers, subject, path)
+    for note in kin.notes:
+        warnings.warn(f"{path or 'trial'}: {note}", MissingMarkerWarning, stacklevel=2)
+    frames = trial.frames
+    pelvis = kin.frames["pelvis"]
+    progression = np.broadcast_to(progression_frame(kin.centres["pelvis"], pelvis),
+                                  pelvis.shape)
+    values = np.full((frames, len(SIDES) * len(JOINTS), 3), np.nan)
+    chain = {"pelvis": ("progression", "pelvis"), "hip": ("pelvis", "thigh"),
+             "knee": ("thigh", "tibia"), "ankle": ("shank", "foot")}
+    for i, side in enumerate(SIDES):
+        for j, joint in enumerate(JOINTS):
+            proximal, distal = chain[joint]
+            p = progression if proximal == "progression" else \
+                kin.frames.get(proximal if proximal == "pelvis" else f"{side}_{proximal}")
+            d = kin.frames.get(distal if distal == "pelvis" else f"{side}_{distal}")
+            if p is None or d is None:
+                continue
+            values[:, i * len(JOINTS) + j] = clinical_angles(p, d, joint, side)
+    return JointAngles(times=trial.times, values=values, segments=clinical_columns(),
+                       sequence="YXZ", parents=[-1] * values.shape[1], axes=list(PLANES))
+
+
+#: Markers of each rigid segment of the model (a marker's donors for gap filling
+#: are the others of its own segment only: the knee marker is on the thigh, the
+#: ankle marker on the shank; nothing spans a joint).
+RIGID_SEGMENTS = (("LASI", "RASI", "SACR", "LPSI", "RPSI"),
+                  ("LTHI", "LKNE"), ("RTHI", "RKNE"),
+                  ("LTIB", "LANK"), ("RTIB", "RANK"),
+                  ("LHEE", "LTOE"), ("RHEE", "RTOE"))
+
+
+def plugingait_labels(trial: Trial) -> list[str]:
+    """The trial's labels the model reads (subject prefixes allowed), in file order."""
+    index = _LabelIndex(trial.labels)
+    columns = sorted({c for c in (index.find(n) for n in MARKERS) if c is not None})
+    if not columns:
+        raise MocapError("no Plug-in Gait markers (LASI, RASI, …) in the trial", trial.path)
+    return [trial.labels[c] for c in columns]
+
+
+def plugingait_donors(labels: list[str]) -> dict[str, list[str]]:
+    """Gap-filling donors: each label → the other labels of its rigid segment."""
+    bare = {label.rpartition(":")[2]: label for label in labels}
+    donors: dict[str, list[str]] = {}
+    for segment in RIGID_SEGMENTS:
+        present = [bare[n] for n in segment if n in bare]
+        for label in present:
+            donors[label] = [d for d in present if d != label]
+    return donors
+
+
+def fill_plugingait(trial: Trial, subject: Subject, max_gap_frames: int
+                    ) -> tuple[Trial, GapReport]:
+    """Fill gaps of the model's markers segment by segment, joint centres as donors.
+
+    Each marker is filled only from its own rigid segment: the other markers of
+    it (:data:`RIGID_SEGMENTS`) and the segment's proximal joint centre, which
+    moves with it — the hip centre (from the pelvis markers) for the thigh, the
+    knee centre for the shank, the ankle centre for the foot.  The segments are
+    filled from the pelvis down, so each joint centre comes from an already
+    filled segment; the joint centres are not kept in the result.  See
+    :func:`mocap.clean.fill_gaps` for the methods and what stays unfilled.
+
+    Parameters
+    ----------
+    trial : Trial
+        Points in metres, with (at least) the model's markers.
+    subject : Subject
+        Measurements for the joint centres (prepare_subject).
+    max_gap_frames : int
+
+    Returns
+    -------
+    Trial, GapReport
+        Frames outside the gaps are bit-identical to the input's.
+    """
+    from mocap.clean import GapReport, fill_gaps, filled_masks
+
+    labels = list(trial.labels)
+    donors = plugingait_donors(labels)
+    bare = {label.rpartition(":")[2]: label for label in labels}
+    report = GapReport(max_gap_frames)
+    current = trial
+    stages = (("pelvis", None), ("thigh", "hip"), ("shank", "knee"), ("foot", "ankle"))
+    groups = {"pelvis": RIGID_SEGMENTS[0]}
+    for side, k in (("l", 1), ("r", 2)):
+        groups[f"{side}_thigh"] = RIGID_SEGMENTS[k]
+        groups[f"{side}_shank"] = RIGID_SEGMENTS[k + 2]
+        groups[f"{side}_foot"] = RIGID_SEGMENTS[k + 4]
+    for segment, centre in stages:
+        names = [segment] if segment == "pelvis" else [f"{s}_{segment}" for s in SIDES]
+        extra_labels, extra_points, stage_donors, references = [], [], {}, {}
+        kin = None
+        if centre is not None:
+            markers, _ = markers_from_trial(current, MARKERS)
+            try:
+                kin = kinematics(markers, subject, trial.path, feet=False)
+            except MocapError:
+                kin = None
+        for name in names:
+            members = [bare[n] for n in groups[name] if n in bare]
+            for label in members:
+                stage_donors[label] = list(donors.get(label, []))
+            key = f"{name.split('_')[0]}_{centre}" if centre is not None else None
+            if kin is not None and centre is not None and key in kin.centres:
+                joint = f"__{key}"
+                extra_labels.append(joint)
+                extra_points.append(kin.centres[key] / 1000.0)
+                # the proximal joint's medio-lateral axis turns with the segment
+                # about its long axis (a hinge's axis; nearly so at the hip)
+                side = name.split("_")[0]
+                parent = {"thigh": "pelvis", "shank": f"{side}_thigh",
+                          "foot": f"{side}_tibia"}[segment]
+                axis = kin.frames.get(parent)
+                for label in members:
+                    stage_donors[label].append(joint)
+                    if axis is not None:
+                        references[label] = axis[..., 1]
+        only = [label for label in stage_donors]
+        work = current
+        if extra_labels:
+            work = Trial(labels + extra_labels,
+                         np.concatenate([current.points, np.stack(extra_points, axis=1)],
+                                        axis=1),
+                         current.rate, current.units, current.path, current.format,
+                         metadata=dict(current.metadata))
+        filled, stage = fill_gaps(work, max_gap_frames=max_gap_frames, donors=stage_donors,
+                                  only=only, references=references)
+        report.filled += stage.filled
+        report.unfilled += stage.unfilled
+        current = current.with_points(filled.points[:, :len(labels)])
+    # markers of no segment (if any were passed) are filled by their spline
+    rest = [label for label in labels if label not in donors]
+    if rest:
+        filled, stage = fill_gaps(current, max_gap_frames=max_gap_frames, only=rest)
+        report.filled += stage.filled
+        report.unfilled += stage.unfilled
+        current = filled
+    current.metadata["filled"] = filled_masks(trial, report)
+    return current, report

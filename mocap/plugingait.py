@@ -1,0 +1,561 @@
+"""Plug-in Gait lower body: joint centres, anatomical frames and clinical angles.
+
+The Conventional Gait Model as Vicon's Plug-in Gait computes it (Davis, Ounpuu,
+Tyburski & Gage 1991; Kadaba, Ramakrishnan & Wootten 1990; Baker 2013,
+*Measuring Walking*, ch. 10; the Plug-in Gait reference guide), vectorised over
+frames.  Every segment frame is a rotation matrix whose columns are its x, y, z
+axes in lab coordinates; lengths are millimetres inside this module (the
+subject measurements are millimetres), metres at its boundary (``Trial``).
+
+Frames, for both sides (x anterior, y left, z up when standing):
+
+* pelvis: origin the ASIS midpoint ``O``; ``y = unit(LASI - RASI)``; ``x`` the
+  part of ``O - SACR`` orthogonal to ``y``; ``z = x × y``.
+* hip joint centre (Davis): ``O + X x + Y y + Z z`` with
+  ``C = 0.115 L - 15.3``, ``X = C cos θ sin β - (AT + r) cos β``,
+  ``Y = ±(C sin θ - IAD / 2)`` (− left), ``Z = -C cos θ cos β - (AT + r) sin β``;
+  θ = 0.5, β = 0.314 rad, ``L`` the mean leg length, ``AT`` the ASIS-trochanter
+  distance (``0.1288 L - 48.56`` when not measured), ``r`` the marker radius.
+* knee joint centre: :func:`chord` of (THI, HJC, KNE) at ``knee width / 2 + r``
+  from KNE; thigh: ``z = unit(HJC - KJC)``, ``x`` normal to the plane
+  (HJC, KJC, KNE), ``y = z × x``.
+* ankle joint centre: :func:`chord` of (TIB, KJC, ANK) at ``ankle width / 2 + r``
+  from ANK; shank: ``z = unit(KJC - AJC)``, ``x`` normal to (TIB, KJC, ANK), so
+  that ``y`` points from the joint centre to the lateral malleolus (ANK);
+  the torsioned shank (for the ankle) is turned about ``z`` by the tibial
+  torsion.
+* foot: origin TOE, ``z = unit(AJC - TOE)`` (backwards), ``x = y_ankle × z``
+  (up), ``y = z × x``; then turned by the static plantar-flexion and rotation
+  offsets (:mod:`mocap.calibration`) so that it lies along heel → toe.
+
+Angles: Cardan ``YXZ`` (flexion, then ab/adduction, then axial rotation) of the
+distal frame relative to the proximal one (the pelvis relative to the
+progression frame), with Plug-in Gait's signs: flexion, adduction (knee varus)
+and internal rotation positive, ankle dorsiflexion and inversion positive,
+pelvic tilt anterior, obliquity and rotation positive when that side is up /
+forward.  See docs/plugingait.md for the column ↔ Vicon output table.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mocap.errors import MocapError
+from mocap.markersets.model import _LabelIndex
+from mocap.trial import Trial
+
+#: Davis et al. (1991) hip regression angles, radians (Plug-in Gait's values).
+DAVIS_THETA = 0.500000178813934
+DAVIS_BETA = 0.314000427722931
+#: Joints of the clinical output, in column order.
+JOINTS = ("pelvis", "hip", "knee", "ankle")
+#: Planes of the clinical output (Vicon's X, Y, Z components of <Side><Joint>Angles).
+PLANES = ("flexion", "adduction", "rotation")
+SIDES = ("l", "r")
+
+
+class MissingMeasurementError(MocapError):
+    """Subject measurements Plug-in Gait needs (knee, ankle widths) are unknown."""
+
+
+class AnatomicalOffsetWarning(UserWarning):
+    """Angles computed without a static calibration (offsets uncorrected)."""
+
+
+@dataclass
+class Subject:
+    """Subject measurements and static offsets of Plug-in Gait, per side.
+
+    Lengths in millimetres, angles in radians (as in the C3D PROCESSING group).
+    ``None`` means "not measured": estimated where Plug-in Gait estimates it.
+
+    Attributes
+    ----------
+    marker_diameter : float
+    leg_length, asis_trochanter, knee_width, ankle_width : dict side -> float or None
+    inter_asis : float or None
+    tibial_torsion, thigh_rotation, shank_rotation : dict side -> float
+        Radians; the last two turn the wand markers' planes (KAD calibration).
+    static_plantar_flexion, static_rotation_offset : dict side -> float or None
+        Radians, Plug-in Gait's signs; None when no static calibrated the foot.
+    calibrated : bool
+        True once a static trial set the offsets.
+    """
+
+    marker_diameter: float = 14.0
+    leg_length: dict = field(default_factory=lambda: {"l": None, "r": None})
+    asis_trochanter: dict = field(default_factory=lambda: {"l": None, "r": None})
+    knee_width: dict = field(default_factory=lambda: {"l": None, "r": None})
+    ankle_width: dict = field(default_factory=lambda: {"l": None, "r": None})
+    inter_asis: float | None = None
+    tibial_torsion: dict = field(default_factory=lambda: {"l": 0.0, "r": 0.0})
+    thigh_rotation: dict = field(default_factory=lambda: {"l": 0.0, "r": 0.0})
+    shank_rotation: dict = field(default_factory=lambda: {"l": 0.0, "r": 0.0})
+    static_plantar_flexion: dict = field(default_factory=lambda: {"l": None, "r": None})
+    static_rotation_offset: dict = field(default_factory=lambda: {"l": None, "r": None})
+    calibrated: bool = False
+
+    @property
+    def radius(self) -> float:
+        """Marker radius, millimetres."""
+        return self.marker_diameter / 2.0
+
+
+_PROCESSING = {  # Subject field -> PROCESSING name pattern ({S} = L or R)
+    "leg_length": "{S}LegLength", "asis_trochanter": "{S}AsisTrocanterDistance",
+    "knee_width": "{S}KneeWidth", "ankle_width": "{S}AnkleWidth",
+    "tibial_torsion": "{S}TibialTorsion", "thigh_rotation": "{S}ThighRotation",
+    "shank_rotation": "{S}ShankRotation",
+    "static_plantar_flexion": "{S}StaticPlantFlex",
+    "static_rotation_offset": "{S}StaticRotOff",
+}
+
+
+def subject_from_trial(trial: Trial, *, offsets: bool = False) -> Subject:
+    """Subject measurements from a C3D's PROCESSING group (Vicon's subject values).
+
+    Parameters
+    ----------
+    trial : Trial
+        Read from a C3D (``metadata["parameters"]["PROCESSING"]``); other
+        formats give the defaults.
+    offsets : bool
+        Also take the static offsets (plant-flexion, rotation) stored there by
+        a previous Plug-in Gait run; off by default, as those are outputs of a
+        static calibration, not measurements.
+
+    Returns
+    -------
+    Subject
+        A measurement of 0 (Vicon's "not measured") becomes None.
+    """
+    parameters = trial.metadata.get("parameters") or {}
+    group = {str(k).upper(): v for k, v in (parameters.get("PROCESSING") or {}).items()}
+
+    def number(name: str) -> float | None:
+        value = group.get(name.upper())
+        try:
+            value = float(np.ravel(value)[0])
+        except (TypeError, ValueError, IndexError):
+            return None
+        return value if np.isfinite(value) else None
+
+    subject = Subject()
+    diameter = number("MarkerDiameter")
+    if diameter and diameter > 0:
+        subject.marker_diameter = diameter
+    iad = number("InterAsisDistance")
+    subject.inter_asis = iad if iad else None
+    for key, pattern in _PROCESSING.items():
+        if key.startswith("static_") and not offsets:
+            continue
+        values = getattr(subject, key)
+        for side in SIDES:
+            value = number(pattern.format(S=side.upper()))
+            if key in ("tibial_torsion", "thigh_rotation", "shank_rotation"):
+                values[side] = value or 0.0
+            elif key.startswith("static_"):
+                values[side] = value
+            else:
+                values[side] = value if value else None
+    if offsets and all(subject.static_plantar_flexion[s] is not None for s in SIDES):
+        subject.calibrated = True
+    return subject
+
+
+# ------------------------------------------------------------------ vector helpers
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+
+def frame_from_axes(x: np.ndarray, y: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """Rotation matrices with columns x, y, z, shape (frames, 3, 3)."""
+    return np.stack([x, y, z], axis=-1)
+
+
+def rotate_about(v: np.ndarray, axis: np.ndarray, angle: float | np.ndarray) -> np.ndarray:
+    """Rodrigues rotation of vectors ``v`` about unit ``axis`` by ``angle`` radians."""
+    c, s = np.cos(angle), np.sin(angle)
+    dot = np.sum(axis * v, axis=-1, keepdims=True)
+    return v * c + np.cross(axis, v) * s + axis * dot * (1.0 - c)
+
+
+def chord(plane: np.ndarray, joint: np.ndarray, marker: np.ndarray, delta: float,
+          rotation: float = 0.0, iterations: int = 6) -> np.ndarray:
+    """Plug-in Gait's chord function: a joint centre from three points.
+
+    The centre ``J`` lies at ``delta`` from ``marker`` and sees ``joint`` and
+    ``marker`` at a right angle (``(J - marker) ⟂ (J - joint)``: ``J`` is on
+    the sphere with diameter joint–marker), in the plane of (``plane``,
+    ``joint``, ``marker``) turned about the segment axis ``joint - J`` by
+    ``rotation``.
+
+    Parameters
+    ----------
+    plane, joint, marker : ndarray, shape (frames, 3), millimetres
+        Wand (plane) marker, proximal joint centre, the marker on the joint.
+    delta : float
+        Millimetres (half the joint width plus the marker radius).
+    rotation : float
+        Radians: the angle about the segment axis from the wand's plane to the
+        plane (joint, J, marker) (Plug-in Gait's thigh / shank rotation
+        offsets).  The axis depends on ``J``, so the centre is found by a fixed
+        number of vectorised fixed-point ``iterations`` (the angle converges
+        geometrically; 6 give < 1e-6 mm for offsets below 30 degrees).
+
+    Returns
+    -------
+    ndarray, shape (frames, 3), millimetres; NaN where an input is NaN.
+    """
+    axis = joint - marker                                    # v2
+    length = np.linalg.norm(axis, axis=-1, keepdims=True)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        theta = np.arccos(np.clip(delta / length, -1.0, 1.0))
+        direction = axis / length
+    middle = (joint + marker) / 2.0
+
+    def solve(point: np.ndarray) -> np.ndarray:
+        normal = _unit(np.cross(point - marker, axis))        # v3
+        # v2 rotated about v3 by 2θ (v3 ⟂ v2), scaled to half |v2|, from the midpoint
+        rotated = (direction * np.cos(2 * theta)
+                   + np.cross(normal, direction) * np.sin(2 * theta))
+        return middle + rotated * (length / 2.0)
+
+    centre = solve(plane)
+    if rotation:
+        for _ in range(iterations):    # a few whole-trial passes, not a frame loop
+            long_axis = _unit(joint - centre)
+            turned = centre + rotate_about(plane - centre, long_axis, rotation)
+            centre = solve(turned)
+    return centre
+
+
+def rot_y(angle: float) -> np.ndarray:
+    """Rotation matrix about y by ``angle`` radians."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+
+
+def rot_x(angle: float) -> np.ndarray:
+    """Rotation matrix about x by ``angle`` radians."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+def rot_z(angle: float) -> np.ndarray:
+    """Rotation matrix about z by ``angle`` radians."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+# ------------------------------------------------------------------ the model
+
+@dataclass
+class Markers:
+    """The markers the model reads, millimetres, (frames, 3) each; None if absent."""
+
+    points: dict
+
+    def get(self, name: str) -> np.ndarray | None:
+        return self.points.get(name)
+
+
+def markers_from_trial(trial: Trial, names: tuple[str, ...]) -> tuple[dict, list[str]]:
+    """Marker arrays (millimetres) by bare name; names with no valid frame are absent.
+
+    Returns the arrays and the names found as labels but empty (no valid frame).
+    """
+    index = _LabelIndex(trial.labels)
+    out: dict[str, np.ndarray] = {}
+    empty: list[str] = []
+    for name in names:
+        column = index.find(name)
+        if column is None:
+            continue
+        values = trial.points[:, column, :] * 1000.0
+        if not np.isfinite(values).all(axis=1).any():
+            empty.append(name)
+            continue
+        out[name] = values
+    return out, empty
+
+
+#: Every marker name the lower-body model may read.
+MARKERS = ("LASI", "RASI", "SACR", "LPSI", "RPSI", "LTHI", "RTHI", "LKNE", "RKNE",
+           "LTIB", "RTIB", "LANK", "RANK", "LHEE", "RHEE", "LTOE", "RTOE",
+           "LKAX", "RKAX", "LKD1", "RKD1", "LKD2", "RKD2", "LMED", "RMED")
+
+
+def pelvis_frame(m: dict, path: str | None = None, warn: bool = True
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Pelvis rotation (frames, 3, 3), origin (frames, 3) and the sacrum used.
+
+    SACR when it has data, else the PSIS midpoint (with a warning when a SACR
+    label exists without data).
+    """
+    if "RASI" not in m or "LASI" not in m:
+        raise MocapError("Plug-in Gait needs RASI and LASI markers with data", path)
+    sacrum = m.get("SACR")
+    if sacrum is None:
+        if "LPSI" in m and "RPSI" in m:
+            sacrum = (m["LPSI"] + m["RPSI"]) / 2.0
+        else:
+            raise MocapError("Plug-in Gait needs a SACR marker or both LPSI and RPSI "
+                             "with data", path)
+    origin = (m["RASI"] + m["LASI"]) / 2.0
+    y = _unit(m["LASI"] - m["RASI"])
+    b1 = origin - sacrum
+    x = _unit(b1 - np.sum(b1 * y, axis=-1, keepdims=True) * y)
+    z = np.cross(x, y)
+    return frame_from_axes(x, y, z), origin, sacrum
+
+
+def hip_joint_centres(rotation: np.ndarray, origin: np.ndarray, subject: Subject
+                      ) -> dict[str, np.ndarray]:
+    """Davis hip joint centres (frames, 3) per side, millimetres."""
+    legs = [subject.leg_length[s] for s in SIDES]
+    if any(v is None for v in legs):
+        raise ValueError("leg lengths must be known (calibrate or give them)")
+    mean_leg = float(np.mean(legs))
+    c = mean_leg * 0.115 - 15.3
+    half_iad = subject.inter_asis / 2.0
+    out = {}
+    for side, sign in (("l", -1.0), ("r", 1.0)):
+        at = subject.asis_trochanter[side]
+        if at is None:
+            at = 0.1288 * subject.leg_length[side] - 48.56
+        local = np.array([
+            (-at - subject.radius) * np.cos(DAVIS_BETA)
+            + c * np.cos(DAVIS_THETA) * np.sin(DAVIS_BETA),
+            sign * (c * np.sin(DAVIS_THETA) - half_iad),
+            (-at - subject.radius) * np.sin(DAVIS_BETA)
+            - c * np.cos(DAVIS_THETA) * np.cos(DAVIS_BETA)])
+        out[side] = origin + rotation @ local
+    return out
+
+
+def thigh_frame(hjc: np.ndarray, kjc: np.ndarray, knee: np.ndarray, side: str
+                ) -> np.ndarray:
+    """Thigh rotation: z from KJC to HJC, x normal to (HJC, KJC, KNE), (frames, 3, 3)."""
+    z = _unit(hjc - kjc)
+    lateral = knee - hjc
+    x = _unit(np.cross(z, lateral) if side == "r" else np.cross(lateral, z))
+    return frame_from_axes(x, np.cross(z, x), z)
+
+
+def shank_frame(kjc: np.ndarray, ajc: np.ndarray, ankle: np.ndarray, side: str
+                ) -> np.ndarray:
+    """Shank rotation from the joint centres and the lateral malleolus (frames, 3, 3).
+
+    ``z = unit(KJC - AJC)``; ``y`` the part of AJC → ANK orthogonal to ``z``
+    (towards the left: lateral on the left leg, medial on the right);
+    ``x = y × z`` (anterior).  The wand marker only placed the ankle centre.
+    """
+    z = _unit(kjc - ajc)
+    lateral = ankle - ajc
+    y = _unit(lateral - np.sum(lateral * z, axis=-1, keepdims=True) * z)
+    if side == "r":
+        y = -y
+    return frame_from_axes(np.cross(y, z), y, z)
+
+
+def uncorrected_foot_frame(ajc: np.ndarray, toe: np.ndarray, ankle_y: np.ndarray
+                           ) -> np.ndarray:
+    """Foot before the static offsets: z from TOE to AJC, x = ankle y × z (up)."""
+    z = _unit(ajc - toe)
+    x = _unit(np.cross(ankle_y, z))
+    return frame_from_axes(x, np.cross(z, x), z)
+
+
+def torsioned(shank: np.ndarray, torsion: float) -> np.ndarray:
+    """The shank turned about its z by the tibial torsion (radians)."""
+    return shank @ rot_z(torsion) if torsion else shank
+
+
+def anatomical_foot_frame(toe: np.ndarray, heel: np.ndarray, ankle_y: np.ndarray,
+                          ajc: np.ndarray | None = None, flat: bool = False,
+                          sole_delta: float = 0.0) -> np.ndarray:
+    """The static's foot along heel → toe: z = unit(HEE - TOE), x = ankle y × z.
+
+    With ``flat`` (Plug-in Gait's "foot flat" option) the heel is taken at the
+    toe's height, so the foot's long axis is horizontal in the lab (the sole is
+    on the floor): z is TOE → AJC projected onto the plane normal to the level
+    heel → toe line's horizontal normal, as Plug-in Gait does.
+    """
+    if not flat:
+        z = _unit(heel - toe)
+    else:
+        level = heel - toe
+        level[..., 2] = 0.0
+        level = _unit(level)
+        to_ankle = ajc.copy()
+        to_ankle[..., 2] += sole_delta
+        to_ankle = _unit(to_ankle - toe)
+        a = _unit(np.cross(level, to_ankle))
+        b = _unit(np.cross(a, level))
+        z = _unit(np.cross(b, a))
+    x = _unit(np.cross(ankle_y, z))
+    y = np.cross(z, x)
+    return frame_from_axes(x, y, _unit(np.cross(x, y)))
+
+
+@dataclass
+class Kinematics:
+    """Joint centres (millimetres) and segment rotations of one trial.
+
+    ``centres`` maps ``"pelvis"``, ``"l_hip"``, ``"l_knee"``, ``"l_ankle"``,
+    ``"l_toe"`` … to (frames, 3); ``frames`` maps ``"pelvis"``, ``"l_thigh"``,
+    ``"l_shank"`` (untorsioned), ``"l_tibia"`` (torsioned, the ankle's
+    proximal frame), ``"l_foot_uncorrected"``, ``"l_foot"`` … to
+    (frames, 3, 3).  Segments whose markers are absent are left out.
+    """
+
+    centres: dict
+    frames: dict
+    notes: list = field(default_factory=list)
+
+
+def _side_sign(side: str) -> float:
+    # the wand-rotation offsets turn about a line pointing up the limb: mirrored
+    return -1.0 if side == "l" else 1.0
+
+
+def kinematics(markers: dict, subject: Subject, path: str | None = None,
+               feet: bool = True) -> Kinematics:
+    """Plug-in Gait joint centres and segment frames from marker arrays.
+
+    Parameters
+    ----------
+    markers : dict of str to ndarray (frames, 3), millimetres
+        Bare Plug-in Gait names (markers_from_trial); absent names are skipped
+        (a leg without knee markers gives no thigh, a foot without HEE/TOE no
+        foot).
+    subject : Subject
+        Leg lengths and the inter-ASIS distance must be known (calibrate).
+    feet : bool
+        Compute the feet (needs static offsets unless uncorrected is fine).
+    """
+    notes: list[str] = []
+    pelvis, origin, sacrum = pelvis_frame(markers, path)
+    centres = {"pelvis": origin, "sacrum": sacrum}
+    frames = {"pelvis": pelvis}
+    hips = hip_joint_centres(pelvis, origin, subject)
+    for side in SIDES:
+        S = side.upper()
+        centres[f"{side}_hip"] = hips[side]
+        if not all(f"{S}{n}" in markers for n in ("THI", "KNE")) \
+                or subject.knee_width[side] is None:
+            notes.append(f"{S}: no thigh ({S}THI, {S}KNE and the knee width are needed)")
+            continue
+        sign = _side_sign(side)
+        kjc = chord(markers[f"{S}THI"], hips[side], markers[f"{S}KNE"],
+                    subject.knee_width[side] / 2.0 + subject.radius,
+                    sign * subject.thigh_rotation[side])
+        centres[f"{side}_knee"] = kjc
+        frames[f"{side}_thigh"] = thigh_frame(hips[side], kjc, markers[f"{S}KNE"], side)
+        if not all(f"{S}{n}" in markers for n in ("TIB", "ANK")) \
+                or subject.ankle_width[side] is None:
+            notes.append(f"{S}: no shank ({S}TIB, {S}ANK and the ankle width are needed)")
+            continue
+        ajc = chord(markers[f"{S}TIB"], kjc, markers[f"{S}ANK"],
+                    subject.ankle_width[side] / 2.0 + subject.radius,
+                    sign * subject.shank_rotation[side])
+        centres[f"{side}_ankle"] = ajc
+        shank = shank_frame(kjc, ajc, markers[f"{S}ANK"], side)
+        frames[f"{side}_shank"] = shank
+        tibia = torsioned(shank, -sign * subject.tibial_torsion[side])
+        frames[f"{side}_tibia"] = tibia
+        if not feet or f"{S}TOE" not in markers:
+            if feet:
+                notes.append(f"{S}: no foot ({S}TOE is needed)")
+            continue
+        toe = markers[f"{S}TOE"]
+        centres[f"{side}_toe"] = toe
+        foot = uncorrected_foot_frame(ajc, toe, tibia[..., 1])
+        frames[f"{side}_foot_uncorrected"] = foot
+        flex, rot = (subject.static_plantar_flexion[side],
+                     subject.static_rotation_offset[side])
+        frames[f"{side}_foot"] = foot @ foot_offset_matrix(flex or 0.0, rot or 0.0, side)
+    return Kinematics(centres, frames, notes)
+
+
+def foot_offset_matrix(plantar_flexion: float, rotation_offset: float, side: str
+                       ) -> np.ndarray:
+    """Rotation taking the uncorrected foot to the anatomical one (3, 3).
+
+    From Plug-in Gait's stored offsets (radians): ``Ry(b) Rx(a)`` with
+    ``b = -StaticPlantFlex`` and ``a = StaticRotOff`` (right) or
+    ``-StaticRotOff`` (left).
+    """
+    a = rotation_offset if side == "r" else -rotation_offset
+    return rot_y(-plantar_flexion) @ rot_x(a)
+
+
+def yxz_angles(proximal: np.ndarray, distal: np.ndarray) -> np.ndarray:
+    """Cardan YXZ angles (degrees) of ``proximalᵀ distal``, shape (frames, 3).
+
+    ``R = Ry(a1) Rx(a2) Rz(a3)``: a1 in (-180, 180], a2 in [-90, 90], a3 in
+    (-180, 180]; NaN where either rotation is NaN.
+    """
+    r = np.einsum("...ji,...jk->...ik", proximal, distal)
+    with np.errstate(invalid="ignore"):
+        a2 = np.arcsin(np.clip(-r[..., 1, 2], -1.0, 1.0))
+    a1 = np.arctan2(r[..., 0, 2], r[..., 2, 2])
+    a3 = np.arctan2(r[..., 1, 0], r[..., 1, 1])
+    return np.degrees(np.stack([a1, a2, a3], axis=-1))
+
+
+#: Clinical sign of (a1, a2, a3) per joint and side, and an offset of a1 (degrees):
+#: flexion, adduction / varus / obliquity-up / inversion, internal rotation /
+#: forward positive (see the module docstring and docs/plugingait.md).
+_CLINICAL = {
+    ("pelvis", "l"): ((1, 1, -1), (0, 1, 2)),
+    ("pelvis", "r"): ((1, -1, 1), (0, 1, 2)),
+    ("hip", "l"): ((-1, -1, -1), (0, 1, 2)),
+    ("hip", "r"): ((-1, 1, 1), (0, 1, 2)),
+    ("knee", "l"): ((1, -1, -1), (0, 1, 2)),
+    ("knee", "r"): ((1, 1, 1), (0, 1, 2)),
+    # the foot's z runs backwards along it: a1 is -90 at neutral; a3 is about
+    # the foot's long axis (inversion), a2 about its vertical x (rotation)
+    ("ankle", "l"): ((-1, -1, -1), (0, 2, 1)),
+    ("ankle", "r"): ((-1, 1, 1), (0, 2, 1)),
+}
+
+
+def clinical_angles(proximal: np.ndarray, distal: np.ndarray, joint: str, side: str
+                    ) -> np.ndarray:
+    """Plug-in Gait's <Side><Joint>Angles (flexion, adduction, rotation), degrees."""
+    raw = yxz_angles(proximal, distal)
+    if joint == "ankle":
+        raw[..., 0] += 90.0
+        raw[..., 0] = (raw[..., 0] + 180.0) % 360.0 - 180.0
+    signs, order = _CLINICAL[(joint, side)]
+    return raw[..., list(order)] * np.asarray(signs, dtype=float)
+
+
+def progression_frame(origin: np.ndarray, pelvis: np.ndarray, min_travel: float = 200.0
+                      ) -> np.ndarray:
+    """The walking direction's frame (3, 3): x along the progression, z up.
+
+    The progression is the lab's horizontal axis (±X or ±Y) along which the
+    pelvis origin travels most from the first to the last valid frame, as
+    Plug-in Gait takes it; when it travels less than ``min_travel`` mm (a
+    static trial), the axis nearest the pelvis's mean forward direction.
+    """
+    valid = np.isfinite(origin).all(axis=1)
+    if valid.sum() >= 2:
+        idx = np.flatnonzero(valid)
+        travel = origin[idx[-1], :2] - origin[idx[0], :2]
+    else:
+        travel = np.zeros(2)
+    if np.hypot(*travel) < min_travel:
+        forward = np.nanmean(pelvis[..., 0], axis=0)
+        travel = forward[:2] if np.isfinite(forward).all() else np.array([1.0, 0.0])
+    axis = int(np.argmax(np.abs(travel)))
+    x = np.zeros(3)
+    x[axis] = np.sign(travel[axis]) or 1.0
+    z = np.array([0.0, 0.0, 1.0])
+    return frame_from_axes(x, np.cross(z, x), z)
