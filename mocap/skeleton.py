@@ -12,9 +12,10 @@ Conventions (those of BVH, so a :class:`Motion` is one step from a BVH file):
   left along +X (so X × Y = Z);
 * lengths in metres; rotations are 3 × 3 matrices acting on column vectors;
 * a joint's frame is the identity in the skeleton's rest pose, so a joint's world position
-  is ``p_parent + G_parent @ offset`` with ``G_parent`` the parent's world rotation, and the
-  root's world position is ``offsets[0] + root_translation`` (BVH semantics: channel values
-  are added to the root's OFFSET).
+  is ``p_parent + G_parent @ t`` with ``G_parent`` the parent's world rotation and ``t`` the
+  joint's local translation: its ``offset``, or, when the motion animates it (a BVH joint
+  with position channels), ``Motion.translations[frame, joint]``; the root's world position
+  is ``offsets[0] + root_translation``.
 
 Where the rest lives: the 15-segment body and joint-name mapping in
 :mod:`mocap.body.segments`; motions built from marker trials, world frames and foreign
@@ -26,7 +27,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy.spatial.transform import Rotation
+from scipy.spatial.transform import Rotation, Slerp
+
+from mocap.errors import MocapError
 
 
 @dataclass
@@ -129,6 +132,11 @@ class Motion:
         Frames per second (Hz).
     metadata : dict
         Provenance: source path and format, BVH channel layout, unit detected, name map.
+    translations : ndarray, shape (frames, segments, 3), float, metres, optional
+        Local translation of each non-root segment per frame, in its parent's frame,
+        *replacing* ``skeleton.offsets`` (BVH position channels on a joint, as Blender and
+        bvhio read them); row 0 is unused (the root moves by ``root_translation``).
+        None: every segment keeps its offset.
 
     Examples
     --------
@@ -144,6 +152,7 @@ class Motion:
     rotations: np.ndarray
     rate: float
     metadata: dict = field(default_factory=dict)
+    translations: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         self.root_translation = np.asarray(self.root_translation, dtype=float).reshape(-1, 3)
@@ -152,6 +161,11 @@ class Motion:
         expected = (frames, self.skeleton.count, 3, 3)
         if self.rotations.shape != expected:
             raise ValueError(f"rotations must have shape {expected}, got {self.rotations.shape}")
+        if self.translations is not None:
+            self.translations = np.asarray(self.translations, dtype=float)
+            if self.translations.shape != expected[:3]:
+                raise ValueError(f"translations must have shape {expected[:3]}, got "
+                                 f"{self.translations.shape}")
         self.rate = float(self.rate)
         if not self.rate > 0:
             raise ValueError(f"rate must be positive, got {self.rate}")
@@ -213,8 +227,26 @@ class Motion:
                 world_p[:, i] = sk.offsets[i] + self.root_translation
             else:
                 world_r[:, i] = world_r[:, p] @ self.rotations[:, i]
-                world_p[:, i] = world_p[:, p] + world_r[:, p] @ sk.offsets[i]
+                if self.translations is None:
+                    world_p[:, i] = world_p[:, p] + world_r[:, p] @ sk.offsets[i]
+                else:
+                    world_p[:, i] = world_p[:, p] + np.einsum(
+                        "fij,fj->fi", world_r[:, p], self.translations[:, i])
         return world_r, world_p
+
+    def local_translations(self) -> np.ndarray:
+        """Local translation of every non-root segment per frame, (frames, segments, 3), m.
+
+        ``translations`` when the motion animates them, else the offsets repeated; row 0
+        holds the root's world position ``offsets[0] + root_translation``.
+        """
+        if self.translations is None:
+            result = np.broadcast_to(self.skeleton.offsets,
+                                     (self.frames, self.skeleton.count, 3)).copy()
+        else:
+            result = self.translations.copy()
+        result[:, 0] = self.skeleton.offsets[0] + self.root_translation
+        return result
 
     def end_site_positions(self, world: tuple[np.ndarray, np.ndarray] | None = None
                            ) -> tuple[list[int], np.ndarray]:
@@ -243,16 +275,50 @@ class Motion:
     # -- editing ----------------------------------------------------------------------
     def slice(self, start: int = 0, stop: int | None = None, step: int = 1) -> "Motion":
         """Frames ``start:stop:step`` (the rate divides by ``step``)."""
+        moved = None if self.translations is None else \
+            self.translations[start:stop:step].copy()
         return replace(self, root_translation=self.root_translation[start:stop:step].copy(),
                        rotations=self.rotations[start:stop:step].copy(),
-                       rate=self.rate / step, metadata=dict(self.metadata))
+                       rate=self.rate / step, metadata=dict(self.metadata), translations=moved)
 
     def scaled(self, factor: float) -> "Motion":
         """The same motion with every length multiplied by ``factor``."""
         sk = self.skeleton
         skeleton = Skeleton(sk.names, sk.parents, sk.offsets * factor, sk.end_sites * factor)
+        moved = None if self.translations is None else self.translations * factor
         return replace(self, skeleton=skeleton, root_translation=self.root_translation * factor,
-                       metadata=dict(self.metadata))
+                       metadata=dict(self.metadata), translations=moved)
+
+    def resampled(self, rate: float) -> "Motion":
+        """The motion at another frame rate over the same time span (Hz).
+
+        Rotations are interpolated by slerp, translations linearly; the last frame is the
+        last one inside the original span.
+        """
+        if not (np.isfinite(rate) and rate > 0):
+            raise MocapError(f"the frame rate must be positive and finite, got {rate}")
+        frames = int(np.floor(self.duration * rate + 1e-9)) + 1
+        times = np.arange(frames) / rate
+        if self.frames == 1:
+            index = np.zeros(frames, int)
+            return replace(self.slice(0, 1), rate=float(rate),
+                           root_translation=self.root_translation[index],
+                           rotations=self.rotations[index],
+                           translations=None if self.translations is None
+                           else self.translations[index])
+        rotations = np.stack([Slerp(self.times, Rotation.from_matrix(self.rotations[:, s]))(
+            times).as_matrix() for s in range(self.skeleton.count)], axis=1)
+
+        def linear(values: np.ndarray) -> np.ndarray:
+            flat = values.reshape(self.frames, -1)
+            return np.stack([np.interp(times, self.times, flat[:, k])
+                             for k in range(flat.shape[1])], axis=1).reshape(
+                (frames,) + values.shape[1:])
+
+        moved = None if self.translations is None else linear(self.translations)
+        return replace(self, root_translation=linear(self.root_translation),
+                       rotations=rotations, rate=float(rate), metadata=dict(self.metadata),
+                       translations=moved)
 
     def rotation_vectors(self) -> np.ndarray:
         """Joint rotations as rotation vectors (axis × angle, radians), (frames, segments, 3)."""

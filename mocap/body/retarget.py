@@ -13,7 +13,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation, Slerp
 
 from mocap.body.segments import (BODY_SEGMENTS, LOWER_BODY, body_parents, canonical_segment,
-                                 map_segments)
+                                 describe_mapping, map_segments)
 from mocap.errors import MocapError
 from mocap.frames import segment_frames
 from mocap.markersets import load_markerset
@@ -266,7 +266,8 @@ def motion_to_lab(motion: Motion, up: str = "z") -> tuple[np.ndarray, np.ndarray
     return rotations, root
 
 
-def reduce_to_segments(motion: Motion, partial: bool = False) -> Motion:
+def reduce_to_segments(motion: Motion, partial: bool = False,
+                       joint_map: dict[str, str] | None = None) -> Motion:
     """The motion of a foreign skeleton (BVH, ASF) on our 15-segment body.
 
     Each body segment follows the joint :func:`map_segments` chose for it: its world
@@ -282,6 +283,10 @@ def reduce_to_segments(motion: Motion, partial: bool = False) -> Motion:
     partial : bool
         Accept a body with pelvis and legs only (a lower-body marker set): the segments
         found, in body order; the dynamics lumps the missing ones into the pelvis.
+    joint_map : dict, optional
+        Body segment → joint name for joints the names do not reveal
+        (:func:`mocap.body.segments.read_joint_map`); default ``motion.metadata["joint_map"]``
+        (set by :func:`mocap.io.motion.read_motion`).
 
     Raises
     ------
@@ -295,13 +300,16 @@ def reduce_to_segments(motion: Motion, partial: bool = False) -> Motion:
             and sk.names == [n for n in BODY_SEGMENTS if n in sk.names] \
             and sk.parents == body_parents(sk.names):
         return motion
-    found = map_segments(sk.names, sk.parents)
+    if joint_map is None:
+        joint_map = motion.metadata.get("joint_map")
+    source = motion.metadata.get("source")
+    try:
+        found = map_segments(sk.names, sk.parents, joint_map)
+    except MocapError as error:
+        raise MocapError(error.problem, source) from None
     needed = LOWER_BODY if partial else BODY_SEGMENTS
-    missing = [s for s in needed if s not in found]
-    if missing:
-        raise MocapError("cannot map the skeleton onto the body model: no joint for "
-                         + ", ".join(missing) + f" (joints: {', '.join(sk.names)})",
-                         motion.metadata.get("source"))
+    if any(s not in found for s in needed):
+        raise MocapError(describe_mapping(sk.names, found, needed), source)
     names = [s for s in BODY_SEGMENTS if s in found]
     world_r, world_p = motion.forward_kinematics()
     chosen = [found[s] for s in names]

@@ -21,6 +21,7 @@ from mocap.body.retarget import reduce_to_segments
 from mocap.cli import options
 from mocap.cli.commands import summary
 from mocap.errors import MocapError
+from mocap.io.bvh import units_note
 from mocap.io.export import EXPORT_FORMATS, export_motion
 from mocap.io.motion import read_motion
 
@@ -32,17 +33,24 @@ def _motion_options(parser: argparse.ArgumentParser) -> None:
                         help="motion file: .bvh, .amc (with its .asf), a joint-angle .csv, or a "
                              "marker trial (.c3d, .trc, .csv) with --markerset")
     parser.add_argument("--asf", metavar="ASF",
-                        help="ASF skeleton of an AMC motion (default: <name>.asf or "
-                             "<subject>.asf beside it, as in the CMU database)")
+                        help="ASF skeleton of an AMC motion (default: <name>.asf beside it, "
+                             "or the longest prefix of the name cut at _ or -: 01.asf for "
+                             "01_01.amc as in CMU, HDM_bd.asf for HDM_bd_01-01_01_120.amc "
+                             "as in HDM05)")
     parser.add_argument("--markerset", "-m", metavar="SET",
                         help="marker set of a marker trial: preset name (synthetic15, "
                              "plugingait-lower) or TOML file")
     parser.add_argument("--units", choices=("m", "cm", "mm", "in", "cmu"),
-                        help="length unit of a BVH (or ASF) file; detected from the figure's "
-                             "size when not given")
+                        help="length unit of the input BVH (or ASF) file; detected from the "
+                             "standing height of its first frame when not given (and printed)")
     parser.add_argument("--rate", type=options.RATE, default=120.0, metavar="HZ",
                         help="frame rate of an AMC motion, which does not store it "
                              "(default 120, as CMU and HDM05)")
+    parser.add_argument("--joint-map", metavar="FILE.toml",
+                        help="which joint is which body segment, for rigs whose joint names "
+                             "are not recognised: lines such as l_thigh = \"MyLeftThigh\" "
+                             "(segments: pelvis, thorax, head, l_/r_upperarm, forearm, hand, "
+                             "thigh, shank, foot)")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -105,6 +113,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     export.add_argument("--sequence", default="ZXY", metavar="SEQ",
                         help="Euler sequence of csv and mot angles, scipy convention "
                              "(default ZXY)")
+    export.add_argument("--out-units", choices=("m", "cm", "mm", "in"), default=None,
+                        help="length unit of a bvh output (default cm; Blender wants m); "
+                             "--units stays the input's")
+    export.add_argument("--round-rate", action="store_true",
+                        help="resample a bvh output to the nearest whole frame rate (Hz); "
+                             "by default the rate is kept exactly")
     export.add_argument("--model", choices=("gait2392", "rajagopal"),
                         help="with --format mot: write the coordinates of this OpenSim model "
                              "(pelvis_tilt … pelvis_tx/ty/tz, hip_flexion_r, knee_angle_r, "
@@ -143,8 +157,18 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 # ----------------------------------------------------------------------------------------
 def _load(args: argparse.Namespace):
-    return read_motion(args.motion, asf=args.asf, markerset=args.markerset,
-                       units=args.units, rate=args.rate)
+    """The command's motion (``motion.metadata["note"]``: the unit it was read in)."""
+    motion = read_motion(args.motion, asf=args.asf, markerset=args.markerset,
+                         units=args.units, rate=args.rate, joint_map=args.joint_map)
+    motion.metadata["note"] = (units_note(motion) or "").replace("units=", "--units")
+    return motion
+
+
+def _report_input(args: argparse.Namespace, motion) -> None:
+    """After a command succeeded: the unit the input was read in, on stderr (not before an
+    error, which stays the one line)."""
+    if motion.metadata.get("note"):
+        print(f"{args.motion}: {motion.metadata['note']}", file=sys.stderr)
 
 
 def run_check(args: argparse.Namespace) -> int:
@@ -170,6 +194,7 @@ def run_check(args: argparse.Namespace) -> int:
     report = check_motion(motion, body_mass=args.mass, sex=args.sex, mu=args.mu,
                           thresholds=limits, floor=floor)
     summary = {"path": str(args.motion), **report.summary()}
+    _report_input(args, motion)
     if args.plot:
         plot_check(report, args.plot)
     if args.json:
@@ -214,11 +239,15 @@ def run_export(args: argparse.Namespace) -> int:
     if args.up != "z" and args.format not in ("c3d", "trc"):
         raise MocapError("--up applies to c3d and trc joint markers (bvh, mot and json are "
                          "Y up already; csv angles are in the Z-up lab)")
+    if args.format != "bvh" and (args.out_units or args.round_rate):
+        raise MocapError("--out-units and --round-rate apply to --format bvh only")
     motion = _load(args)
     if args.body:
         motion = reduce_to_segments(motion)
     export_motion(motion, args.output, args.format, sequence=args.sequence,
-                  model=args.model, up=args.up, precision=args.precision)
+                  model=args.model, up=args.up, precision=args.precision,
+                  units=args.out_units or "cm", round_rate=args.round_rate)
+    _report_input(args, motion)
     print(f"wrote {args.output} ({args.format}, {motion.frames} frames)", file=sys.stderr)
     return 0
 
@@ -231,7 +260,7 @@ def run_animate(args: argparse.Namespace) -> int:
         raise MocapError("the animation must be a .gif or .mp4 file", output)
     if args.max_frames < 1:
         raise MocapError(f"--max-frames must be at least 1, got {args.max_frames}")
-    motion = _load(args)
+    motion = loaded = _load(args)
     title = Path(args.motion).stem
     if args.physics:
         result = simulate_tracking(motion, body_mass=args.mass)
@@ -247,5 +276,6 @@ def run_animate(args: argparse.Namespace) -> int:
         secondary = simulate_secondary(motion, cape=args.cape, rope=args.rope)
     frames = animate_motion(motion, output, secondary=secondary, fps=args.fps,
                             max_frames=args.max_frames, dpi=args.dpi, title=title)
+    _report_input(args, loaded)
     print(f"wrote {output} ({frames} frames)", file=sys.stderr)
     return 0

@@ -275,10 +275,10 @@ def read_asf_amc(asf_path: str | os.PathLike, amc_path: str | os.PathLike,
 
     # Units.
     multiplier = asf.length_multiplier or 1.0
-    detected = False
+    detected = units is None
+    extent = float(np.ptp(_rest_points(raw), axis=0).max())
     if units is None:
         scale = UNIT_SCALES["in"] / multiplier
-        extent = float(np.ptp(_rest_points(raw), axis=0).max())
         units = "in"
         if not 0.5 <= extent * scale <= 3.0:
             try:
@@ -286,7 +286,6 @@ def read_asf_amc(asf_path: str | os.PathLike, amc_path: str | os.PathLike,
             except ValueError as error:
                 raise MocapError(f"{error}; give the unit", asf_path) from None
             scale = UNIT_SCALES[units] / multiplier
-            detected = True
     elif units in UNIT_SCALES:
         scale = UNIT_SCALES[units] / multiplier
     else:
@@ -322,6 +321,7 @@ def read_asf_amc(asf_path: str | os.PathLike, amc_path: str | os.PathLike,
     skeleton = Skeleton(names, parents, offsets * scale, ends * scale)
     metadata = {"source": os.fspath(amc_path), "skeleton_source": os.fspath(asf_path),
                 "format": "asf/amc", "units": units, "units_detected": detected,
+                "height_file_units": extent / multiplier,
                 "length_multiplier": multiplier, "angle_unit": angle_unit}
     return Motion(skeleton, translation * scale, relative, rate, metadata)
 

@@ -88,27 +88,30 @@ def find_files(inputs: Iterable[str | os.PathLike], suffixes: Iterable[str],
 def find_asf(amc: str | Path) -> Path:
     """The ASF skeleton of an AMC motion, found beside it.
 
-    Looks for ``<name>.asf`` (``walk.amc`` → ``walk.asf``), then ``<person>.asf`` (CMU:
-    ``02_01.amc`` → ``02.asf``), either in any letter case, then the only ``.asf`` of the
-    folder.
+    Looks for ``<name>.asf`` (``walk.amc`` → ``walk.asf``), then the longest prefix of the
+    name cut at ``_`` or ``-`` (CMU ``02_01.amc`` → ``02.asf``; HDM05
+    ``HDM_bd_01-01_01_120.amc`` → ``HDM_bd.asf``), either in any letter case, then the only
+    ``.asf`` of the folder.
 
     Raises
     ------
     MocapError
-        When none (or several candidates of the folder) are found.
+        When none (or several candidates of the folder) are found; the names tried are listed.
     """
     amc = Path(amc)
-    person = amc.stem.split("_")[0]
-    candidates = [amc.with_suffix(".asf"), amc.with_suffix(".ASF"),
-                  amc.with_name(person + ".asf"), amc.with_name(person + ".ASF")]
-    for candidate in candidates:
-        if candidate.exists():
-            return candidate
+    stem = amc.stem
+    cuts = [m.start() for m in re.finditer(r"[_-]", stem)]
+    tried = [stem] + [stem[:k] for k in reversed(cuts) if k > 0]
+    for name in tried:
+        for suffix in (".asf", ".ASF"):
+            candidate = amc.with_name(name + suffix)
+            if candidate.is_file():
+                return candidate
     found = sorted(amc.parent.glob("*.[aA][sS][fF]"))
     if len(found) == 1:
         return found[0]
-    raise MocapError(f"no ASF skeleton found beside this AMC motion: put {person}.asf beside "
-                     "it or pass asf=", amc)
+    raise MocapError("no ASF skeleton found beside this AMC motion (tried "
+                     + ", ".join(n + ".asf" for n in tried) + "); pass asf=", amc)
 
 
 def is_angle_csv(path: str | Path) -> bool:

@@ -30,7 +30,8 @@ EXPORT_FORMATS = ("bvh", "csv", "c3d", "trc", "mot", "json")
 
 def export_motion(motion, path: str | Path, file_format: str, sequence: str = "ZXY",
                   model: str | None = None, up: str = "z",
-                  precision: int | None = None) -> None:
+                  precision: int | None = None, units: str = "cm",
+                  round_rate: bool = False) -> None:
     """Write a motion in one of :data:`EXPORT_FORMATS` (all-or-nothing).
 
     Parameters
@@ -50,9 +51,13 @@ def export_motion(motion, path: str | Path, file_format: str, sequence: str = "Z
         ``c3d``, ``trc``: the written lab's vertical axis (:mod:`mocap.io.lab`).
     precision : int, optional
         Decimal places of ``trc`` coordinates and ``mot`` values.
+    units : {"cm", "m", "mm", "in"}
+        Length unit of a BVH output (Blender works in metres).
+    round_rate : bool
+        Resample a BVH output to the nearest whole frame rate (default: kept exactly).
     """
     if file_format == "bvh":
-        write_bvh(motion, path)
+        write_bvh(motion, path, units=units, round_rate=round_rate)
     elif file_format == "mot" and model:
         write_model_mot(motion, path, model, precision=6 if precision is None else precision)
     elif file_format == "mot":
@@ -81,6 +86,8 @@ def export_motion(motion, path: str | Path, file_format: str, sequence: str = "Z
             "rotations_xyzw": np.round(quats.reshape(motion.frames, sk.count, 4), 7).tolist(),
             "positions": np.round(positions, 6).tolist(),
         }
+        if motion.translations is not None:     # joints moved per frame (BVH positions)
+            document["translations"] = np.round(motion.translations, 6).tolist()
         with atomic_path(path) as tmp:
             tmp.write_text(json.dumps(document), encoding="utf-8")
     else:

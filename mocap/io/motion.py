@@ -4,12 +4,13 @@ marker trial (C3D/TRC/CSV) with its marker set."""
 from __future__ import annotations
 
 import os
+import warnings
 from pathlib import Path
 
 from mocap.body.angles import motion_from_angles
 from mocap.body.retarget import motion_from_trial
-from mocap.body.segments import BODY_SEGMENTS
-from mocap.errors import MocapError
+from mocap.body.segments import BODY_SEGMENTS, map_segments, read_joint_map
+from mocap.errors import MocapError, MocapWarning
 from mocap.io import read, suffixes
 from mocap.io.angles_csv import read_angles_csv
 from mocap.io.asfamc import read_asf_amc
@@ -27,7 +28,8 @@ MOTION_SUFFIXES = (".bvh", ".amc")
 
 def read_motion(path: str | os.PathLike, asf: str | os.PathLike | None = None,
                 units: str | None = None, markerset: str | None = None,
-                rate: float = 120.0) -> Motion:
+                rate: float = 120.0, joint_map: str | os.PathLike | dict | None = None
+                ) -> Motion:
     """A :class:`Motion` from any motion file: BVH, ASF/AMC, joint angles or markers.
 
     Parameters
@@ -42,6 +44,11 @@ def read_motion(path: str | os.PathLike, asf: str | os.PathLike | None = None,
         Marker set (preset name or TOML path) of a marker trial.
     rate : float
         Frame rate of an AMC, Hz (the format does not store it).
+    joint_map : str, PathLike or dict, optional
+        Which joint is which body segment, for rigs whose joint names do not say it: a TOML
+        file of ``segment = "joint"`` lines (:func:`~mocap.body.segments.read_joint_map`)
+        or such a dict. Checked against the skeleton now; used whenever the motion is
+        mapped onto the body (``metadata["joint_map"]``).
 
     Returns
     -------
@@ -51,9 +58,30 @@ def read_motion(path: str | os.PathLike, asf: str | os.PathLike | None = None,
     Raises
     ------
     MocapError
-        Missing or unreadable file, unknown suffix, a marker trial without a marker set.
+        Missing or unreadable file, unknown suffix, a marker trial without a marker set, a
+        joint map naming joints the skeleton lacks.
+
+    Warns
+    -----
+    MocapWarning
+        One per note the reader left in ``metadata["warnings"]``.
     """
-    path = Path(path)
+    if joint_map is not None and not isinstance(joint_map, dict):
+        joint_map = read_joint_map(joint_map)
+    motion = _read(Path(path), asf, units, markerset, rate)
+    if joint_map:
+        try:
+            map_segments(motion.skeleton.names, motion.skeleton.parents, joint_map)
+        except MocapError as error:
+            raise MocapError(error.problem, path) from None
+        motion.metadata["joint_map"] = dict(joint_map)
+    for note in motion.metadata.get("warnings", []):
+        warnings.warn(f"{os.fspath(path)}: {note}", MocapWarning, stacklevel=2)
+    return motion
+
+
+def _read(path: Path, asf: str | os.PathLike | None, units: str | None,
+          markerset: str | None, rate: float) -> Motion:
     if not path.exists():
         raise MocapError("file not found", path)
     if path.is_dir():
@@ -65,7 +93,7 @@ def read_motion(path: str | os.PathLike, asf: str | os.PathLike | None = None,
         return read_bvh(path, units=units)
     if suffix == ".amc":
         skeleton = Path(asf) if asf else find_asf(path)
-        if not skeleton.exists():
+        if not skeleton.is_file():
             raise MocapError("ASF file not found", skeleton)
         return read_asf_amc(skeleton, path, rate=rate, units=units)
     if suffix == ".asf":
