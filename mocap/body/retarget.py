@@ -275,7 +275,8 @@ def reduce_to_segments(motion: Motion, partial: bool = False,
     body segments are the mean over frames (exact when the skipped joints between them —
     collars, extra spine joints — do not move; otherwise an average pose). End sites of
     head, hands and feet are the furthest end site of the skipped subtree (head top,
-    finger tip, toe tip) in the segment's frame, averaged over frames.
+    finger tip, toe tip) in the segment's frame, averaged over frames; where the rig has
+    none (an End Site at the joint itself), a length in proportion to the parent segment.
 
     Parameters
     ----------
@@ -333,6 +334,10 @@ def reduce_to_segments(motion: Motion, partial: bool = False,
         local = np.einsum("fji,fkj->fki", world_r[:, j], everything[:, cols] - world_p[:, j, None])
         mean = local.mean(axis=0)
         far = np.argmax(np.linalg.norm(mean, axis=1))
-        reduced.skeleton.end_sites[names.index(leaf)] = mean[far]
+        if np.linalg.norm(mean[far]) > 1e-6:       # a rig with End Site OFFSET 0 has none
+            reduced.skeleton.end_sites[names.index(leaf)] = mean[far]
+    # Leaves the rig gives no extent (Bandai's head and hands end at their joint): the
+    # proportional default, as for marker-built skeletons.
+    _default_end_sites(reduced.skeleton)
     reduced.metadata["segment_map"] = {s: sk.names[found[s]] for s in names}
     return reduced

@@ -106,6 +106,14 @@ def test_bandai2_maps_onto_the_body():
     world = motion.forward_kinematics()[1]
     np.testing.assert_allclose(body.forward_kinematics()[1][:, 0],
                                world[:, motion.names.index("Hips")], atol=1e-9)
+    # The rig's head and hands end at their joints (End Site OFFSET 0): the body gives them
+    # lengths in proportion to their parents; the feet reach the toe joints.
+    ends = np.linalg.norm(body.skeleton.end_sites, axis=1)
+    for leaf in ("head", "l_hand", "r_hand", "l_foot", "r_foot"):
+        assert ends[BODY_SEGMENTS.index(leaf)] > 0.05, leaf
+    toe = world[:, motion.names.index("Toes_L")]
+    _, body_ends = body.end_site_positions()
+    np.testing.assert_allclose(body_ends[:, 3].mean(axis=0), toe.mean(axis=0), atol=0.01)
 
 
 def test_tests_data_bvh_equals_the_specification_and_bvhio():
