@@ -117,3 +117,11 @@ def test_export_bvh_for_blender_in_metres_with_the_rate_kept_or_rounded(tmp_path
     status, _, err = _run(capsys, "export", source, "--format", "csv", "--out-units", "m",
                           "-o", tmp_path / "a.csv")
     assert status == 2 and "--format bvh only" in err
+
+
+def test_motion_lines_beyond_the_stated_frames_are_a_warning(tmp_path, capsys):
+    path = tmp_path / "extra.bvh"
+    path.write_text(SMALL + SMALL.splitlines()[-1] + "\n")
+    status, _, err = _run(capsys, "export", path, "--format", "json", "-o", tmp_path / "o.json")
+    assert status == 0
+    assert "warning:" in err and "1 motion lines after the 3 frames" in err
