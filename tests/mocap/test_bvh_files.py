@@ -11,7 +11,7 @@ from mocap.io.asfamc import read_asf_amc
 from mocap.io.bvh import UNIT_SCALES, read_bvh, write_bvh
 from mocap.body.retarget import reduce_to_segments
 from mocap.body.segments import BODY_SEGMENTS
-from tests.conftest import realdata_path
+from tests.conftest import realdata_path, require_module
 from tests.mocap.spec_fk import (acclaim_positions, bvh_world_positions, parse_amc, parse_asf,
                                  parse_bvh)
 
@@ -44,8 +44,7 @@ def _spec_difference(path: Path, motion) -> float:
 
 
 def _bvhio_difference(path: Path, motion, frames) -> float:
-    import bvhio
-
+    bvhio = require_module("bvhio")
     root = bvhio.readAsHierarchy(str(path))
     layout = [joint for joint, _, _ in root.layout()]
     index = [motion.names.index(j.Name) for j in layout]
