@@ -271,6 +271,50 @@ def _plot_synthesis(corpus, truth, curve, baseline, path: Path, person: str) -> 
     save_figure(figure, path, dpi=90)
 
 
+#: Words for the summary's keys in the report's table.
+_LABELS = {
+    "person": "held-out person", "action": "action",
+    "synthesis_rms_deg": "synthesis error (RMS over all joint angles, °)",
+    "baseline_rms_deg": "baseline error: mean walk of the other people (RMS, °)",
+    "captured_duration_s": "captured cycle duration (s)",
+    "predicted_duration_s": "predicted cycle duration (s)",
+    "recognised_person": "captured walk recognised as",
+    "recognition_score": "recognition score (0-1)",
+    "verdict": "dynamics verdict", "reasons": "reasons",
+    "residual_force_rms_pct_bw": "residual root force (RMS, % body weight)",
+    "foot_skate_mm": "foot skating (mm per frame in contact)",
+    "penetration_mm": "deepest floor penetration (mm)",
+    "floating_mm": "highest unsupported float (mm)",
+}
+
+
+def _explain(synthesis: dict, check: dict, people: int) -> tuple[str, str]:
+    """The synthesis and the dynamics verdict in words (HTML-escaped)."""
+    s, b = synthesis["synthesis_rms_deg"], synthesis["baseline_rms_deg"]
+    person = html.escape(synthesis["person"])
+    comparison = (f"{b / s:.1f} times closer than the baseline" if s > 0 and s < b
+                  else "no closer than the baseline: the model learnt little about this person")
+    synthesis_text = (
+        f"The synthesised walk is {s:.2f}° RMS from {person}'s captured walk. The baseline "
+        f"is what one would predict knowing nothing about {person}: the mean walk of the other "
+        f"{people - 1} people, {b:.2f}° RMS away. The synthesis is {comparison}. It predicts a "
+        f"cycle of {synthesis['predicted_duration_s']:.3f} s against the captured "
+        f"{synthesis['captured_duration_s']:.3f} s, and the captured walk is recognised as "
+        f"{html.escape(str(synthesis['recognised_person']))}.")
+    verdict = html.escape(str(check["verdict"]))
+    reasons = "; ".join(html.escape(r) for r in check["reasons"]) or "none"
+    check_text = (
+        f"Verdict: <b>{verdict}</b>. Inverse dynamics asks which forces would make the body "
+        f"move like this: the ground may push only where a foot is down and inside its "
+        f"friction cone, and whatever it cannot supply is a residual force on the pelvis "
+        f"(a motion a real body could not perform) — here "
+        f"{check['residual_force_rms_pct_bw']:.1f} % of body weight RMS. Feet in contact "
+        f"slide {check['foot_skate_mm']:.1f} mm per frame, sink at most "
+        f"{check['penetration_mm']:.1f} mm into the floor and float up to "
+        f"{check['floating_mm']:.1f} mm when nothing supports the body. Reasons: {reasons}.")
+    return synthesis_text, check_text
+
+
 def _write_report(out: Path, final: Path, summary: dict, corpus) -> None:
     """index.html beside the outputs (written in ``out``, read in ``final``), with
     relative links only."""
@@ -283,7 +327,8 @@ def _write_report(out: Path, final: Path, summary: dict, corpus) -> None:
     def cell(value) -> str:
         return html.escape("; ".join(value) or "none" if isinstance(value, list) else str(value))
 
-    rows = "".join(f"<tr><th>{html.escape(k)}</th><td>{cell(v)}</td></tr>"
+    synthesis_text, check_text = _explain(synthesis, check, len(corpus.people))
+    rows = "".join(f"<tr><th>{html.escape(_LABELS.get(k, k))}</th><td>{cell(v)}</td></tr>"
                    for k, v in {**synthesis, **check}.items())
     cells = "".join(
         f"<tr><th>{html.escape(person)}</th>" + "".join(
@@ -305,8 +350,10 @@ people × actions × features = {' × '.join(map(str, summary['tensor_shape']))}
 <h2>Synthesis of a held-out walk</h2>
 <p>The model never saw this walk: it was synthesised from the person's signature,
 estimated from their other actions.</p>
-<img src="figures/synthesis.png" alt="synthesis"><table>{rows}</table>
-<h2>Dynamics check</h2><img src="figures/check.png" alt="check">
+<p>{synthesis_text}</p>
+<img src="figures/synthesis.png" alt="synthesis">
+<h2>Dynamics check</h2><p>{check_text}</p><img src="figures/check.png" alt="check">
+<h3>All figures</h3><table>{rows}</table>
 {animation}
 <h2>Files</h2><ul>
 <li>Synthesised BVH: {link(summary['bvh'])}</li>

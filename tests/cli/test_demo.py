@@ -50,6 +50,12 @@ def test_demo_writes_every_promised_output(tmp_path, capsys):
     assert len(references) >= 8
     for reference in references:
         assert (out / reference).exists(), reference
+    # ... and explains the verdict and the baseline in words, not raw summary keys
+    assert "the mean walk of the other 4 people" in page and "Verdict: <b>" in page
+    assert "synthesis_rms_deg" not in page and "residual_force_rms_pct_bw" not in page
+    # every path it reports is where the files are now (not the staging folder)
+    assert all(str(out) in summary[key] for key in ("output", "corpus", "bvh", "report"))
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["demo"]
 
 
 def test_demo_rejects_a_corpus_without_walks(tmp_path, capsys):
@@ -58,3 +64,11 @@ def test_demo_rejects_a_corpus_without_walks(tmp_path, capsys):
     assert main(["demo", "-o", str(tmp_path / "o"), "--data", str(tmp_path / "c")]) == 2
     assert "walk" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+def test_demo_checks_hold_out_and_data_before_writing(tmp_path, capsys):
+    assert main(["demo", "-o", str(tmp_path / "o"), "--hold-out", "nobody"]) == 2
+    assert "nobody" in capsys.readouterr().err
+    assert main(["demo", "--output", str(tmp_path / "o"), "--data", str(tmp_path / "none")]) == 2
+    assert "must be a folder" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
