@@ -45,8 +45,10 @@ def angles_figure(angles: JointAngles, title: str = ""):
         axis.legend(fontsize=7, loc="best")
     for k in range(count, rows * columns):
         axes[k // columns][k % columns].set_visible(False)
-    for axis in axes[-1]:
-        axis.set_xlabel("time (s)")
+    for k in range(count):                  # time ticks and label on every panel
+        axis = axes[k // columns][k % columns]
+        axis.tick_params(labelbottom=True)
+        axis.set_xlabel("time (s)", fontsize=8)
     if title:
         figure.suptitle(title, fontsize=11)
     figure.tight_layout()

@@ -187,20 +187,26 @@ def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100) ->
     figure = Figure(figsize=(8, 10))
     axes = figure.subplots(4, 1, sharex=True)
     force = 100.0 * np.linalg.norm(report.residual_force, axis=1) / weight
-    axes[0].plot(t, force, label="residual force (% BW)")
-    axes[0].plot(t, np.linalg.norm(report.residual_torque, axis=1),
-                 label="residual torque about the COM (N·m)")
-    axes[0].axhline(report.thresholds.residual_rms_pct_bw, color="0.6", linestyle=":",
-                    label="RMS limit (% BW)")
+    # force in % BW on the left axis, torque in N·m on its own right axis and colour
+    axes[0].plot(t, force, color="tab:blue", label="residual force (% BW)")
+    axes[0].axhline(report.thresholds.residual_rms_pct_bw, color="tab:blue", alpha=0.5,
+                    linestyle=":", label="RMS limit (% BW)")
+    axes[0].set_ylabel("residual force (% BW)", color="tab:blue")
+    torque_axis = axes[0].twinx()
+    torque_axis.plot(t, np.linalg.norm(report.residual_torque, axis=1), color="tab:red",
+                     label="residual torque about the COM (N·m)")
+    torque_axis.set_ylabel("residual torque (N·m)", color="tab:red")
     verdict = f"{report.verdict}: " + ("; ".join(report.reasons) or "no problems")
     axes[0].set_title(textwrap.fill(verdict, 110), fontsize=8)
-    axes[0].legend(fontsize=7)
+    lines = axes[0].get_lines() + torque_axis.get_lines()
+    axes[0].legend(lines, [line.get_label() for line in lines], fontsize=7)
     feet = {}
     for k, name in enumerate(report.contact_names):
         feet.setdefault(name.split(".")[0], []).append(k)
     for foot, points in feet.items():
         axes[1].plot(t, report.contact_forces[:, points, 1].sum(axis=1) / weight,
                      label=f"{foot} vertical reaction (BW)")
+    axes[1].set_ylabel("vertical reaction (BW)")
     axes[1].legend(fontsize=7)
     magnitude = np.linalg.norm(report.joint_torques, axis=2)
     for j, name in enumerate(report.joint_names):
@@ -210,7 +216,9 @@ def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100) ->
     axes[3].plot(t, report.lowest_point_mm, color="tab:green")
     axes[3].axhline(0.0, color="0.3", linewidth=0.8)
     axes[3].set_ylabel("lowest point (mm)")
-    axes[3].set_xlabel("time (s)")
+    for axis in axes:                       # time ticks and label on every panel
+        axis.tick_params(labelbottom=True)
+        axis.set_xlabel("time (s)", fontsize=8)
     figure.tight_layout()
     if path is not None:
         with atomic_path(path) as tmp:

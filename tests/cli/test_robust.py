@@ -257,3 +257,15 @@ def test_check_names_torques_the_same_way_in_text_and_json(capsys):
     line = next(l for l in capsys.readouterr().out.splitlines() if "peak joint torques" in l)
     shown = [item.strip().split(" ")[0] for item in line.split(":", 1)[1].split(",")]
     assert shown == list(names)
+
+
+def test_angle_plots_have_time_ticks_on_every_panel():
+    from mocap.angles import JointAngles
+    from mocap.plot import angles_figure
+    angles = JointAngles(times=np.arange(20) / 10.0, values=np.zeros((20, 4, 3)),
+                         segments=["a", "b", "c", "d"], sequence="ZXY", parents=[-1, 0, 1, 2])
+    figure = angles_figure(angles)
+    shown = [axis for axis in figure.axes if axis.get_visible()]
+    assert len(shown) == 4
+    for axis in shown:
+        assert axis.get_xlabel() == "time (s)" and axis.xaxis.get_tick_params()["labelbottom"]
