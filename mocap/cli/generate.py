@@ -6,6 +6,7 @@ import argparse
 from mocap.atomic import atomic_folder
 from mocap.cli import options
 from mocap.cli.commands import summary
+from mocap.errors import MocapError
 from mocap.synthetic import ACTIONS, generate_corpus
 
 
@@ -18,7 +19,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "doing several actions, each person with a distinct motion signature "
                     "(body size, cadence, style, timing, asymmetry), plus the exact joint "
                     "angles in OUT/truth/.")
-    parser.add_argument("out", metavar="OUT_DIR", help="folder to write the corpus into")
+    parser.add_argument("out", nargs="?", metavar="OUT_DIR",
+                        help="folder to write the corpus into (or give -o/--output)")
+    parser.add_argument("-o", "--output", dest="output", metavar="OUT_DIR",
+                        help="the output folder, as every command spells it")
     parser.add_argument("--people", type=options.PEOPLE, default=6, help="number of people (default 6)")
     parser.add_argument("--actions", default=",".join(ACTIONS),
                         help=f"comma-separated actions (default {','.join(ACTIONS)})")
@@ -43,6 +47,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Write the corpus and print where it went."""
 
+    if (args.out is None) == (args.output is None):
+        raise MocapError("give the output folder once: OUT_DIR or -o/--output")
+    args.out = args.out or args.output
     actions = [a.strip() for a in args.actions.split(",") if a.strip()]
     # the corpus appears whole or not at all (a failure or Ctrl-C leaves nothing behind)
     with atomic_folder(args.out, replace=args.force) as staging:

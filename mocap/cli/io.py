@@ -49,8 +49,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "complete.",
     )
     convert.add_argument("input", metavar="IN", help="marker file to read (.c3d, .csv, .trc)")
-    convert.add_argument("output", metavar="OUT", help="file to write; its suffix picks the "
-                                                      "format (.c3d, .csv, .trc)")
+    convert.add_argument("out", nargs="?", metavar="OUT",
+                         help="file to write; its suffix picks the format (.c3d, .csv, .trc)")
+    convert.add_argument("-o", "--output", dest="output", metavar="OUT",
+                         help="the output file, as every command spells it (instead of OUT)")
     convert.add_argument("--units", choices=("mm", "cm", "m"), default="mm",
                          help="length unit stored in a C3D or TRC output (default mm; CSV "
                               "output is always metres)")
@@ -136,7 +138,9 @@ def _json_default(value):
 def run_convert(args: argparse.Namespace) -> int:
     """Handler of ``mocap convert``."""
 
-    source, target = Path(args.input), Path(args.output)
+    if (args.out is None) == (args.output is None):
+        raise MocapError("give the output file once: OUT or -o/--output")
+    source, target = Path(args.input), Path(args.out or args.output)
     target_format = format_of(target, for_writing=True)     # fail before reading
     if target_format.kind != "markers":
         raise MocapError(f"convert writes marker files (.c3d, .csv, .trc), not "
