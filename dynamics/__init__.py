@@ -13,7 +13,7 @@ The core simulator (lecture "Physical Simulations"):
 - :mod:`dynamics.sim.integrators` explicit / symplectic Euler, RK4, implicit Euler; ``advance``
 - :mod:`dynamics.sim.thermal`     heat diffusion, thermoelastic stiffness, melting
 - :mod:`dynamics.sim.rigid`       rigid bodies (inertia tensors, Newton–Euler, quaternions)
-- :mod:`dynamics.scenes.schema`   scene TOML (DESIGN 3.6): reading, type-checked tables, examples
+- :mod:`dynamics.scenes.schema`   scene TOML (``docs/formats/scene-toml.md``): reading, type-checked tables, examples
 - :mod:`dynamics.scenes.build`    scene document -> ``Scene`` (particle ``System``, rigid bodies)
 - :mod:`dynamics.scenes.run`      ``run_scene`` -> ``SimulationResult`` -> ``.npz``
   (example scenes: ``dynamics/scenes/examples/*.toml``, the single copy)
@@ -30,7 +30,7 @@ per-frame algorithms take it):
 - :mod:`dynamics.humanoid.contact`    friction-pyramid contact forces (``solve_contact_forces``,
   compiled NNLS), contact positions, ``estimate_floor``, ``foot_skate``
 - :mod:`dynamics.humanoid.check`      the plausibility check (``check_motion``, ``CheckReport``,
-  ``Thresholds``; DESIGN 3.5)
+  ``Thresholds``; ``docs/formats/check-json.md``)
 - :mod:`dynamics.humanoid.tracking`   forward dynamics (ABA) of the humanoid tracking a motion
 - :mod:`dynamics.humanoid.plant`      a root path from the feet of a joint-angle motion
 - :mod:`dynamics.secondary`           cape and rope simulated on a moving body

@@ -6,7 +6,7 @@ sequence (``"ZXY"``) is intrinsic, a lower-case one (``"zxy"``) extrinsic; all 1
 Tait-Bryan (three different axes) and 12 proper Euler (first axis repeated)
 sequences are accepted.  Angles are in degrees and continuous (see
 :func:`unwrap_angles`); frames with missing markers stay NaN, and become empty
-cells in the CSV (DESIGN 3.2).
+cells in the CSV (``docs/formats/angles-csv.md``).
 """
 from __future__ import annotations
 
@@ -29,7 +29,7 @@ SEQUENCES = tuple(
     s.lower() for s in (a + b + c for a in "XYZ" for b in "XYZ" for c in "XYZ")
     if s[0] != s[1] and s[1] != s[2]
 )
-#: Default sequence (DESIGN 3.2).
+#: Default sequence (``docs/formats/angles-csv.md``).
 DEFAULT_SEQUENCE = "ZXY"
 #: Column suffixes of clinical (Plug-in Gait) angles, Cardan YXZ.
 CLINICAL_AXES = ("flexion", "adduction", "rotation")
@@ -81,7 +81,7 @@ class JointAngles:
 
     @property
     def columns(self) -> list[str]:
-        """CSV header: ``time`` then ``<segment>.<axis>`` (DESIGN 3.2)."""
+        """CSV header: ``time`` then ``<segment>.<axis>`` (``docs/formats/angles-csv.md``)."""
         names = self.axes or axis_names(self.sequence)
         return ["time"] + [f"{s}.{a}" for s in self.segments for a in names]
 

@@ -1,6 +1,6 @@
 """Segment frames from three markers per segment, vectorised over frames.
 
-DESIGN 3.1: with markers ``(p1, p2, p3)`` = origin, axis point, plane point,
+``docs/formats/markerset-toml.md``: with markers ``(p1, p2, p3)`` = origin, axis point, plane point,
 
     e1 = unit(p2 - p1);  e3 = unit(e1 × (p3 - p1));  e2 = e3 × e1;  R = [e1 e2 e3]
 

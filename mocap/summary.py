@@ -1,4 +1,4 @@
-"""What ``mocap info`` says about a trial: the DESIGN 3.2b summary and its text form."""
+"""What ``mocap info`` says about a trial: the ``docs/formats/info-json.md`` summary and its text form."""
 from __future__ import annotations
 
 import numpy as np
@@ -32,7 +32,7 @@ def gap_table(trial: Trial) -> tuple[np.ndarray, np.ndarray]:
 
 
 def summarise(trial: Trial) -> dict:
-    """The ``mocap info --json`` object of one trial (DESIGN 3.2b and extras)."""
+    """The ``mocap info --json`` object of one trial (``docs/formats/info-json.md`` and extras)."""
     gaps, longest = gap_table(trial)
     missing = trial.missing_fraction()
     summary = {

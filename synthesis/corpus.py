@@ -106,7 +106,7 @@ def read_manifest(manifest: str | Path) -> list[CorpusEntry]:
 # --------------------------------------------------------------------------- reading angles
 
 def angle_columns(segments: Sequence[str], sequence: str) -> list[str]:
-    """Column names ``<segment>.<axis>`` of DESIGN 3.2 (a repeated axis letter gets a ``2``).
+    """Column names ``<segment>.<axis>`` of ``docs/formats/angles-csv.md`` (a repeated axis letter gets a ``2``).
 
     Examples
     --------
@@ -136,7 +136,7 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     Parameters
     ----------
     path : path
-        A marker trial (``.c3d``, ``.csv``, ``.trc``), a joint-angle CSV (DESIGN 3.2), a BVH
+        A marker trial (``.c3d``, ``.csv``, ``.trc``), a joint-angle CSV (``docs/formats/angles-csv.md``), a BVH
         file or an AMC motion (with ``<person>.asf`` beside it), the last two mapped onto the
         15-segment body model (``mocap.body.retarget.reduce_to_segments``).
     markerset : MarkerSet, str or None
@@ -198,7 +198,7 @@ class MotionCorpus:
     sequence : str
         Euler sequence of the angles (scipy convention).
     columns : list of str
-        Angle column names ``<segment>.<axis>`` (DESIGN 3.2), ``len = 3 · segments``.
+        Angle column names ``<segment>.<axis>`` (``docs/formats/angles-csv.md``), ``len = 3 · segments``.
     angles : ndarray, shape (people, actions, samples, columns), degrees
     durations : ndarray, shape (people, actions), seconds
     cycle_counts : ndarray, shape (people, actions), int

@@ -9,7 +9,7 @@ where ``U_n`` holds the left singular vectors of the mode-n unfolding ``D_(n)`` 
 is ``Z = D ×_1 U_1ᵀ … ×_N U_Nᵀ``. Truncating ``U_n`` to its leading ``r_n`` columns gives the
 truncated HOSVD. With full rank in every mode but one (people and actions full, joint-angle
 features truncated) the truncated HOSVD is already the least-squares optimum, so no HOOI
-sweeps are needed (see ``shared/reference/nmode-svd-notes.md`` §1.1).
+sweeps are needed (see De Lathauwer et al. 2000, §4; Vasilescu 2002).
 
 Each ``U_n`` comes from the eigen-decomposition of the *smaller* Gram matrix of the
 unfolding: ``D_(n) D_(n)ᵀ`` when the mode is short, or ``D_(n)ᵀ D_(n) = V Σ² Vᵀ`` followed by

@@ -1,6 +1,6 @@
 """Motion signatures: action bases, signature regression, synthesis, recognition, blending.
 
-Notation (Vasilescu 2002; ``shared/reference/nmode-svd-notes.md`` §1.3). The data tensor of
+Notation (Vasilescu 2002, §3). The data tensor of
 deviations from the action means, people × actions × features, is decomposed as
 
     D − M = Z ×_1 P ×_2 A ×_3 J.

@@ -1,4 +1,4 @@
-"""A scene document (DESIGN 3.6) -> a :class:`Scene`: the particle system, rigid bodies and
+"""A scene document (``docs/formats/scene-toml.md``) -> a :class:`Scene`: the particle system, rigid bodies and
 the run settings.
 
 Particle indices follow the order of creation: first every ``[[particle]]`` (in file
@@ -69,7 +69,7 @@ class Scene:
 
 
 def load_scene(path: str | os.PathLike) -> Scene:
-    """Read and validate a TOML scene file (DESIGN 3.6) and build its :class:`Scene`."""
+    """Read and validate a TOML scene file (``docs/formats/scene-toml.md``) and build its :class:`Scene`."""
     path = Path(path)
     return build_scene(read_scene_document(path), path)
 

@@ -1,4 +1,4 @@
-"""Scene files (TOML, DESIGN 3.6): reading them and type-checked access to their tables.
+"""Scene files (TOML, ``docs/formats/scene-toml.md``): reading them and type-checked access to their tables.
 
 Every key is checked: an unknown key, a wrong type or an impossible value is a
 :class:`mocap.errors.MocapError` naming the file, the table and the key (:class:`Table`).
@@ -161,7 +161,7 @@ def example_scene_path(name: str) -> Path:
 
 
 def read_scene_document(path: str | os.PathLike) -> dict:
-    """Read a TOML scene file (DESIGN 3.6) as a dict; unreadable or invalid TOML is a
+    """Read a TOML scene file (``docs/formats/scene-toml.md``) as a dict; unreadable or invalid TOML is a
     :class:`~mocap.errors.MocapError` naming the file. :func:`dynamics.scenes.build.load_scene`
     builds the scene from it."""
     path = Path(path)

@@ -1,6 +1,6 @@
 """Springs between particles: topology, Voigt spring-damper forces, energy and Jacobians.
 
-Sign convention (DESIGN 3.6): with d = x_j − x_i, e = |d| − l and
+Sign convention (``docs/formats/scene-toml.md``): with d = x_j − x_i, e = |d| − l and
 de/dt = (v_j − v_i)·d/|d|, the force on i is (k e + γ_s de/dt) d/|d| and the force on
 j is its opposite, so the damper always resists the change of length. A spring with
 rest length 0 is the lecture's ideal zero-length spring, force on i = k (x_j − x_i)

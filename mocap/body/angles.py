@@ -1,6 +1,6 @@
 """The ONE motion ↔ joint angles: :func:`motion_joint_angles` and :func:`motion_from_angles`.
 
-Joint angles follow DESIGN 3.2 (``docs``: the angle CSV): each joint's rotation relative to
+Joint angles follow ``docs/formats/angles-csv.md``: each joint's rotation relative to
 its parent, expressed in a Z-up lab's axes (X anterior, Y left), Euler angles in degrees in a
 scipy sequence, unwrapped over time — the convention of angles computed from markers, so a
 BVH or ASF/AMC motion gives angles comparable with a marker trial's. Every writer of motion
@@ -19,7 +19,7 @@ from mocap.skeleton import Motion, Skeleton, frame_rate
 
 
 def motion_joint_angles(motion: Motion, sequence: str = "ZXY", body: bool = True):
-    """Joint angles of a motion as ``mocap.angles.JointAngles`` (DESIGN 3.2 convention).
+    """Joint angles of a motion as ``mocap.angles.JointAngles`` (``docs/formats/angles-csv.md`` convention).
 
     Rotations are expressed in a Z-up lab (X anterior, Y left), like angles computed from
     markers, so BVH and ASF/AMC trials can join a marker corpus (``mocap decompose``).

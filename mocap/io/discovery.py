@@ -1,6 +1,6 @@
 """Finding trial files: folders searched for files of a kind, corpus trial names
 (``<person>_<action>[_<anything>].<suffix>``), an AMC motion's ASF skeleton, and whether a
-CSV holds joint angles (DESIGN 3.2) rather than markers.
+CSV holds joint angles (``docs/formats/angles-csv.md``) rather than markers.
 
 Every command that takes "files or folders" lists them through :func:`find_files`, so a
 folder means the same thing everywhere: the matching files directly inside it, sorted, hidden
@@ -17,7 +17,7 @@ from typing import Iterable
 
 from mocap.errors import MocapError
 
-#: A joint-angle CSV column: ``<segment>.<axis>`` with an optional ``2`` (DESIGN 3.2).
+#: A joint-angle CSV column: ``<segment>.<axis>`` with an optional ``2`` (``docs/formats/angles-csv.md``).
 _ANGLE_COLUMN = re.compile(r"^(?P<segment>.+)\.(?P<axis>[XYZxyz])(?P<repeat>2?)$")
 
 
@@ -115,7 +115,7 @@ def find_asf(amc: str | Path) -> Path:
 
 
 def is_angle_csv(path: str | Path) -> bool:
-    """True when ``path`` is a joint-angle CSV (DESIGN 3.2): ``time`` then ``<segment>.<axis>``
+    """True when ``path`` is a joint-angle CSV (``docs/formats/angles-csv.md``): ``time`` then ``<segment>.<axis>``
     columns in whole triples whose axis letters form the same rotation sequence."""
     path = Path(path)
     if path.suffix.lower() != ".csv":

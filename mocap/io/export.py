@@ -1,6 +1,6 @@
 """Write a motion (skeleton + joint rotations) in any of the toolkit's export formats.
 
-BVH for animation tools, a joint-angle CSV (DESIGN 3.2), C3D/TRC of the joint positions
+BVH for animation tools, a joint-angle CSV (``docs/formats/angles-csv.md``), C3D/TRC of the joint positions
 (Z-up lab, as marker files are), OpenSim ``.mot`` and a JSON document of the skeleton,
 quaternions and positions.
 """

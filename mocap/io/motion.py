@@ -1,5 +1,5 @@
 """The ONE "open any motion file": :func:`read_motion` gives a :class:`~mocap.skeleton.Motion`
-from a BVH, an ASF/AMC pair, a joint-angle CSV (DESIGN 3.2, on the 15-segment body) or a
+from a BVH, an ASF/AMC pair, a joint-angle CSV (``docs/formats/angles-csv.md``, on the 15-segment body) or a
 marker trial (C3D/TRC/CSV) with its marker set."""
 from __future__ import annotations
 

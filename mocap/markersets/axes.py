@@ -1,4 +1,4 @@
-"""The DESIGN 3.1 frame of three markers and a segment's signed axis permutation.
+"""The ``docs/formats/markerset-toml.md`` frame of three markers and a segment's signed axis permutation.
 
 ``markers`` of a segment are origin, axis point and plane point: per frame,
 ``e1 = unit(p2 - p1)``, ``e3 = unit(e1 x (p3 - p1))``, ``e2 = e3 x e1`` and the
@@ -30,7 +30,7 @@ def axes_matrix(axes: tuple[str, str, str] | list[str]) -> np.ndarray:
 
 def frame_from_markers(p1: np.ndarray, p2: np.ndarray, p3: np.ndarray
                        ) -> np.ndarray:
-    """Rotation of the DESIGN 3.1 frame of three markers, vectorised.
+    """Rotation of the ``docs/formats/markerset-toml.md`` frame of three markers, vectorised.
 
     Parameters
     ----------

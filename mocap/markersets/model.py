@@ -38,7 +38,7 @@ class Segment:
         Origin, axis point and plane point (real or virtual marker names).
     axes : tuple of 3 str
         Which signed column of ``[e1 e2 e3]`` becomes the segment's x, y and z
-        axis; ``("e1", "e2", "e3")`` (the default) keeps DESIGN 3.1's frame.
+        axis; ``("e1", "e2", "e3")`` (the default) keeps ``docs/formats/markerset-toml.md``'s frame.
     origin : str or None
         Marker placed at the segment's origin when it is not ``markers[0]``
         (a joint centre, while the frame comes from other markers).

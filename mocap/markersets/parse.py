@@ -1,6 +1,6 @@
 """Marker-set TOML files: reading, validation, the shipped presets.
 
-A marker set is a TOML file (DESIGN 3.1; ``docs/formats/markerset-toml.md``)::
+A marker set is a TOML file (``docs/formats/markerset-toml.md``)::
 
     name = "example"
 
@@ -44,7 +44,7 @@ A marker set is a TOML file (DESIGN 3.1; ``docs/formats/markerset-toml.md``)::
 ``markers`` of a segment are origin, axis point and plane point: per frame,
 ``e1 = unit(p2 - p1)``, ``e3 = unit(e1 x (p3 - p1))``, ``e2 = e3 x e1`` and the
 segment's rotation is ``[e1 e2 e3]`` (columns), its origin ``p1``.  The optional
-``axes`` (our extension of DESIGN 3.1) relabels those columns with a signed
+``axes`` (our extension of ``docs/formats/markerset-toml.md``) relabels those columns with a signed
 permutation, so that segments whose markers naturally give a different frame
 (a thigh whose exact axis is its long axis) can share one anatomical convention:
 ``axes = ["e3", "e2", "-e1"]`` makes the segment's x axis e3, its y axis e2 and

@@ -134,7 +134,7 @@ def generate_corpus(out_dir: str | Path, people: int = 6, actions: Sequence[str]
     """Write a people × actions corpus of marker trials with ground truth.
 
     Writes ``<person>_<action>.<file_format>`` marker files into ``out_dir`` and the
-    exact joint angles as ``truth/<person>_<action>_angles.csv`` (DESIGN 3.2 angle CSV,
+    exact joint angles as ``truth/<person>_<action>_angles.csv`` (``docs/formats/angles-csv.md`` angle CSV,
     ``sequence``), plus ``truth/people.csv`` with each person's signature
     parameters (height m, cadence, timing, asymmetry, style factors).
 
