@@ -27,6 +27,7 @@ import numpy as np
 
 from mocap.angles import axis_names, check_sequence, unwrap_columns
 from mocap.body.angles import motion_joint_angles
+from mocap.body.segments import read_joint_map
 from mocap.errors import MocapError
 from mocap.io.angles_csv import read_angles_csv
 from mocap.io.discovery import find_files, is_angle_csv, parse_trial_name
@@ -130,7 +131,8 @@ def _named_like_markers(path: Path, markerset) -> bool:
 
 
 def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
-                      lowpass_hz: float | None = None, max_gap_frames: int | None = None):
+                      lowpass_hz: float | None = None, max_gap_frames: int | None = None,
+                      joint_map: str | Path | dict | None = None):
     """Joint angles of one trial file.
 
     Parameters
@@ -150,6 +152,8 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     max_gap_frames : int, optional
         Fill marker gaps up to this many frames with cubic splines first
         (:func:`mocap.clean.fill_gaps`).
+    joint_map : path or dict, optional
+        BVH/AMC: body segment → joint name where the rig's names do not say it.
 
     Returns
     -------
@@ -164,7 +168,7 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     if is_angle_csv(path) and not _named_like_markers(path, markerset):
         return read_angles_csv(path)
     if path.suffix.lower() in (".bvh", ".amc"):
-        return _skeleton_angles(path, sequence)
+        return _skeleton_angles(path, sequence, joint_map)
     if markerset is None:
         raise MocapError("marker trials need markerset= to turn markers into joint angles",
                          path)
@@ -173,12 +177,12 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     return marker_file_angles(path, markerset, sequence, cleaning).angles
 
 
-def _skeleton_angles(path: Path, sequence: str):
+def _skeleton_angles(path: Path, sequence: str, joint_map=None):
     """Joint angles of a BVH or ASF/AMC file on the 15-segment body model, in a Z-up lab's axes
     (the axes of marker-derived angles): :func:`mocap.body.angles.motion_joint_angles` of
     :func:`mocap.io.motion.read_motion`."""
     check_sequence(sequence)
-    return motion_joint_angles(read_motion(path), sequence)
+    return motion_joint_angles(read_motion(path, joint_map=joint_map), sequence)
 
 
 # --------------------------------------------------------------------------- the corpus
@@ -357,7 +361,8 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
                 cycle_column: str | None = None, lowpass_hz: float | None = None,
                 max_gap_frames: int | None = None,
                 progress: Callable[[Iterable, str], Iterable] | None = None,
-                representation: str = "auto", body: bool = False) -> MotionCorpus:
+                representation: str = "auto", body: bool = False,
+                joint_map: str | Path | dict | None = None) -> MotionCorpus:
     """Read, time-normalise and stack the trials of a corpus.
 
     Parameters
@@ -386,6 +391,9 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
     body : bool
         Skeleton corpora: map onto the 15-segment body model even when every trial shares
         one skeleton.
+    joint_map : path or dict, optional
+        Body segment → joint name for the BVH/ASF-AMC trials' rig, where its joint names do
+        not say it (:func:`mocap.body.segments.read_joint_map`).
 
     Returns
     -------
@@ -401,14 +409,18 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
     if representation == "rotvec" and not skeletal:
         raise MocapError("rotation-vector features need skeleton trials (BVH, ASF/AMC) only")
     if representation != "euler" and skeletal:
-        return MotionCorpus(**read_skeleton_corpus(entries, samples, cycles, body, progress))
+        return MotionCorpus(**read_skeleton_corpus(entries, samples, cycles, body, progress,
+                                                   joint_map=joint_map))
+    if joint_map is not None and not isinstance(joint_map, dict):
+        joint_map = read_joint_map(joint_map)
     markerset_name = None if markerset is None else str(getattr(markerset, "name", markerset))
     if isinstance(markerset, (str, Path)) and any(not is_angle_csv(e.path) for e in entries):
         markerset = load_markerset(markerset)
     wrap = progress or (lambda items, description: items)
     read = []
     for entry in wrap(entries, "reading trials"):
-        angles = read_trial_angles(entry.path, markerset, sequence, lowpass_hz, max_gap_frames)
+        angles = read_trial_angles(entry.path, markerset, sequence, lowpass_hz, max_gap_frames,
+                                   joint_map=joint_map)
         read.append((entry, angles))
     reference_segments, reference_sequence = read[0][1].segments, read[0][1].sequence
     for entry, angles in read:

@@ -27,6 +27,7 @@ from typing import Callable, Iterable
 import numpy as np
 
 from mocap.body.retarget import reduce_to_segments
+from mocap.body.segments import read_joint_map
 from mocap.errors import MocapError
 from mocap.io.motion import MOTION_SUFFIXES, read_motion
 from mocap.skeleton import Motion, Skeleton
@@ -117,7 +118,8 @@ def normalise_trial(times: np.ndarray, features: np.ndarray, root: np.ndarray,
 
 
 def read_skeleton_corpus(entries: list, samples: int, cycles: bool, body: bool = False,
-                         progress: Callable[[Iterable, str], Iterable] | None = None) -> dict:
+                         progress: Callable[[Iterable, str], Iterable] | None = None,
+                         joint_map=None) -> dict:
     """Read, featurise, cut and stack a corpus of BVH / ASF-AMC trials.
 
     Parameters
@@ -130,6 +132,9 @@ def read_skeleton_corpus(entries: list, samples: int, cycles: bool, body: bool =
     body : bool
         Map every trial onto the 15-segment body model even when they share one skeleton.
     progress : callable, optional
+    joint_map : path or dict, optional
+        Body segment → joint name for the mapping onto the body, where the rig's joint names
+        do not say it (:func:`mocap.body.segments.read_joint_map`).
 
     Returns
     -------
@@ -138,7 +143,10 @@ def read_skeleton_corpus(entries: list, samples: int, cycles: bool, body: bool =
         ``representation="rotvec"`` (:func:`synthesis.corpus.read_corpus` builds it).
     """
     wrap = progress or (lambda items, description: items)
-    motions = [read_motion(entry.path) for entry in wrap(entries, "reading trials")]
+    if joint_map is not None and not isinstance(joint_map, dict):
+        joint_map = read_joint_map(joint_map)
+    motions = [read_motion(entry.path, joint_map=joint_map)
+               for entry in wrap(entries, "reading trials")]
     for entry, motion in zip(entries, motions):
         if motion.frames < 2:
             raise MocapError("a trial needs at least two frames to be time-normalised",

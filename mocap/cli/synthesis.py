@@ -112,6 +112,10 @@ def _add_corpus_options(parser: argparse.ArgumentParser) -> None:
                         help="BVH/ASF-AMC corpora: map every trial onto the 15-segment body "
                              "model even when all share one skeleton (default: the rig's own "
                              "joints; mapped only when skeletons differ)")
+    parser.add_argument("--joint-map", metavar="FILE.toml",
+                        help="BVH/ASF-AMC trials mapped onto the body: which joint is which "
+                             "body segment, for rigs whose joint names are not recognised "
+                             "(lines such as l_thigh = \"MyLeftThigh\")")
 
 
 def _add_model_options(parser: argparse.ArgumentParser) -> None:
@@ -142,7 +146,7 @@ def _load_corpus(args: argparse.Namespace):
                          markerset=args.markerset, sequence=args.sequence, samples=args.samples,
                          cycles=args.cycles, cycle_column=args.cycle_angle,
                          lowpass_hz=args.lowpass, max_gap_frames=args.fill_gaps,
-                         progress=progress, body=args.body)
+                         progress=progress, body=args.body, joint_map=args.joint_map)
     if corpus.representation == "rotvec":
         where = "the body model" if corpus.rig["on_body"] else "the rig itself"
         print(f"mocap {args.command}: {len(corpus.segments)} joints of {where}, rotation vectors "

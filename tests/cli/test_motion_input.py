@@ -125,3 +125,37 @@ def test_motion_lines_beyond_the_stated_frames_are_a_warning(tmp_path, capsys):
     status, _, err = _run(capsys, "export", path, "--format", "json", "-o", tmp_path / "o.json")
     assert status == 0
     assert "warning:" in err and "1 motion lines after the 3 frames" in err
+
+
+def test_decompose_takes_a_joint_map_for_a_renamed_rig(tmp_path, capsys):
+    """Four bandai2 takes (2 styles × 2 contents) with their joints renamed j0, j1 …: on the
+    body, decompose refuses them in one line, and reads them with a joint map."""
+    from tests.conftest import realdata_path
+
+    folder = tmp_path / "corpus"
+    folder.mkdir()
+    names = None
+    for style in ("active", "normal"):
+        for content in ("walk", "run"):
+            source = realdata_path("bandai2", f"dataset-2_{content}_{style}_001.bvh")
+            if names is None:
+                names = read_bvh(source).names
+            text = source.read_text()
+            for k, name in sorted(enumerate(names), key=lambda item: -len(item[1])):
+                text = re.sub(rf"(ROOT|JOINT) {name}\b", rf"\1 j{k}", text)
+            (folder / f"{style}_{content}_001.bvh").write_text(text)
+    model = tmp_path / "model.npz"
+    status, _, err = _run(capsys, "decompose", folder, "--body", "-o", model)
+    assert status == 2 and "cannot map the skeleton" in err and not model.exists()
+    segments = {"pelvis": "Hips", "thorax": "Chest", "head": "Head"}
+    for side, suffix in (("l", "_L"), ("r", "_R")):
+        for segment, joint in (("upperarm", "UpperArm"), ("forearm", "LowerArm"),
+                               ("hand", "Hand"), ("thigh", "UpperLeg"), ("shank", "LowerLeg"),
+                               ("foot", "Foot")):
+            segments[f"{side}_{segment}"] = joint + suffix
+    mapping = tmp_path / "map.toml"
+    mapping.write_text("".join(f'{s} = "j{names.index(j)}"\n' for s, j in segments.items()))
+    status, _, err = _run(capsys, "decompose", folder, "--body", "--joint-map", mapping,
+                          "-o", model)
+    assert status == 0, err
+    assert model.exists()
