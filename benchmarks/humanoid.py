@@ -8,11 +8,15 @@ Prints, for the 15-segment body (free flyer + 14 spherical joints, nq 63, nv 48)
 * the friction-pyramid contact solve (one NNLS per frame with contact) frames per second;
 * the whole ``check_motion`` frames per second;
 * secondary cloth (cape 9 × 14 + rope 10, implicit Euler, 4 substeps a frame) frames/s;
-* physical animation (computed torques + ABA at 1 kHz) frames per second of a 100 Hz motion.
+* physical animation (computed torques + ABA at 1 kHz) frames per second of a 100 Hz motion;
+* on a real trial (``--trial``, default the 556-frame Vicon Plug-in Gait walk HC030A22 of
+  the corpus, full-body marker set): ``check_motion`` in process beside a plain Pinocchio
+  reference (per-frame ``pin.rnea`` for the same q, v, a, no contacts), and the whole
+  ``mocap check`` process beside ``python -c "import pinocchio"`` + the C3D read.
 
 Timings are noisy on a shared machine: compare ratios in the same run. Never asserts.
 
-    /tmp/venv/bin/python benchmarks/humanoid.py [--frames 20000]
+    python benchmarks/humanoid.py [--frames 20000] [--trial PATH.c3d]
 """
 from __future__ import annotations
 
@@ -71,7 +75,10 @@ def main() -> None:
     parser.add_argument("--frames", type=int, default=20000, help="frames of the batch")
     parser.add_argument("--reference-frames", type=int, default=2000,
                         help="frames of the per-frame Python reference")
+    parser.add_argument("--trial", help="real C3D trial with Plug-in Gait markers (default: "
+                        "biomechzoo HC030A22 of ../shared/realdata)")
     args = parser.parse_args()
+    real_trial(args.trial)
 
     motion = _walkish(args.frames)
     body = build_humanoid(motion.skeleton, 75.0)
@@ -115,9 +122,9 @@ def main() -> None:
     wrench[:, [0, 2]] = rng.normal(scale=40.0, size=(frames, 2))
     wrench[:, 3:] = rng.normal(scale=10.0, size=(frames, 3))
     active = np.ones((frames, 12), bool)
-    solve_contact_forces(wrench[:2], levers[:2], active[:2])       # compile (numba cache)
+    solve_contact_forces(wrench[:2], levers[:2], active[:2])
     solve = best_of(lambda: solve_contact_forces(wrench, levers, active), repeats=2)
-    print(f"contact solve (batched ridge + fast NNLS, 12 points × 4 edges): "
+    print(f"contact solve (batched ridge + Newton NNLS, 12 points × 4 edges): "
           f"{frames / solve:8,.0f} frames/s ({solve / frames * 1e6:.1f} µs/frame)")
     few = min(frames, 500)
     reference = best_of(lambda: _scipy_contact_reference(wrench[:few], levers[:few]), repeats=1)
@@ -142,6 +149,60 @@ def main() -> None:
                                                 humanoid=body), repeats=1)
     print(f"physical animation (1 kHz ABA, 100 Hz motion): {physics_frames / physics:8,.1f} "
           "frames/s")
+
+
+def real_trial(path: str | None) -> None:
+    """In-process and whole-process timings of the check on a real trial."""
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    import pinocchio as pin
+
+    from dynamics.humanoid.check import check_motion
+    from dynamics.humanoid.kinematics import motion_kinematics
+    from dynamics.humanoid.model import build_humanoid
+    from mocap.body.retarget import motion_from_trial, reduce_to_segments
+    from mocap.io import read
+
+    here = Path(__file__).resolve().parents[1]
+    path = path or str(here.parent / "shared" / "realdata" / "biomechzoo_sample_study" /
+                       "HC030A" / "Turn" / "HC030A22.c3d")
+    if not Path(path).exists():
+        print(f"real trial not found ({path}): skipped")
+        return
+    trial = read(path)
+    body = reduce_to_segments(motion_from_trial(trial, "plugingait-full"), partial=True)
+    humanoid = build_humanoid(body.skeleton, 60.0)
+    check_motion(body, 60.0, humanoid=humanoid, lowpass=6.0)
+    check = best_of(lambda: check_motion(body, 60.0, humanoid=humanoid, lowpass=6.0), 5)
+    kin = motion_kinematics(body, 0.1, 6.0)
+    data = humanoid.model.createData()
+
+    def plain():
+        for k in range(body.frames):        # the plain Pinocchio reference, frame by frame
+            pin.rnea(humanoid.model, data, kin.q[k], kin.v[k], kin.a[k])
+
+    reference = best_of(plain, 5)
+    print(f"real trial {Path(path).name}: {body.frames} frames")
+    print(f"  check_motion in process:            {body.frames / check:10,.0f} frames/s "
+          f"({check * 1000:.1f} ms)")
+    print(f"  plain Pinocchio rnea loop (no contacts, same q v a): "
+          f"{body.frames / reference:10,.0f} frames/s ({reference * 1000:.1f} ms)")
+    env = {"PYTHONPATH": str(here), "MPLBACKEND": "Agg", "PATH": "/usr/bin:/bin"}
+
+    def run(argv: list[str]) -> float:
+        start = time.perf_counter()
+        subprocess.run(argv, check=True, env=env, stdout=subprocess.DEVNULL)
+        return time.perf_counter() - start
+
+    whole = min(run([sys.executable, "-m", "mocap", "check", path, "-m",
+                     "plugingait-full"]) for _ in range(3))
+    floor = min(run([sys.executable, "-c", "import pinocchio; from mocap.io import read; "
+                     f"read({path!r})"]) for _ in range(3))
+    print(f"  whole process `mocap check`:        {whole:6.2f} s")
+    print(f"  `import pinocchio` + C3D read:      {floor:6.2f} s  (check is "
+          f"{whole / floor:.1f}× that)")
 
 
 if __name__ == "__main__":

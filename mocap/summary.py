@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from mocap.errors import MocapError
+from mocap.io.c3d.forceplates import describe_plates
 from mocap.trial import Trial
 
 
@@ -60,6 +62,13 @@ def summarise(trial: Trial) -> dict:
     if trial.poses is not None:
         summary["rotations"] = list(trial.poses.labels)
         summary["rotation_rate"] = trial.poses.rate
+    if trial.format == "c3d":
+        try:
+            plates = describe_plates(trial)
+        except MocapError as error:
+            plates = [f"not usable: {error.problem}"]
+        if plates:
+            summary["force_plates"] = plates
     return summary
 
 
@@ -87,6 +96,8 @@ def format_summary(summary: dict, list_markers: bool = False) -> str:
         names = summary["rotations"]
         lines.append(f"rotations: {len(names)} segment poses at {summary['rotation_rate']:g} "
                      f"Hz ({', '.join(names[:8])}{', …' if len(names) > 8 else ''})")
+    for k, plate in enumerate(summary.get("force_plates", [])):
+        lines.append(("plates:    " if k == 0 else "           ") + plate)
     if summary.get("modelled_points"):
         lines.append(f"modelled:  {len(summary['modelled_points'])} computed points "
                      f"(angles, forces …) kept apart from the markers")

@@ -1,13 +1,44 @@
-"""Ground contact of the humanoid: foot contact points, forces in friction pyramids, the floor.
+"""Ground contact of the humanoid: contact points calibrated on the soles, the floor under
+each foot, forces in friction pyramids, foot skating.
 
 Ground reaction forces at the foot points in contact, each inside a friction pyramid
 (non-negative least squares over the pyramid edges, DESIGN 3.5 step 3): what they cannot
-supply is the residual — the non-physical "hand of God". Also where the contact points
-are, where the floor is, and how much the feet skate.
+supply is the residual — the non-physical "hand of God". The friction-pyramid problem is
+solved for all frames at once by :func:`ridge_nnls` (numpy, no compiled code).
+
+Sole calibration (per foot). Markers do not show where the sole is, and the heel–toe
+marker line is not parallel to it (Plug-in Gait's toe marker sits on the forefoot's
+dorsum, the heel marker on the back of the calcaneus: the line is pitched about 5° in
+stance). In the frames where every contact point of the foot is slower than
+``still_speed`` (foot flat), the floor's normal seen from the foot, ``u = Rᵀ e_y``, and
+the ankle's height are nearly constant. Per stance (a run of such frames) their medians
+give one sole plane in the foot frame, ``u·x = −d``; the foot's sole normal is the mean
+of its stances' normals (its pitch and roll against the segment frame) and the contact
+points (heel, ball, toe from :func:`dynamics.anthropometry.foot_points`) are moved along
+it onto the plane. Its offset ``d`` (ankle above sole) is the median ankle height of the
+stances on the reference floor (``floor``, 0 by default): those whose ankle height is
+within ``step`` of what the uncalibrated sole predicts for that floor.
+
+Floors that are not flat. A stance whose sole (with the calibrated offset) is more than
+``step`` off the reference floor stands on its own level (a stair, a step, a platform):
+its floor height is the ankle height minus ``d``. Each frame's floor under a foot is that
+of the foot's stance during a stance, and the lower of the two stances around a swing (of the first or
+last stance and the reference floor before or after them). A stance below the floor counts
+as a level only where the foot's stances lie on several levels (stairs down); the
+skeleton's flat-floor sole calibration, which takes the median over the levels, is then
+undone for that foot (``prior_shift``).
+
+Load preference. Among the contact forces that supply the same wrench the solve prefers
+points nearest their floor and slowest, like a compliant sole: each point's share of the
+ridge term is weighted by ``1 + (h / H)² + (v / V)²`` with H = 10 mm and V = 0.1 m/s
+(its height above its floor and speed). This decides how the load is shared between the
+heel of the leading foot and the toes of the trailing one in double support, which the
+wrench alone does not fix.
 """
 from __future__ import annotations
 
-import numba
+from dataclasses import dataclass, field
+
 import numpy as np
 
 from mocap.skeleton import Motion
@@ -15,81 +46,259 @@ from mocap.skeleton import Motion
 from dynamics.humanoid.model import Humanoid
 
 
-@numba.njit(cache=True)
-def _solve_passive(gram: np.ndarray, rhs: np.ndarray, passive: np.ndarray):
-    """Indices of the passive set and the solution of G[P, P] x = h[P]."""
-    index = np.flatnonzero(passive)
-    sub = np.empty((index.size, index.size))
-    for a in range(index.size):
-        for b in range(index.size):
-            sub[a, b] = gram[index[a], index[b]]
-    return index, np.linalg.solve(sub, rhs[index])
+#: Height and speed scales of the load preference (module docstring).
+PREFERENCE_HEIGHT = 0.010
+PREFERENCE_SPEED = 0.1
+#: A stance normal tilted more than this from the foot's Y axis is not taken as its sole.
+MAX_PITCH_DEG = 30.0
+#: Ridge cost of a contact force along its preferred direction, relative to the edges.
+PREFERRED_COST = 0.1
 
 
-@numba.njit(cache=True)
-def _fnnls(gram: np.ndarray, rhs: np.ndarray, tolerance: float,
-           start: np.ndarray) -> np.ndarray:
-    """Fast NNLS (Bro & de Jong 1997): min ½xᵀGx − hᵀx, x ≥ 0, for a positive-definite G.
+@dataclass
+class ContactCalibration:
+    """Calibrated contact points and the floor under them.
 
-    ``start`` (bool, n) is a guess of the variables that end up positive: they seed the
-    passive set (pruned until its solution is positive, which gives a feasible start), so a
-    good guess leaves few active-set iterations.
+    Attributes
+    ----------
+    points : ndarray, shape (points, 3), metres
+        Contact points in their foot's frame, on the calibrated sole.
+    floors : ndarray, shape (frames, points), metres
+        Floor height under each point in each frame (Y up).
+    pitch_deg : dict
+        Per foot, the angle between the calibrated sole normal and the uncalibrated one.
+    shift_mm : dict
+        Per foot, how far the sole moved along its normal (positive: down).
+    levels : list of float
+        Distinct floor heights found (m), the reference floor first.
     """
-    n = rhs.shape[0]
-    x = np.zeros(n)
-    passive = start.copy()
-    while passive.any():
-        index, solution = _solve_passive(gram, rhs, passive)
-        if solution.min() > 0.0:
-            x[index] = solution
-            break
-        for a in range(index.size):
-            if solution[a] <= 0.0:
-                passive[index[a]] = False
-    gradient = rhs - gram @ x
-    for _ in range(3 * n + 10):
-        best, pick = tolerance, -1
-        for i in range(n):
-            if not passive[i] and gradient[i] > best:
-                best, pick = gradient[i], i
-        if pick < 0:
-            break
-        passive[pick] = True
-        for _inner in range(3 * n + 10):
-            index, solution = _solve_passive(gram, rhs, passive)
-            if solution.min() > 0.0:
-                x[:] = 0.0
-                x[index] = solution
-                break
-            # Step back to the boundary and drop the variables that reach zero.
-            alpha = 1.0
-            for a in range(index.size):
-                if solution[a] <= 0.0:
-                    step = x[index[a]] / (x[index[a]] - solution[a])
-                    if step < alpha:
-                        alpha = step
-            for a in range(index.size):
-                i = index[a]
-                x[i] += alpha * (solution[a] - x[i])
-                if x[i] <= tolerance:
-                    x[i] = 0.0
-                    passive[i] = False
-            if not passive.any():
-                break
-        gradient = rhs - gram @ x
-    return x
+
+    points: np.ndarray
+    floors: np.ndarray
+    pitch_deg: dict = field(default_factory=dict)
+    shift_mm: dict = field(default_factory=dict)
+    levels: list = field(default_factory=list)
 
 
-@numba.njit(cache=True)
-def _fnnls_batch(gram: np.ndarray, rhs: np.ndarray, start: np.ndarray) -> np.ndarray:
-    """:func:`_fnnls` for every frame: gram (F, n, n), rhs (F, n), start (F, n) bool."""
-    frames, n = rhs.shape
-    out = np.zeros((frames, n))
-    for f in range(frames):
-        scale = np.abs(rhs[f]).max()
-        if scale > 0.0:
-            out[f] = _fnnls(gram[f], rhs[f], 1e-12 * scale, start[f])
+def points_in_world(points: np.ndarray, segments: list[int], world_r: np.ndarray,
+                    world_p: np.ndarray) -> np.ndarray:
+    """World positions (frames, points, 3) of contact points given in segment frames."""
+    return world_p[:, segments] + np.einsum("fpij,pj->fpi", world_r[:, segments], points)
+
+
+def _runs(mask: np.ndarray, shortest: int) -> list[tuple[int, int]]:
+    edges = np.flatnonzero(np.diff(np.r_[0, mask.astype(int), 0]))
+    return [(a, b) for a, b in zip(edges[::2], edges[1::2]) if b - a >= shortest]
+
+
+def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndarray,
+                       world_p: np.ndarray, rate: float, floor: float = 0.0,
+                       still_speed: float = 0.2, step: float = 0.03,
+                       prior_shift: dict | None = None) -> ContactCalibration:
+    """Calibrate soles and find the floor under each foot (module docstring).
+
+    Parameters
+    ----------
+    points : ndarray, shape (points, 3)
+        Uncalibrated contact points in their segment's frame.
+    segments : list of int
+        Segment (foot) of each point.
+    world_r, world_p : segment poses, (frames, segments, 3, 3) and (frames, segments, 3)
+    rate : float, Hz
+    floor : float, m
+        The reference floor height.
+    still_speed : float, m/s
+    step : float, m
+        How far a stance's sole may be off the reference floor and still stand on it.
+    prior_shift : dict, optional
+        Foot segment index → how far (m, along the foot's Y) a flat-floor sole calibration
+        before this one lowered the sole (``mocap.skeleton``'s ``sole_calibration_m``).
+        Where the foot's stances lie on several levels, that calibration mixed them: it is
+        undone and the foot's lowest stances are taken as standing on the floor.
+    """
+    frames = world_p.shape[0]
+    segments = np.asarray(segments)
+    points = np.array(points, dtype=float)
+    calibrated = points.copy()
+    floors = np.full((frames, len(segments)), float(floor))
+    result = ContactCalibration(calibrated, floors, levels=[float(floor)])
+    if frames < 3:
+        return result
+    world = points_in_world(points, list(segments), world_r, world_p)
+    speed = np.linalg.norm(np.gradient(world, 1.0 / rate, axis=0), axis=2)
+    shortest = max(int(round(0.05 * rate)), 2)
+    found = []
+    for foot in sorted(set(segments.tolist())):
+        mine = np.flatnonzero(segments == foot)
+        still = (speed[:, mine] < still_speed).all(axis=1)
+        runs = _runs(still, shortest)
+        if not runs:
+            continue
+        up = np.swapaxes(world_r[:, foot], 1, 2)[:, :, 1]              # Rᵀ e_y, (F, 3)
+        normals, heights = [], []
+        for a, b in runs:
+            n = np.median(up[a:b], axis=0)
+            normals.append(n / np.linalg.norm(n))
+            heights.append(float(np.median(world_p[a:b, foot, 1])))
+        normal = np.mean(normals, axis=0)
+        normal /= np.linalg.norm(normal)
+        tilt = np.degrees(np.arccos(np.clip(normal[1], -1.0, 1.0)))
+        if tilt > MAX_PITCH_DEG:                    # at most MAX_PITCH_DEG from the foot's Y
+            axis = np.cross([0.0, 1.0, 0.0], normal)
+            axis /= np.linalg.norm(axis)
+            angle = np.radians(MAX_PITCH_DEG)
+            normal = np.array([0.0, 1.0, 0.0]) * np.cos(angle) + \
+                np.cross(axis, [0.0, 1.0, 0.0]) * np.sin(angle)
+        heights = np.array(heights)
+        prior = (prior_shift or {}).get(int(foot), 0.0)
+        several = heights.max() - heights.min() > 2 * step
+        if prior and several:
+            # Several levels: an earlier flat-floor calibration took their median; undo it
+            # and keep the sole the geometry gives (markers or the skeleton).
+            points[mine, 1] += prior
+        # The uncalibrated sole's offset along the calibrated normal: d0 = −median(n·x).
+        d0 = -float(np.median(points[mine] @ normal))
+        ground = np.abs(heights - d0 - floor) < step
+        d = float(np.median(heights[ground] - floor)) if ground.any() else d0
+        found.append((foot, mine, runs, heights, normal, d0, d, ground, several))
+    # Stances on other levels, only when a foot stands on the floor in the trial (a body
+    # that never touches it is held up, not on a stage): above the floor (a step, stairs, a
+    # platform); below it only among several levels (stairs down from the floor), so feet
+    # sunk into a flat floor still penetrate it.
+    grounded = any(entry[7].any() for entry in found)
+    default = np.array([0.0, 1.0, 0.0])
+    for foot, mine, runs, heights, normal, d0, d, ground, several in found:
+        off = heights - d - floor
+        other = ((off >= step) | (several & (off <= -step))) & grounded
+        run_floor = np.where(other, heights - d, floor)
+        calibrated[mine] = points[mine] - np.outer(points[mine] @ normal + d, normal)
+        floors[:, mine] = _floor_under(runs, run_floor, frames, floor)[:, None]
+        result.pitch_deg[int(foot)] = float(np.degrees(np.arccos(np.clip(normal @ default,
+                                                                          -1, 1))))
+        result.shift_mm[int(foot)] = 1000.0 * (d - d0)
+        for level in run_floor:
+            if all(abs(level - seen) > 0.01 for seen in result.levels):
+                result.levels.append(float(level))
+    return result
+
+
+def _floor_under(runs: list[tuple[int, int]], levels: np.ndarray, frames: int,
+                 floor: float) -> np.ndarray:
+    """Per frame, the floor under a foot: its stance's level during a stance; between
+    two stances the lower of the two (a swinging foot is above both); before the first
+    and after the last, the lower of that stance's and the reference floor."""
+    out = np.empty(frames)
+    starts = np.array([a for a, _ in runs])
+    stops = np.array([b for _, b in runs])
+    index = np.arange(frames)
+    before = np.searchsorted(stops, index, side="right") - 1       # last run ended ≤ f
+    after = np.searchsorted(starts, index, side="right") - 1       # last run started ≤ f
+    inside = (after >= 0) & (index < stops[np.clip(after, 0, None)])
+    previous = levels[np.clip(before, 0, None)]
+    following = levels[np.clip(before + 1, 0, len(runs) - 1)]
+    out[:] = np.where(before < 0, min(levels[0], floor),
+                      np.where(before + 1 >= len(runs), min(levels[-1], floor),
+                               np.minimum(previous, following)))
+    out[inside] = levels[after[inside]]
     return out
+
+
+def preference_weights(heights: np.ndarray, speeds: np.ndarray) -> np.ndarray:
+    """Ridge weights of the contact points, ``1 + (h/H)² + (v/V)²`` (module docstring)."""
+    h = np.clip(heights, 0.0, None) / PREFERENCE_HEIGHT
+    return 1.0 + h ** 2 + (speeds / PREFERENCE_SPEED) ** 2
+
+
+def ballistic_runs(com: np.ndarray, airborne: np.ndarray, rate: float,
+                   gravity: float = 9.81) -> np.ndarray:
+    """Frames of flight phases whose centre of mass falls freely (bool, frames).
+
+    For each run of airborne frames (no contact point active) of at least 5 frames, a
+    parabola fitted to the centre of mass's height gives its vertical acceleration: the
+    run is ballistic when that is within half of g of −g (a body held up has 0). Shorter
+    runs are too short to tell and count as ballistic. The fit uses positions over the
+    whole run, so it is not spoiled by the smoothing of accelerations across touchdown.
+    """
+    result = np.zeros(airborne.shape[0], bool)
+    for a, b in _runs(airborne, 1):
+        if b - a < 5:
+            result[a:b] = True
+            continue
+        t = np.arange(b - a) / rate
+        curvature = np.polyfit(t, com[a:b, 1], 2)[0]
+        result[a:b] = abs(2.0 * curvature + gravity) < 0.5 * gravity
+    return result
+
+
+def ridge_nnls(matrix: np.ndarray, target: np.ndarray, ridge: float,
+               iterations: int = 60, start: np.ndarray | None = None) -> np.ndarray:
+    """``min ½‖A λ − b‖² + ½ε‖λ‖², λ ≥ 0`` for many small problems at once (numpy only).
+
+    Solved in the residual ``r = b − Aλ`` (6 unknowns a frame, whatever the number of
+    generators): at the optimum ``λ = max(0, Aᵀr) / ε``, so ``r`` minimises the strongly
+    convex, piecewise quadratic ``Φ(r) = ½‖r‖² − bᵀr + ‖max(0, Aᵀr)‖² / 2ε``. Newton's
+    method on Φ (its Hessian ``I + A_S A_Sᵀ / ε`` over the generators S with ``Aᵀr > 0``)
+    with a backtracking line search converges in a handful of steps and is exact once S
+    settles; every step is a batch of 6 × 6 solves, so there is no per-frame loop and no
+    compiled code.
+
+    Parameters
+    ----------
+    matrix : ndarray, shape (frames, m, n)
+    target : ndarray, shape (frames, m)
+    ridge : float
+        ε > 0.
+    start : ndarray, shape (frames, m), optional
+        A first guess of the residual (e.g. that of the unconstrained ridge solution,
+        ``ε (AAᵀ + εI)⁻¹ b``, whose positive generators are usually the final ones).
+
+    Returns
+    -------
+    ndarray, shape (frames, n)
+    """
+    frames, m, n = matrix.shape
+    transposed = np.swapaxes(matrix, 1, 2)
+    r = np.array(target if start is None else start, dtype=float)
+    eye = np.eye(m)
+    scale = 1.0 + np.linalg.norm(target, axis=1)
+
+    def objective(index: np.ndarray, res: np.ndarray) -> np.ndarray:
+        z = np.maximum((transposed[index] @ res[..., None])[..., 0], 0.0)
+        return 0.5 * (res * res).sum(axis=1) - (target[index] * res).sum(axis=1) \
+            + 0.5 * (z * z).sum(axis=1) / ridge
+
+    todo = np.arange(frames)
+    previous = np.full((frames, n), 2, np.int8)            # 2: no set seen yet
+    for _ in range(iterations):
+        if not todo.size:
+            break
+        a, at, res = matrix[todo], transposed[todo], r[todo]
+        z = (at @ res[..., None])[..., 0]
+        on = z > 0.0
+        gradient = res - target[todo] + (a @ (np.where(on, z, 0.0) / ridge)[..., None])[..., 0]
+        # Done: stationary, or the generator set settled after a full step (Φ is quadratic
+        # on it, so that step was exact).
+        done = (np.linalg.norm(gradient, axis=1) <= 1e-12 * scale[todo]) | \
+            (on == previous[todo]).all(axis=1)
+        previous[todo] = on
+        keep = ~done
+        todo, a, on, res, gradient = todo[keep], a[keep], on[keep], res[keep], gradient[keep]
+        if not todo.size:
+            break
+        hessian = eye + (a * on[:, None, :]) @ np.swapaxes(a, 1, 2) / ridge
+        step = -np.linalg.solve(hessian, gradient[..., None])[..., 0]
+        slope = (gradient * step).sum(axis=1)
+        before = objective(todo, res)
+        t = np.ones(todo.size)
+        for _ in range(30):
+            trial = res + t[:, None] * step
+            worse = objective(todo, trial) > before + 1e-4 * t * slope
+            if not worse.any():
+                break
+            t = np.where(worse, 0.5 * t, t)
+        r[todo] = res + t[:, None] * step
+        previous[todo[t < 1.0]] = 2             # a damped step: not settled yet
+    return np.maximum((transposed @ r[..., None])[..., 0], 0.0) / ridge
 
 
 def pyramid_edges(mu: float, edges: int = 4) -> np.ndarray:
@@ -100,7 +309,9 @@ def pyramid_edges(mu: float, edges: int = 4) -> np.ndarray:
 
 
 def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndarray,
-                         mu: float = 0.8, edges: int = 4, regularisation: float = 1e-6
+                         mu: float = 0.8, edges: int = 4, regularisation: float = 1e-6,
+                         torque_length: float = 1.0, weights: np.ndarray | None = None,
+                         preferred: np.ndarray | None = None
                          ) -> tuple[np.ndarray, np.ndarray]:
     """Contact forces inside friction pyramids that best supply a wrench, frame by frame.
 
@@ -109,7 +320,7 @@ def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndar
     combination of edges is exactly a force inside the pyramid. The matrices are built for
     all frames at once; the unconstrained ridge solution ``Aᵀ(AAᵀ + εI)⁻¹W`` (batched 6 × 6
     solves) is kept where it is non-negative, and the remaining frames are solved by a
-    compiled active-set method on the normal equations (Bro & de Jong's fast NNLS).
+    batched semi-smooth Newton method on the 6-D dual (:func:`ridge_nnls`).
 
     Parameters
     ----------
@@ -126,6 +337,16 @@ def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndar
     regularisation : float
         Weight ε of ``ε‖λ‖²`` added to the objective: among the (many) force distributions
         that supply the wrench, the smallest; its bias on the residual is of order ε‖λ‖.
+    torque_length : float, m
+        The length that makes the wrench norm well posed: the misfit is
+        ``‖ΔF‖² + ‖ΔM / L‖²`` (a torque error counts as the force that makes it at lever L).
+    weights : ndarray, shape (frames, points), optional
+        Per-point weights of the ridge term (``ε Σ w_p ‖λ_p‖²``): which points to load
+        first among equivalent distributions (:func:`preference_weights`).
+    preferred : ndarray, shape (frames, points, 3), optional
+        A preferred force direction per point (the check: towards the centre of mass),
+        added as a generator costing :data:`PREFERRED_COST` of the edges where it lies
+        inside the pyramid.
 
     Returns
     -------
@@ -134,27 +355,45 @@ def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndar
         ``W − Σ (f, r × f)``: what the contacts cannot supply.
     """
     frames, points = active.shape
-    d = pyramid_edges(mu, edges)                                         # (E, 3)
-    # Columns for every point and edge, batched over frames: (F, P, E, 6).
-    moments = np.cross(levers[:, :, None, :], d[None, None, :, :])
-    columns = np.concatenate([np.broadcast_to(d, moments.shape), moments], axis=3)
-    columns = columns * active[:, :, None, None]
-    matrix = columns.reshape(frames, points * edges, 6).transpose(0, 2, 1)   # (F, 6, P·E)
+    d = np.broadcast_to(pyramid_edges(mu, edges), (frames, points, edges, 3))
+    cost = np.ones((frames, points, edges)) if weights is None else \
+        np.repeat(weights[:, :, None], edges, axis=2)
+    if preferred is not None:
+        # One more generator per point: the preferred direction, where inside the pyramid,
+        # at a fraction of the ridge cost (so it carries the load unless the wrench needs
+        # otherwise).
+        unit = preferred / np.maximum(np.linalg.norm(preferred, axis=2, keepdims=True), 1e-12)
+        inside = np.hypot(unit[..., 0], unit[..., 2]) <= mu * unit[..., 1]
+        d = np.concatenate([d, unit[:, :, None, :]], axis=2)
+        extra = (weights if weights is not None else np.ones((frames, points))) \
+            * PREFERRED_COST
+        cost = np.concatenate([cost, np.where(inside, extra, np.inf)[:, :, None]], axis=2)
+    kinds = d.shape[2]
+    # Columns for every point and generator, batched over frames: (F, P, K, 6).
+    moments = np.cross(levers[:, :, None, :], d)
+    columns = np.concatenate([d, moments], axis=3) * active[:, :, None, None]
+    physical = columns.reshape(frames, points * kinds, 6).transpose(0, 2, 1)  # (F, 6, P·K)
+    # Scaled problem: torque rows over L; columns over √cost (λ = μ / √cost keeps λ ≥ 0).
+    scale = (1.0 / np.sqrt(cost)).reshape(frames, points * kinds)
+    rows = np.array([1.0, 1.0, 1.0] + [1.0 / torque_length] * 3)
+    matrix = physical * rows[None, :, None] * scale[:, None, :]
+    target = wrench * rows
     # A small ridge (min-norm among exact solutions) spreads the load over the points in
     # contact instead of a vertex solution where feet push against each other sideways.
     # Fast path, all frames at once: the unconstrained ridge solution
     # Aᵀ(AAᵀ + εI)⁻¹W (6 × 6 solves) is the answer wherever it is non-negative — the usual
-    # case for a load well inside the pyramids; the other frames go to the active-set solver.
-    small = np.einsum("fkn,fln->fkl", matrix, matrix) + regularisation * np.eye(6)
-    weights = np.einsum("fkn,fk->fn", matrix, np.linalg.solve(small, wrench[..., None])[..., 0])
-    busy = active.any(axis=1) & (weights.min(axis=1) < 0.0)
+    # case for a load well inside the pyramids; the other frames go to ridge_nnls.
+    transposed = np.swapaxes(matrix, 1, 2)                              # (F, P·K, 6)
+    small = matrix @ transposed + regularisation * np.eye(6)
+    dual = np.linalg.solve(small, target[..., None])[..., 0]
+    amounts = (transposed @ dual[..., None])[..., 0]
+    busy = active.any(axis=1) & (amounts.min(axis=1) < 0.0)
     if busy.any():
-        gram = np.einsum("fkn,fkm->fnm", matrix[busy], matrix[busy])
-        gram += regularisation * np.eye(points * edges)
-        rhs = np.einsum("fkn,fk->fn", matrix[busy], wrench[busy])
-        weights[busy] = _fnnls_batch(gram, rhs, weights[busy] > 0.0)
-    forces = np.einsum("fpe,ek->fpk", weights.reshape(frames, points, edges), d)
-    supplied = np.einsum("fkn,fn->fk", matrix, weights)
+        amounts[busy] = ridge_nnls(matrix[busy], target[busy], regularisation,
+                                   start=regularisation * dual[busy])
+    amounts = amounts * scale
+    forces = (amounts.reshape(frames, points, 1, kinds) @ d)[:, :, 0]
+    supplied = (physical @ amounts[..., None])[..., 0]
     return forces, wrench - supplied
 
 

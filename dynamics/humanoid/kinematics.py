@@ -1,7 +1,8 @@
 """Kinematics of a motion on the humanoid's configuration manifold, and its centre of mass.
 
-q, v, a for Pinocchio (DESIGN 3.5 step 1): quaternions made sign-continuous, smoothed and
-differentiated with a Savitzky–Golay filter (exact for constant, linear and quadratic
+q, v, a for Pinocchio (DESIGN 3.5 step 1): quaternions made sign-continuous, optionally
+low-passed (zero-lag Butterworth), smoothed and differentiated with a Savitzky–Golay filter
+(:mod:`mocap.filtering`, numpy only; exact for constant, linear and quadratic
 motion, so a still pose and a free fall are known answers); angular velocity and
 acceleration in each joint's frame are ``2 Im(q* ⊗ q̇)`` and ``2 Im(q* ⊗ q̈)``; the root's
 linear velocity is in its own frame (Pinocchio's free-flyer convention). Tests compare
@@ -12,10 +13,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import savgol_filter
 from scipy.spatial.transform import Rotation
 
 from mocap.errors import MocapError
+from mocap.filtering import butterworth_lowpass, savgol
 from mocap.skeleton import Motion
 
 from dynamics.humanoid.model import Humanoid
@@ -33,12 +34,8 @@ def _quat_conj_product_vector(q: np.ndarray, d: np.ndarray) -> np.ndarray:
 
 def _quaternion_matrices(q: np.ndarray) -> np.ndarray:
     """Rotation matrices (…, 3, 3) of unit quaternions (…, 4) stored x, y, z, w."""
-    x, y, z, w = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    return np.stack([
-        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
-        np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
-        np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1),
-    ], axis=-2)
+    flat = q.reshape(-1, 4)
+    return Rotation.from_quat(flat).as_matrix().reshape(q.shape[:-1] + (3, 3))
 
 
 def _continuous_quaternions(rotations: np.ndarray) -> np.ndarray:
@@ -82,7 +79,19 @@ class Kinematics:
     root: np.ndarray
 
 
-def motion_kinematics(motion: Motion, smoothing: float = 0.1) -> Kinematics:
+def lowpass_filter(values: np.ndarray, cutoff: float, rate: float, axis: int = 0
+                   ) -> np.ndarray:
+    """Zero-lag 2nd-order Butterworth low-pass (as ``filtfilt``, so 4th order overall,
+    the usual gait-analysis filter) along ``axis`` (:func:`mocap.filtering.butterworth_lowpass`)."""
+    if not 0 < cutoff < rate / 2:
+        raise MocapError(f"--lowpass must be between 0 and half the frame rate "
+                         f"({rate / 2:g} Hz), got {cutoff:g}")
+    moved = np.moveaxis(values, axis, 0)
+    return np.moveaxis(butterworth_lowpass(moved, cutoff, rate), 0, axis)
+
+
+def motion_kinematics(motion: Motion, smoothing: float = 0.1,
+                      lowpass: float | None = None) -> Kinematics:
     """q, v, a of a 15-segment motion for the Pinocchio model (vectorised over frames).
 
     Parameters
@@ -91,6 +100,9 @@ def motion_kinematics(motion: Motion, smoothing: float = 0.1) -> Kinematics:
         On the body skeleton (segment order = model joint order).
     smoothing : float, seconds
         Savitzky–Golay window (polynomial order 3; 0 gives central differences).
+    lowpass : float, Hz, optional
+        First low-pass the (sign-continuous) quaternions and the root's path with
+        :func:`lowpass_filter` (6 Hz is customary for walking inverse dynamics).
 
     Returns
     -------
@@ -100,16 +112,22 @@ def motion_kinematics(motion: Motion, smoothing: float = 0.1) -> Kinematics:
     window, order = _window(motion.frames, motion.rate, smoothing)
     quats = _continuous_quaternions(motion.rotations)                   # (F, J, 4)
     root = motion.skeleton.offsets[0] + motion.root_translation         # (F, 3)
+    if lowpass:
+        quats = lowpass_filter(quats, lowpass, motion.rate)
+        root = lowpass_filter(root, lowpass, motion.rate)
 
     def smooth(x: np.ndarray, deriv: int) -> np.ndarray:
-        return savgol_filter(x, window, order, deriv=deriv, delta=dt, axis=0, mode="interp")
+        return savgol(x, window, order, deriv=deriv, delta=dt)
 
-    q0, q1, q2 = (smooth(quats, d) for d in (0, 1, 2))
+    frames, joints = quats.shape[:2]
+    stacked = np.concatenate([quats.reshape(frames, -1), root], axis=1)
+    q0, q1, q2 = (smooth(stacked, d) for d in (0, 1, 2))
+    (p0, q0), (p1, q1), (p2, q2) = ((x[:, -3:], x[:, :-3].reshape(frames, joints, 4))
+                                    for x in (q0, q1, q2))
     norm2 = np.einsum("fjk,fjk->fj", q0, q0)[..., None]
     omega = 2.0 * _quat_conj_product_vector(q0, q1) / norm2             # body frame
     alpha = 2.0 * _quat_conj_product_vector(q0, q2) / norm2
     q0 = q0 / np.sqrt(norm2)
-    p0, p1, p2 = (smooth(root, d) for d in (0, 1, 2))
     rotations = _quaternion_matrices(q0)                                # (F, J, 3, 3)
     root_r = rotations[:, 0]
     v_lin = np.einsum("fji,fj->fi", root_r, p1)                         # Rᵀ ṗ

@@ -14,7 +14,12 @@ Segment endpoints in our 15-segment body (each frame is the identity in the neut
 Y up, Z anterior, X left; a segment's origin is its proximal joint):
 
 * upper arm, forearm, thigh, shank: origin → first child's origin;
-* hand: origin (wrist) → end site (default 0.74 forearm lengths along the forearm);
+* hand: origin (wrist) → end site, the fingertip (default 0.74 forearm lengths along the
+  forearm, Winter's 0.108 vs 0.146 of the height). de Leva's hand ends at the third
+  metacarpale (86.2 mm of the 188 mm wrist-to-fingertip length of his reference male,
+  78.0 of 187 mm female), so his COM fraction (0.790) and radii are scaled by that ratio:
+  the COM sits 0.362 of the wrist-to-fingertip length from the wrist (Dumas et al. 2007
+  give 0.361 for the same landmarks), not 0.79 of it, which would put it 9 cm too far;
 * head: origin → end site (head top); de Leva's COM is measured from the vertex;
 * thorax (upper + mid trunk merged): origin → head origin; COM from the bottom 0.584 L
   (merged with the parallel-axis theorem below);
@@ -65,6 +70,10 @@ DE_LEVA_FEMALE = {
     "foot": (0.0129, 0.4014, 0.299, 0.279, 0.139),
 }
 _LENGTHS_FEMALE = {"upper_trunk": 142.5, "mid_trunk": 205.3}
+#: de Leva's hand length (wrist joint centre to the third metacarpale), mm, and the
+#: wrist-to-fingertip length of the same reference subject (Winter: 0.108 of the height).
+_HAND_LENGTH = {"male": 86.2, "female": 78.0}
+_FINGERTIP_HAND = {"male": 0.108 * 1741.0, "female": 0.108 * 1735.0}
 
 
 def _merged_thorax(table: dict, lengths: dict) -> tuple[float, float, float, float, float]:
@@ -103,7 +112,11 @@ def segment_table(sex: str = "male") -> dict[str, tuple[float, float, float, flo
     table = DE_LEVA_MALE if sex == "male" else DE_LEVA_FEMALE
     lengths = _LENGTHS_MALE if sex == "male" else _LENGTHS_FEMALE
     result = {kind: table[kind] for kind in
-              ("upperarm", "forearm", "hand", "thigh", "shank", "foot")}
+              ("upperarm", "forearm", "thigh", "shank", "foot")}
+    # de Leva's hand ends at the third metacarpale; ours at the fingertip (module docstring).
+    m, c, s, t, lo = table["hand"]
+    k = _HAND_LENGTH[sex] / _FINGERTIP_HAND[sex]
+    result["hand"] = (m, c * k, s * k, t * k, lo * k)
     m, c, s, t, lo = table["head"]
     result["head"] = (m, 1.0 - c, s, t, lo)
     m, c, s, t, lo = table["lower_trunk"]

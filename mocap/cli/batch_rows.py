@@ -32,7 +32,8 @@ def find_trials(corpus: str | os.PathLike) -> list[Path]:
 
 
 def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY",
-                  check: bool = False, mass_kg: float = 75.0) -> dict:
+                  check: bool = False, mass_kg: float = 75.0,
+                  lowpass: float | None = 6.0) -> dict:
     """One row of the batch table for the trial at ``path``; never raises for bad input.
 
     Parameters
@@ -48,6 +49,8 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
         Also run the humanoid dynamics check (needs a full-body marker set).
     mass_kg : float
         Body mass for the check.
+    lowpass : float or None, Hz
+        Low-pass of the motion before the check's inverse dynamics (None or 0: off).
 
     Returns
     -------
@@ -80,7 +83,8 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
             for segment, span in zip(angles.segments, np.nanmax(ranges, axis=1)):
                 row[f"{segment}_rom_deg"] = round(float(span), 3)
             if check:
-                report = check_motion(motion_from_trial(trial, chosen), body_mass=mass_kg).summary()
+                report = check_motion(motion_from_trial(trial, chosen), body_mass=mass_kg,
+                                      lowpass=lowpass or None).summary()
                 for key in CHECK_COLUMNS:
                     value = report[key]
                     row[key] = round(value, 3) if isinstance(value, float) else value

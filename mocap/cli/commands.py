@@ -11,6 +11,7 @@ from __future__ import annotations
 COMMANDS: dict[str, tuple[str, str]] = {
     "info": ("mocap.cli.io", "summarise marker files: rate, frames, duration, markers, units, gaps"),
     "convert": ("mocap.cli.io", "convert a marker file between C3D, CSV and TRC"),
+    "forces": ("mocap.cli.forces", "force plates of a C3D trial: ground reaction, centre of pressure"),
     "angles": ("mocap.cli.angles", "joint angles from marker files, as CSV (time, <segment>.<axis> in degrees)"),
     "generate": ("mocap.cli.generate", "write a synthetic people × actions marker corpus with ground truth"),
     "decompose": ("mocap.cli.synthesis", "build an N-mode SVD motion model from a people × actions corpus"),
@@ -18,7 +19,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "recognize": ("mocap.cli.synthesis", "recognise the person (and action) of a trial"),
     "evaluate": ("mocap.cli.synthesis", "leave-one-out synthesis error and recognition accuracy of a corpus"),
     "simulate": ("mocap.cli.simulate", "run a particle / mass-spring / rigid-body scene (TOML) and save the frames"),
-    "check": ("mocap.cli.humanoid", "physical plausibility of a motion (Pinocchio inverse dynamics)"),
+    "check": ("mocap.cli.check", "physical plausibility of a motion (Pinocchio inverse dynamics)"),
     "export": ("mocap.cli.humanoid", "write a motion as BVH, angle CSV, C3D/TRC joint markers, .mot or JSON"),
     "animate": ("mocap.cli.humanoid", "stick-figure animation of a motion (cape, rope, physics)"),
     "demo": ("mocap.cli.product", "run the whole pipeline on generated data and write an HTML report"),

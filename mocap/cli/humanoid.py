@@ -1,4 +1,5 @@
-"""``mocap check``, ``mocap export`` and ``mocap animate``: motions given a body.
+"""``mocap export`` and ``mocap animate``: motions given a body (``mocap check`` is in
+:mod:`mocap.cli.check`).
 
 MOTION may be a BVH file, an AMC file (its ASF found beside it or given with ``--asf``),
 a joint-angle CSV (DESIGN 3.2, played on the default body) or a marker trial
@@ -7,18 +8,15 @@ a joint-angle CSV (DESIGN 3.2, played on the default body) or a marker trial
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
-from dynamics.humanoid.check import Thresholds, check_motion
-from dynamics.humanoid.model import JOINT_OF_SEGMENT
 from dynamics.humanoid.tracking import simulate_tracking
 from dynamics.secondary import simulate_secondary
-from dynamics.viz.animate import animate_motion, plot_check
-from mocap.body.anthropometry import segment_kind
+from dynamics.viz.animate import animate_motion
 from mocap.body.retarget import reduce_to_segments
 from mocap.cli import options
+from mocap.cli.check import _motion_options
 from mocap.cli.commands import summary
 from mocap.errors import MocapError
 from mocap.io.bvh import units_note
@@ -28,70 +26,10 @@ from mocap.io.motion import read_motion
 #: Formats of ``mocap export``.
 
 
-def _motion_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("motion", metavar="MOTION",
-                        help="motion file: .bvh, .amc (with its .asf), a joint-angle .csv, or a "
-                             "marker trial (.c3d, .trc, .csv) with --markerset")
-    parser.add_argument("--asf", metavar="ASF",
-                        help="ASF skeleton of an AMC motion (default: <name>.asf beside it, "
-                             "or the longest prefix of the name cut at _ or -: 01.asf for "
-                             "01_01.amc as in CMU, HDM_bd.asf for HDM_bd_01-01_01_120.amc "
-                             "as in HDM05)")
-    parser.add_argument("--markerset", "-m", metavar="SET",
-                        help="marker set of a marker trial: preset name (synthetic15, "
-                             "plugingait-lower) or TOML file")
-    parser.add_argument("--units", choices=("m", "cm", "mm", "in", "cmu"),
-                        help="length unit of the input BVH (or ASF) file; detected from the "
-                             "standing height of its first frame when not given (and printed)")
-    parser.add_argument("--rate", type=options.RATE, default=120.0, metavar="HZ",
-                        help="frame rate of an AMC motion, which does not store it "
-                             "(default 120, as CMU and HDM05)")
-    parser.add_argument("--joint-map", metavar="FILE.toml",
-                        help="which joint is which body segment, for rigs whose joint names "
-                             "are not recognised: lines such as l_thigh = \"MyLeftThigh\" "
-                             "(segments: pelvis, thorax, head, l_/r_upperarm, forearm, hand, "
-                             "thigh, shank, foot)")
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
-    """Add ``check``, ``export`` and ``animate`` to ``subparsers``."""
-    check = subparsers.add_parser(
-        "check", help=summary("check"),
-        description="Inverse dynamics of the motion on a 15-segment body (de Leva 1996 "
-                    "inertias scaled to the skeleton and --mass): residual force and torque "
-                    "at the root that ground reactions inside friction cones cannot supply, "
-                    "foot skating, floor penetration, floating, peak joint torques, and a "
-                    "verdict with reasons. The floor is y = 0, Y up (z = 0 of a "
-                    "Z-up marker lab). A lower-body marker set is enough: the trunk, head "
-                    "and arms are then carried rigidly by the pelvis. In text and --json, "
-                    "joint torques are named by the segment the joint moves (l_thigh: left hip, "
-                    "l_shank: left knee, l_foot: left ankle).",
-        epilog="Examples: mocap check walk.bvh --mass 70 --json;  "
-               "mocap check 01_01.amc --plot check.png;  "
-               "mocap check walk.c3d --markerset synthetic15")
-    _motion_options(check)
-    check.add_argument("--mass", type=options.MASS, default=75.0, metavar="KG",
-                       help="body mass in kg (default 75)")
-    check.add_argument("--sex", choices=("male", "female"), default="male",
-                       help="which de Leva table of segment parameters (default male)")
-    check.add_argument("--mu", type=options.real(0, 10), default=0.8,
-                       help="floor friction coefficient (default 0.8)")
-    check.add_argument("--max-residual", type=options.real(above=0, maximum=1000), default=5.0, metavar="PCT",
-                       help="RMS residual force above which the motion is implausible, in %% "
-                            "of body weight (default 5; captured walking on a lower-body "
-                            "marker set scores about 2.5-7)")
-    check.add_argument("--max-penetration", type=options.real(0, 10000), default=20.0, metavar="MM",
-                       help="deepest floor penetration allowed, mm (default 20)")
-    check.add_argument("--floor", default="0", metavar="Y|auto",
-                       help="height of the floor in the motion file, metres along the up "
-                            "axis (default 0), or 'auto': where the feet stand still")
-    check.add_argument("--json", action="store_true",
-                       help="print one JSON object instead of text (keys as in the README)")
-    check.add_argument("--plot", metavar="OUT.png",
-                       help="also plot residuals, ground reactions, joint torques and the "
-                            "lowest point over time (.png, .pdf, .svg)")
-    check.set_defaults(func=run_check)
-
+    """Add ``export`` and ``animate`` to ``subparsers`` (``check`` is :mod:`mocap.cli.check`)."""
     export = subparsers.add_parser(
         "export", help=summary("export"),
         description="Convert a motion: bvh (hierarchy + channels, centimetres), csv (joint "
@@ -169,64 +107,6 @@ def _report_input(args: argparse.Namespace, motion) -> None:
     error, which stays the one line)."""
     if motion.metadata.get("note"):
         print(f"{args.motion}: {motion.metadata['note']}", file=sys.stderr)
-
-
-def run_check(args: argparse.Namespace) -> int:
-    """Handler of ``mocap check``."""
-
-    if not args.mass > 0:
-        raise MocapError(f"--mass must be positive, got {args.mass}")
-    if not (args.max_residual > 0 and args.max_penetration >= 0):
-        raise MocapError("--max-residual must be positive and --max-penetration not negative")
-    if args.plot and Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg"):
-        raise MocapError("the plot must be a .png, .pdf or .svg file", args.plot)
-    motion = _load(args)
-    if args.floor == "auto":
-        floor: float | str = "auto"
-    else:
-        try:
-            floor = float(args.floor)
-        except ValueError:
-            raise MocapError(f"--floor must be a height in metres or 'auto', got "
-                             f"{args.floor!r}") from None
-    limits = Thresholds(residual_rms_pct_bw=args.max_residual,
-                        penetration_mm=args.max_penetration)
-    report = check_motion(motion, body_mass=args.mass, sex=args.sex, mu=args.mu,
-                          thresholds=limits, floor=floor)
-    summary = {"path": str(args.motion), **report.summary()}
-    _report_input(args, motion)
-    if args.plot:
-        plot_check(report, args.plot)
-    if args.json:
-        print(json.dumps(summary))
-        return 0
-    print(f"{args.motion}: {summary['verdict']}  ({report.frames} frames at "
-          f"{report.rate:g} Hz, {report.mass_kg:g} kg)")
-    print(f"  residual force   RMS {summary['residual_force_rms_N']:8.1f} N "
-          f"({summary['residual_force_rms_pct_bw']:.1f} % BW), peak "
-          f"{summary['residual_force_peak_N']:.1f} N ({summary['residual_force_peak_pct_bw']:.1f} % BW)")
-    print(f"  residual torque  RMS {summary['residual_torque_rms_Nm']:8.1f} N·m, peak "
-          f"{summary['residual_torque_peak_Nm']:.1f} N·m (about the centre of mass)")
-    print(f"  foot skating     {summary['foot_skate_mm']:.1f} mm per frame in contact "
-          f"(skating ratio {summary['skating_ratio']:.2f})")
-    print(f"  penetration      {summary['penetration_mm']:.1f} mm   floating "
-          f"{summary['floating_mm']:.1f} mm ({summary['floating_frames']} frames unsupported)")
-
-    def joint(segment: str) -> str:
-        joint_name = JOINT_OF_SEGMENT.get(segment_kind(segment))
-        return f"{segment} ({joint_name})" if joint_name else segment
-
-    # named as in --json (by the segment each joint moves), the joint in brackets
-    print("  peak joint torques (N·m): " + ", ".join(
-        f"{joint(name)} {value:.0f}" for name, value in summary["peak_joint_torque_Nm"].items()))
-    if summary["floor_m"]:
-        print(f"  (floor taken at {summary['floor_m'] * 1000:.0f} mm)")
-    if summary["lumped_segments"]:
-        print("  (no markers for " + ", ".join(summary["lumped_segments"]) + ": carried "
-              "rigidly by the pelvis)")
-    for reason in summary["reasons"]:
-        print(f"  - {reason}")
-    return 0
 
 
 def run_export(args: argparse.Namespace) -> int:

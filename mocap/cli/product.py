@@ -64,6 +64,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     batch.add_argument("--check", action="store_true",
                        help="also run the humanoid dynamics check (full-body marker sets)")
     batch.add_argument("--mass", type=options.MASS, default=75.0, help="body mass in kg for --check")
+    batch.add_argument("--lowpass", type=options.real(minimum=0, maximum=1e6), default=6.0,
+                       metavar="HZ",
+                       help="low-pass the motion before --check's inverse dynamics "
+                            "(zero-lag Butterworth, default 6 Hz; 0 turns it off)")
     batch.add_argument("--dask", action="store_true",
                        help="run on Dask distributed: a LocalCluster of --jobs workers")
     batch.add_argument("--scheduler", metavar="ADDRESS",
@@ -84,7 +88,8 @@ def run_batch_command(args: argparse.Namespace) -> int:
     if args.output:
         refuse_overwrite(args.output, paths)
     rows = run_batch(analyse_trial, paths, jobs=args.jobs, markerset=args.markerset, sequence=args.sequence,
-                     check=args.check, mass_kg=args.mass, dask=args.dask,
+                     check=args.check, mass_kg=args.mass, lowpass=args.lowpass,
+                     dask=args.dask,
                      scheduler=args.scheduler)
     text = json.dumps(rows, indent=1) + "\n" if args.json else rows_to_csv(
         rows, BASE_COLUMNS + (CHECK_COLUMNS if any(c in r for r in rows for c in CHECK_COLUMNS) else []))

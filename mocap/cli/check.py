@@ -1,0 +1,329 @@
+"""``mocap check``: the physical plausibility of a motion, against force plates when asked.
+
+MOTION may be a BVH file, an AMC file (its ASF found beside it or given with ``--asf``),
+a joint-angle CSV (DESIGN 3.2, played on the default body) or a marker trial
+(C3D/TRC/CSV) with ``--markerset``; with ``--forces plates`` a C3D file's force plates.
+This module imports only what the check needs (no simulator, no numba), so the command
+starts quickly.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from dynamics.humanoid.check import Thresholds, check_motion
+from dynamics.humanoid.model import JOINT_OF_SEGMENT, build_humanoid
+from dynamics.humanoid.plates import compare_with_plates, measured_plates, plate_joint_torques
+from mocap.body.anthropometry import segment_kind
+from mocap.body.retarget import motion_from_trial, reduce_to_segments
+from mocap.cli import options
+from mocap.cli.commands import summary
+from mocap.errors import MocapError
+from mocap.io import read
+from mocap.io.bvh import units_note
+from mocap.io.discovery import is_angle_csv
+from mocap.io.motion import MARKER_SUFFIXES, read_motion
+from mocap.markersets.model import load_markerset
+
+
+def _motion_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("motion", metavar="MOTION",
+                        help="motion file: .bvh, .amc (with its .asf), a joint-angle .csv, or a "
+                             "marker trial (.c3d, .trc, .csv) with --markerset")
+    parser.add_argument("--asf", metavar="ASF",
+                        help="ASF skeleton of an AMC motion (default: <name>.asf beside it, "
+                             "or the longest prefix of the name cut at _ or -: 01.asf for "
+                             "01_01.amc as in CMU, HDM_bd.asf for HDM_bd_01-01_01_120.amc "
+                             "as in HDM05)")
+    parser.add_argument("--markerset", "-m", metavar="SET",
+                        help="marker set of a marker trial: preset name (synthetic15, "
+                             "plugingait-lower, plugingait-full) or TOML file")
+    parser.add_argument("--units", choices=("m", "cm", "mm", "in", "cmu"),
+                        help="length unit of the input BVH (or ASF) file; detected from the "
+                             "standing height of its first frame when not given (and printed)")
+    parser.add_argument("--rate", type=options.RATE, default=120.0, metavar="HZ",
+                        help="frame rate of an AMC motion, which does not store it "
+                             "(default 120, as CMU and HDM05)")
+    parser.add_argument("--joint-map", metavar="FILE.toml",
+                        help="which joint is which body segment, for rigs whose joint names "
+                             "are not recognised: lines such as l_thigh = \"MyLeftThigh\" "
+                             "(segments: pelvis, thorax, head, l_/r_upperarm, forearm, hand, "
+                             "thigh, shank, foot)")
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``check`` to ``subparsers``."""
+    check = subparsers.add_parser(
+        "check", help=summary("check"),
+        description="Inverse dynamics of the motion on a 15-segment body (de Leva 1996 "
+                    "inertias scaled to the skeleton and --mass): residual force and torque "
+                    "at the root that ground reactions inside friction cones cannot supply, "
+                    "foot skating, floor penetration, floating, peak joint torques, and a "
+                    "verdict with reasons. The floor is y = 0, Y up (z = 0 of a "
+                    "Z-up marker lab). A lower-body marker set is enough: the trunk, head "
+                    "and arms are then carried rigidly by the pelvis. In text and --json, "
+                    "joint torques are named by the segment the joint moves (l_thigh: left hip, "
+                    "l_shank: left knee, l_foot: left ankle).",
+        epilog="Examples: mocap check walk.bvh --mass 70 --json;  "
+               "mocap check 01_01.amc --plot check.png;  "
+               "mocap check walk.c3d --markerset plugingait-full --forces plates")
+    _motion_options(check)
+    check.add_argument("--mass", type=options.MASS, metavar="KG",
+                       help="body mass in kg (default: a C3D file's PROCESSING:BODYMASS, "
+                            "else 75)")
+    check.add_argument("--sex", choices=("male", "female"), default="male",
+                       help="which de Leva table of segment parameters (default male)")
+    check.add_argument("--mu", type=options.real(above=0, maximum=10), default=0.8,
+                       help="floor friction coefficient (default 0.8)")
+    check.add_argument("--max-residual", type=options.real(above=0, maximum=1000),
+                       metavar="PCT",
+                       help="RMS residual force above which the motion is implausible, in %% "
+                            "of body weight (default %(default)s: see the README's calibrated "
+                            "thresholds)")
+    check.add_argument("--max-penetration", type=options.real(0, 10000), metavar="MM",
+                       help="deepest floor penetration allowed, mm (default: the calibrated "
+                            "threshold)")
+    check.add_argument("--floor", default="0", metavar="Y|auto",
+                       help="height of the floor in the motion file, metres along the up "
+                            "axis (default 0), or 'auto': where the feet stand still")
+    check.add_argument("--lowpass", type=options.real(minimum=0, maximum=1e6), metavar="HZ",
+                       help="low-pass the motion (zero-lag Butterworth) before inverse "
+                            "dynamics; default 6 Hz for marker trials, none for other "
+                            "motions; 0 turns it off")
+    check.add_argument("--forces", choices=("plates",),
+                       help="'plates': also read the C3D file's force plates, compare the "
+                            "estimated ground reaction with them (r and RMS %% BW per plate "
+                            "and foot, and in total) and run bottom-up inverse dynamics from "
+                            "them")
+    check.add_argument("--strict", action="store_true",
+                       help="exit with status 1 when the verdict is implausible (for scripts)")
+    check.add_argument("--json", action="store_true",
+                       help="print one JSON object instead of text (keys as in the README), "
+                            "with the estimated ground reaction and joint torque series")
+    check.add_argument("--plot", metavar="OUT.png",
+                       help="also plot residuals, ground reactions, joint torques and the "
+                            "lowest point over time (.png, .pdf, .svg)")
+    check.set_defaults(func=run_check)
+
+
+
+def run_check(args: argparse.Namespace) -> int:
+    """Handler of ``mocap check``."""
+    if args.plot and Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg"):
+        raise MocapError("the plot must be a .png, .pdf or .svg file", args.plot)
+    if args.forces == "plates" and Path(args.motion).suffix.lower() != ".c3d":
+        raise MocapError("--forces plates reads force plates from a C3D file", args.motion)
+    if args.floor == "auto":
+        floor: float | str = "auto"
+    else:
+        try:
+            floor = float(args.floor)
+        except ValueError:
+            raise MocapError(f"--floor must be a height in metres or 'auto', got "
+                             f"{args.floor!r}") from None
+        if not math.isfinite(floor):
+            raise MocapError(f"--floor must be finite, got {args.floor!r}")
+    limits = Thresholds()
+    if args.max_residual is not None:
+        limits.residual_rms_pct_bw = args.max_residual
+    if args.max_penetration is not None:
+        limits.penetration_mm = args.max_penetration
+    result = check_file(args.motion, markerset=args.markerset, asf=args.asf, units=args.units,
+                        rate=args.rate, mass=args.mass, sex=args.sex, mu=args.mu,
+                        thresholds=limits, floor=floor, lowpass=args.lowpass,
+                        plates=args.forces == "plates", joint_map=args.joint_map)
+    report, summary = result["report"], result["summary"]
+    if result["note"]:                  # after success: the unit a BVH/ASF was read in
+        print(f"{args.motion}: {result['note']}", file=sys.stderr)
+    if args.plot:
+        from dynamics.viz.animate import plot_check    # deferred: matplotlib
+        plot_check(report, args.plot)
+    status = 1 if args.strict and report.verdict != "plausible" else 0
+    if args.json:
+        print(json.dumps({**summary, **result["series"]}, allow_nan=False,
+                         default=_json_number))
+        return status
+    _print_check(args.motion, report, summary)
+    return status
+
+
+def _json_number(value):
+    if isinstance(value, np.generic):
+        return value.item()
+    raise TypeError(f"not JSON serialisable: {type(value).__name__}")
+
+
+def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None,
+               sex="male", mu=0.8, thresholds=None, floor=0.0, lowpass=None,
+               plates=False, joint_map=None) -> dict:
+    """Run the dynamics check on a motion file (the work of ``mocap check``).
+
+    Marker trials are read once: the motion from their markers and, with ``plates``, the
+    force plates. ``mass`` defaults to a C3D file's PROCESSING:BODYMASS, else 75 kg;
+    ``lowpass`` to 6 Hz for marker trials (0: off).
+
+    Returns
+    -------
+    dict
+        ``report`` (CheckReport), ``summary`` (the JSON summary, with ``plates`` and
+        ``bottom_up`` when asked) and ``series`` (``ground_reaction`` and
+        ``joint_torques`` per frame, rounded) and ``note`` (the unit a BVH or ASF file
+        was read in, "" for others).
+    """
+    suffix = Path(path).suffix.lower()
+    trial = None
+    if suffix in MARKER_SUFFIXES and not (suffix == ".csv" and _is_angle_file(path)):
+        if not Path(path).exists():
+            raise MocapError("file not found", path)
+        if not markerset:
+            raise MocapError("a marker trial needs --markerset (e.g. plugingait-full) to "
+                         "build the skeleton", path)
+        chosen = load_markerset(markerset)
+        trial = read(path)
+        if trial.frames < 3:
+            raise MocapError(f"the dynamics check needs at least 3 frames, the trial has "
+                             f"{trial.frames}", path)
+        motion = motion_from_trial(trial, chosen)
+        if lowpass is None:
+            lowpass = 6.0
+    else:
+        motion = read_motion(path, asf=asf, units=units, rate=rate, joint_map=joint_map)
+    mass_source = "given"
+    if mass is None:
+        stored = _stored_mass(trial)
+        mass, mass_source = (stored, "PROCESSING:BODYMASS") if stored else (75.0, "default")
+    body = reduce_to_segments(motion, partial=True)
+    feet = [n for n in ("l_foot", "r_foot") if n in body.skeleton.names]
+    if len(feet) < 2:
+        raise MocapError("the dynamics check needs both feet in the motion", path)
+    humanoid = build_humanoid(body.skeleton, mass, sex)
+    try:
+        report = check_motion(body, body_mass=mass, sex=sex, mu=mu, thresholds=thresholds,
+                              floor=floor, lowpass=lowpass or None, humanoid=humanoid)
+    except MocapError as error:
+        raise MocapError(error.problem, error.path or path) from None
+    summary = {"path": str(path), **report.summary(), "mass_source": mass_source,
+               "lowpass_hz": lowpass or None}
+    series = {
+        "ground_reaction": {
+            "times_s": np.round(report.times, 5).tolist(), "frame": "world, Y up",
+            "force_N": np.round(report.contact_forces.sum(axis=1), 2).tolist()},
+        "joint_torques": {
+            "names": list(report.joint_names), "frame": "each joint's (child segment's)",
+            "torque_Nm": np.round(report.joint_torques, 2).tolist()},
+    }
+    if plates:
+        measured = measured_plates(trial, floor=report.floor_m, lowpass=lowpass or None)
+        summary["plates"] = compare_with_plates(report, measured)
+        torques, valid, loaded = plate_joint_torques(report, humanoid, measured)
+        summary["bottom_up"] = _bottom_up_summary(report, torques, loaded)
+        series["measured_ground_reaction"] = {
+            "plates": measured.names,
+            "force_N": np.round(measured.force.sum(axis=0), 2).tolist()}
+        series["bottom_up_joint_torques"] = {
+            "names": list(report.joint_names),
+            "torque_Nm": np.round(np.where(valid[..., None], torques, np.nan), 2).tolist()}
+        series = _nan_to_none(series)
+    note = (units_note(motion) or "").replace("units=", "--units")
+    return {"report": report, "summary": summary, "series": series, "note": note}
+
+
+def _nan_to_none(value):
+    if isinstance(value, list):
+        return [_nan_to_none(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _nan_to_none(v) for k, v in value.items()}
+    if isinstance(value, float) and value != value:
+        return None
+    return value
+
+
+def _bottom_up_summary(report, torques, loaded) -> dict:
+    """Peak sagittal moments (N·m/kg, about each joint's X axis) of the leg joints while
+    their foot stands on a plate: bottom-up from the plates and top-down from the check's
+    contact forces, and the correlation of the two curves."""
+    out = {}
+    for k, name in enumerate(report.joint_names):
+        frames = loaded[:, k]
+        if not name.endswith(("thigh", "shank", "foot")) or frames.sum() < 3:
+            continue
+        bottom = torques[frames, k, 0] / report.mass_kg
+        top = report.joint_torques[frames, k, 0] / report.mass_kg
+        r = float(np.corrcoef(bottom, top)[0, 1]) if bottom.std() > 0 and top.std() > 0 \
+            else float("nan")
+        out[name] = {"peak_bottom_up_Nm_per_kg": round(float(np.abs(bottom).max()), 3),
+                     "peak_top_down_Nm_per_kg": round(float(np.abs(top).max()), 3),
+                     "r": None if r != r else round(r, 3), "frames": int(frames.sum())}
+    return out
+
+
+def _stored_mass(trial) -> float | None:
+    """PROCESSING:BODYMASS of a C3D trial (kg), when stored and plausible."""
+    if trial is None:
+        return None
+    value = trial.metadata.get("parameters", {}).get("PROCESSING", {}).get("BODYMASS")
+    try:
+        mass = float(value.reshape(-1)[0])
+    except (AttributeError, IndexError, TypeError, ValueError):
+        return None
+    return mass if 5.0 <= mass <= 300.0 else None
+
+
+def _is_angle_file(path) -> bool:
+    return Path(path).exists() and is_angle_csv(Path(path))
+
+
+def _print_check(path, report, summary) -> None:
+    print(f"{path}: {summary['verdict']}  ({report.frames} frames at "
+          f"{report.rate:g} Hz, {report.mass_kg:g} kg"
+          + (f" from {summary['mass_source']}" if summary["mass_source"] != "given" else "")
+          + (f", low-pass {summary['lowpass_hz']:g} Hz" if summary["lowpass_hz"] else "")
+          + ")")
+    print(f"  residual force   RMS {summary['residual_force_rms_N']:8.1f} N "
+          f"({summary['residual_force_rms_pct_bw']:.1f} % BW), peak "
+          f"{summary['residual_force_peak_N']:.1f} N ({summary['residual_force_peak_pct_bw']:.1f} % BW)")
+    print(f"  residual torque  RMS {summary['residual_torque_rms_Nm']:8.1f} N·m, peak "
+          f"{summary['residual_torque_peak_Nm']:.1f} N·m (about the centre of mass)")
+    print(f"  foot skating     {summary['foot_skate_mm']:.1f} mm per frame in contact "
+          f"(skating ratio {summary['skating_ratio']:.2f})")
+    print(f"  penetration      {summary['penetration_mm']:.1f} mm   floating "
+          f"{summary['floating_mm']:.1f} mm ({summary['floating_frames']} frames unsupported)")
+    def joint(segment: str) -> str:
+        joint_name = JOINT_OF_SEGMENT.get(segment_kind(segment))
+        return f"{segment} ({joint_name})" if joint_name else segment
+
+    # named as in --json (by the segment each joint moves), the joint in brackets
+
+    print("  peak joint torques (N·m): " + ", ".join(
+        f"{joint(name)} {value:.0f}" for name, value in summary["peak_joint_torque_Nm"].items()))
+    if summary["floor_m"]:
+        print(f"  (floor taken at {summary['floor_m'] * 1000:.0f} mm)")
+    if summary["lumped_segments"]:
+        print("  (no markers for " + ", ".join(summary["lumped_segments"]) + ": carried "
+              "rigidly by the pelvis)")
+    plates = summary.get("plates")
+    if plates is not None:
+        print("  estimated vs measured ground reaction (vertical r, RMS % BW; AP r):")
+        for stance in plates["stances"]:
+            v, ap = stance["vertical"], stance["antero_posterior"]
+            print(f"    {stance['plate']} {stance['foot']:7s} "
+                  f"at {stance['start_s']:.2f} s: r {v['r']:.2f}, RMS {v['rms_pct_bw']:.1f} %"
+                  f"; AP r {ap['r']:.2f}")
+        if not plates["stances"]:
+            print("    no clean single-foot stance on a plate")
+        total = plates["total"]
+        if total["frames"]:
+            print(f"    total ({total['frames']} frames on the plates): r "
+                  f"{total['vertical']['r']:.2f}, RMS {total['vertical']['rms_pct_bw']:.1f} %; "
+                  f"AP r {total['antero_posterior']['r']:.2f}")
+        for name, row in summary.get("bottom_up", {}).items():
+            print(f"    {joint(name):15s} peak sagittal moment {row['peak_bottom_up_Nm_per_kg']:.2f} "
+                  f"N·m/kg bottom-up, {row['peak_top_down_Nm_per_kg']:.2f} top-down "
+                  f"(r {row['r'] if row['r'] is not None else float('nan'):.2f})")
+    for reason in summary["reasons"]:
+        print(f"  - {reason}")

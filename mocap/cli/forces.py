@@ -1,0 +1,116 @@
+"""``mocap forces``: the force plates of a C3D trial as ground reaction data."""
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+
+from mocap.atomic import atomic_path
+from mocap.cli import options
+from mocap.cli.commands import summary
+from mocap.errors import MocapError
+from mocap.io import read
+from mocap.io.c3d.forceplates import plate_forces, total_forces
+from mocap.plot import save_figure
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    """Add ``forces`` to the ``mocap`` command line."""
+    forces = subparsers.add_parser(
+        "forces", help=summary("forces"),
+        description="Read FORCE_PLATFORM (plate types 1-4: corners, origin, CAL_MATRIX) and "
+                    "the analog channels into the ground reaction force (N), centre of "
+                    "pressure (m) and free moment (N·m) of each plate and of all plates "
+                    "together, in the lab frame. Without -o, print one line per plate.",
+        epilog="Examples: mocap forces walk.c3d;  mocap forces walk.c3d -o grf.csv --rate "
+               "marker;  mocap forces walk.c3d --plot grf.png")
+    forces.add_argument("trial", metavar="TRIAL.c3d", help="a C3D file with force plates")
+    forces.add_argument("-o", "--output", metavar="GRF.csv",
+                        help="write a CSV: time_s, then per plate and for the total "
+                             "Fx Fy Fz (N), COPx COPy COPz (m), Tx Ty Tz (N·m, free moment)")
+    forces.add_argument("--rate", choices=("analog", "marker"), default="analog",
+                        help="samples of the output: the analog rate (default) or the "
+                             "marker frames")
+    forces.add_argument("--baseline", action="store_true",
+                        help="take off each channel's unloaded offset (FORCE_PLATFORM:ZERO, "
+                             "else the plate's quietest 0.1 s)")
+    forces.add_argument("--threshold", type=options.real(0, 1e6), default=20.0, metavar="N",
+                        help="vertical force below which a plate is unloaded (no COP), "
+                             "default 20 N")
+    forces.add_argument("--plot", metavar="OUT.png",
+                        help="plot the three force components of each plate (.png, .pdf, "
+                             ".svg)")
+    forces.set_defaults(func=run_forces)
+
+
+def load_plates(path: str | Path, rate: str = "analog", baseline: bool = False,
+                threshold: float = 20.0):
+    """Trial, per-plate and total reactions of a C3D file (MocapError without plates)."""
+    if Path(path).suffix.lower() != ".c3d":
+        raise MocapError("force plates are read from C3D files only", path)
+    trial = read(path)
+    plates = plate_forces(trial, rate=rate, baseline=baseline, threshold=threshold)
+    if not plates:
+        raise MocapError("no force plates (FORCE_PLATFORM:USED is 0 or absent)", path)
+    if trial.analogs is None or plates[0].samples == 0:
+        raise MocapError("the force plates have no analog samples", path)
+    usable = [p for p in plates if not p.plate.problem]
+    if not usable:
+        raise MocapError("no force plate has believable corners: "
+                         + "; ".join(p.plate.problem for p in plates), path)
+    return trial, plates, total_forces(usable, threshold)
+
+
+def run_forces(args: argparse.Namespace) -> int:
+    """Handler of ``mocap forces``."""
+    for option, suffixes in ((args.output, (".csv",)), (args.plot, (".png", ".pdf", ".svg"))):
+        if option and Path(option).suffix.lower() not in suffixes:
+            raise MocapError("must be a " + " or ".join(suffixes) + " file", option)
+    trial, plates, total = load_plates(args.trial, args.rate, args.baseline, args.threshold)
+    parts = [(f"plate{p.plate.index + 1}", p) for p in plates] + [("total", total)]
+    if args.output:
+        write_forces_csv(parts, args.output)
+    if args.plot:
+        save_figure(plot_forces(parts), args.plot, format=Path(args.plot).suffix[1:].lower())
+    print(f"{args.trial}: {len(plates)} force plates, {total.samples} samples at "
+          f"{total.rate:g} Hz")
+    for name, part in parts:
+        fz = part.force[:, 2]
+        loaded = np.isfinite(part.cop).all(axis=1)
+        ignored = f"  (ignored: {part.plate.problem})" if part.plate and part.plate.problem \
+            else ""
+        print(f"  {name:7s} peak Fz {np.abs(fz).max():7.1f} N, loaded "
+              f"{loaded.sum() / part.rate:.2f} s, impulse {np.sum(fz) / part.rate:7.1f} N·s"
+              + ignored)
+    if args.output:
+        print(f"wrote {args.output}")
+    return 0
+
+
+def write_forces_csv(parts: list, path: str | Path) -> None:
+    """Write (name, PlateForces) pairs side by side to a CSV (all-or-nothing)."""
+    columns, header = [parts[0][1].times[:, None]], ["time_s"]
+    for name, part in parts:
+        columns += [part.force, part.cop, part.free_moment]
+        header += [f"{name}_{q}" for q in ("Fx_N", "Fy_N", "Fz_N", "COPx_m", "COPy_m",
+                                           "COPz_m", "Tx_Nm", "Ty_Nm", "Tz_Nm")]
+    table = np.concatenate(columns, axis=1)
+    with atomic_path(path) as tmp:
+        np.savetxt(tmp, table, delimiter=",", header=",".join(header), comments="",
+                   fmt="%.6g")
+
+
+def plot_forces(parts: list, figure=None):
+    """Force components over time, one panel per plate and one for the total; a Figure."""
+    from matplotlib.figure import Figure
+
+    figure = figure or Figure(figsize=(8, 2.2 * len(parts)), layout="constrained")
+    axes = figure.subplots(len(parts), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, (name, part) in zip(axes, parts):
+        for k, label in enumerate(("Fx", "Fy", "Fz")):
+            ax.plot(part.times, part.force[:, k], label=label, lw=1)
+        ax.set_ylabel(f"{name} (N)")
+        ax.legend(loc="upper right", fontsize="small")
+    axes[-1].set_xlabel("time (s)")
+    return figure
