@@ -25,6 +25,7 @@ from scipy.spatial.transform import Rotation
 
 from mocap.body.retarget import reduce_to_segments
 from mocap.errors import MocapError
+from mocap.filtering import butterworth_lowpass
 from mocap.skeleton import Motion
 
 from dynamics.humanoid.contact import (ballistic_runs, calibrate_contacts, estimate_floor,
@@ -192,7 +193,8 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
         lowest foot point over the frames where a foot stands still (for files whose floor
         is not at y = 0). The check then works with the floor at 0.
     lowpass : float, Hz, optional
-        Low-pass the motion before differentiating (:func:`motion_kinematics`).
+        Low-pass the motion before differentiating (:func:`motion_kinematics`), and the
+        estimated contact forces (hence the joint torques) after the solve.
 
     Returns
     -------
@@ -238,6 +240,12 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
         weights=preference_weights(heights, speed),
         preferred=_sagittal_towards(com, contact_world, world_r[:, 0]) if prefer_com else None)
     residual_torque = residual[:, 3:]                      # about the centre of mass
+    if lowpass:
+        # The contact forces band-limited like the motion they come from: the on/off
+        # switching of contact points would otherwise put steps into them (and into the
+        # joint torques) that the filtered motion cannot know of. The residual stays the
+        # misfit of the unfiltered solve.
+        forces = butterworth_lowpass(forces, lowpass, rate)
 
     contact_torques = contact_joint_torques(humanoid, world_r, world_p, contact_world, forces)
     joint_torques = tau[:, 6:].reshape(frames, -1, 3) - contact_torques

@@ -19,7 +19,9 @@ Figures (vertical and antero-posterior components): Pearson r and RMS difference
 body weight. Antero-posterior is the horizontal direction of the centre of mass's mean
 velocity over the stance (over the compared frames for the total). With ``lowpass``
 (Hz), the measured forces are filtered with the same zero-lag Butterworth filter as the
-markers, so both sides have the same bandwidth (Kristianslund et al. 2012).
+markers — and :func:`dynamics.humanoid.check.check_motion` filters its estimated contact
+forces alike — so the two sides are compared at the same bandwidth (Kristianslund et al.
+2012 on filtering markers and forces alike).
 """
 from __future__ import annotations
 

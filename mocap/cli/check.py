@@ -28,7 +28,7 @@ from mocap.io import read
 from mocap.io.bvh import units_note
 from mocap.io.discovery import is_angle_csv
 from mocap.io.motion import MARKER_SUFFIXES, read_motion
-from mocap.markersets.model import load_markerset
+from mocap.markersets import load_markerset
 
 
 def _motion_options(parser: argparse.ArgumentParser) -> None:
