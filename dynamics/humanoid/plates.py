@@ -166,6 +166,18 @@ def plate_stances(report, plates: MeasuredPlates) -> tuple[list[Stance], np.ndar
     return stances, owner
 
 
+def carried_frames(report, stances: list[Stance]) -> np.ndarray:
+    """Frames (bool) where the plates carry the whole body: some foot is on a clean
+    stance's plate and every foot the check puts in contact is."""
+    segments = np.asarray(report.contact_segments)
+    feet = sorted(set(segments.tolist()))
+    clean = np.zeros((len(feet), report.frames), bool)
+    for stance in stances:
+        clean[feet.index(stance.foot), stance.start:stance.stop] = True
+    touching = np.stack([report.contact_active[:, segments == f].any(axis=1) for f in feet])
+    return (touching <= clean).all(axis=0) & clean.any(axis=0)
+
+
 def _figures(estimated: np.ndarray, measured: np.ndarray, weight: float) -> dict:
     ok = np.isfinite(estimated) & np.isfinite(measured)
     e, m = estimated[ok], measured[ok]
@@ -210,13 +222,7 @@ def compare_with_plates(report, plates: MeasuredPlates) -> dict:
             "start_s": round(float(report.times[s.start]), 3), "frames": int(span.size),
             "vertical": _figures(estimated[:, 1], measured[:, 1], weight),
             "antero_posterior": _figures(estimated @ ahead, measured @ ahead, weight)})
-    # Frames where the plates carry everything.
-    feet = sorted(set(segments.tolist()))
-    clean = np.zeros((len(feet), report.frames), bool)
-    for s in stances:
-        clean[feet.index(s.foot), s.start:s.stop] = True
-    touching = np.stack([report.contact_active[:, segments == f].any(axis=1) for f in feet])
-    carried = (touching <= clean).all(axis=0) & clean.any(axis=0)
+    carried = carried_frames(report, stances)
     if carried.sum() > 2:
         span = np.flatnonzero(carried)
         estimated = forces[span].sum(axis=1)

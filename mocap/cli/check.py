@@ -18,7 +18,8 @@ import numpy as np
 
 from dynamics.humanoid.check import Thresholds, check_motion
 from dynamics.humanoid.model import JOINT_OF_SEGMENT, build_humanoid
-from dynamics.humanoid.plates import compare_with_plates, measured_plates, plate_joint_torques
+from dynamics.humanoid.plates import (carried_frames, compare_with_plates, measured_plates,
+                                      plate_joint_torques, plate_stances)
 from mocap.body.anthropometry import segment_kind
 from mocap.body.retarget import motion_from_trial, reduce_to_segments
 from mocap.cli import options
@@ -75,7 +76,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     _motion_options(check)
     check.add_argument("--mass", type=options.MASS, metavar="KG",
                        help="body mass in kg (default: a C3D file's PROCESSING:BODYMASS, "
-                            "else 75)")
+                            "else with --forces plates what the plates weigh, else 75)")
     check.add_argument("--sex", choices=("male", "female"), default="male",
                        help="which de Leva table of segment parameters (default male)")
     check.add_argument("--mu", type=options.real(above=0, maximum=10), default=0.8,
@@ -201,12 +202,21 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
     feet = [n for n in ("l_foot", "r_foot") if n in body.skeleton.names]
     if len(feet) < 2:
         raise MocapError("the dynamics check needs both feet in the motion", path)
-    humanoid = build_humanoid(body.skeleton, mass, sex)
-    try:
-        report = check_motion(body, body_mass=mass, sex=sex, mu=mu, thresholds=thresholds,
-                              floor=floor, lowpass=lowpass or None, humanoid=humanoid)
-    except MocapError as error:
-        raise MocapError(error.problem, error.path or path) from None
+    def run(mass: float):
+        humanoid = build_humanoid(body.skeleton, mass, sex)
+        try:
+            return humanoid, check_motion(body, body_mass=mass, sex=sex, mu=mu,
+                                          thresholds=thresholds, floor=floor,
+                                          lowpass=lowpass or None, humanoid=humanoid)
+        except MocapError as error:
+            raise MocapError(error.problem, error.path or path) from None
+
+    humanoid, report = run(mass)
+    if plates and mass_source == "default":
+        weighed = _weigh_on_plates(trial, report, lowpass)
+        if weighed:
+            mass, mass_source = weighed, "force plates"
+            humanoid, report = run(mass)
     summary = {"path": str(path), **report.summary(), "mass_source": mass_source,
                "lowpass_hz": lowpass or None}
     series = {
@@ -260,6 +270,20 @@ def _bottom_up_summary(report, torques, loaded) -> dict:
                      "peak_top_down_Nm_per_kg": round(float(np.abs(top).max()), 3),
                      "r": None if r != r else round(r, 3), "frames": int(frames.sum())}
     return out
+
+
+def _weigh_on_plates(trial, report, lowpass) -> float | None:
+    """Body mass (kg) from the plates: the measured vertical impulse over the frames they
+    carry the whole body, divided by the check's (whose forces scale with the mass it was
+    given: the dynamics are linear in it); None without such frames."""
+    measured = measured_plates(trial, floor=report.floor_m, lowpass=lowpass or None)
+    carried = carried_frames(report, plate_stances(report, measured)[0])
+    if carried.sum() < 10:
+        return None
+    estimated = report.contact_forces[carried].sum(axis=1)[:, 1].sum()
+    weighed = measured.force[:, carried, 1].sum()
+    mass = report.mass_kg * weighed / estimated if estimated > 0 else 0.0
+    return float(mass) if 5.0 <= mass <= 300.0 else None
 
 
 def _stored_mass(trial) -> float | None:
