@@ -79,7 +79,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                             "else with --forces plates what the plates weigh, else 75)")
     check.add_argument("--sex", choices=("male", "female"), default="male",
                        help="which de Leva table of segment parameters (default male)")
-    check.add_argument("--mu", type=options.real(above=0, maximum=10), default=0.8,
+    check.add_argument("--mu", type=options.real(0, 10), default=0.8,
                        help="floor friction coefficient (default 0.8)")
     check.add_argument("--max-residual", type=options.real(above=0, maximum=1000),
                        metavar="PCT",
