@@ -21,6 +21,7 @@ Timings are noisy on a shared machine: compare ratios in the same run. Never ass
 from __future__ import annotations
 
 import argparse
+import time
 
 import numpy as np
 from scipy.spatial.transform import Rotation
