@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mocap.errors import MocapError
+from mocap.progress import progress
 from mocap.body.retarget import reduce_to_segments
 from mocap.skeleton import Motion
 
@@ -199,7 +200,7 @@ def simulate_secondary(motion: Motion, cape: bool = True, rope: bool = False,
     cape_out = np.empty((frames, len(cape_index), 3)) if cape else None
     rope_out = np.empty((frames, rope_particles, 3)) if rope else None
     # Time stepping is sequential: each step depends on the previous one.
-    for frame in range(frames):
+    for frame in progress(range(frames), "simulating the cape and rope"):
         if cape:
             cape_out[frame] = system.particles.position[cape_index]
         if rope:

@@ -25,6 +25,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from mocap.body.retarget import reduce_to_segments
+from mocap.progress import progress
 from mocap.skeleton import Motion
 
 from dynamics.humanoid.kinematics import motion_kinematics
@@ -116,7 +117,7 @@ def simulate_tracking(motion: Motion, body_mass: float = 75.0, sex: str = "male"
     zero_force = pin.Force.Zero()
     anchors: list[np.ndarray | None] = [None] * len(humanoid.contact_frames)
     # Time stepping is sequential (each state depends on the previous one).
-    for frame in range(body.frames):
+    for frame in progress(range(body.frames), "replaying under physics"):
         recorded[frame] = q
         if frame == body.frames - 1:
             break
