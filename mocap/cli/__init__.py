@@ -184,6 +184,9 @@ def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
         if interrupts.seen:                     # an interrupt Python swallowed on the way
             raise KeyboardInterrupt
     except MocapError as error:
+        if interrupts.seen:                     # the mistake came after a swallowed Ctrl-C
+            print(f"mocap {command}: interrupted", file=sys.stderr)
+            return 130
         words = as_flags(str(error), subparser) if subparser is not None else str(error)
         print(f"mocap {command}: error: {words}", file=sys.stderr)
         return 2
@@ -208,6 +211,8 @@ def run() -> None:
     """The console script: :func:`main`, with Ctrl-C during start-up one line too."""
     try:
         status = main()
+        # the work is done (or refused): a Ctrl-C from here on cannot change the outcome
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
     except KeyboardInterrupt:
         print("mocap: interrupted", file=sys.stderr)
         status = 130
@@ -215,6 +220,12 @@ def run() -> None:
         # An interrupt caught inside an import leaves CPython convinced it went unhandled
         # (under ``python -m`` it would then kill itself with SIGINT); our files are already
         # cleaned up by their ``finally`` blocks, so leave with the status we promised.
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        import atexit
+        try:
+            atexit._run_exitfuncs()         # what a normal exit runs (pools, semaphores)
+        except BaseException:
+            pass
         for stream in (sys.stdout, sys.stderr):
             try:
                 stream.flush()

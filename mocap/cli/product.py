@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import warnings
 
@@ -85,6 +86,11 @@ def run_batch_command(args: argparse.Namespace) -> int:
         load_markerset(args.markerset)          # a bad marker set: one error, not one per trial
     check_sequence(args.sequence)
     paths = [p for corpus in args.corpus for p in find_trials(corpus)]
+    if args.dask or args.scheduler:
+        # Dask's own log lines (workers losing the scheduler when Ctrl-C stops the run,
+        # heartbeats) are not the user's business: every trial's error is in its row.
+        # Process state, so set here in the shell, and only if the user has not chosen.
+        os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "critical")
     if args.output:
         refuse_overwrite(args.output, paths)
     rows = run_batch(analyse_trial, paths, jobs=args.jobs, markerset=args.markerset, sequence=args.sequence,
