@@ -17,7 +17,9 @@ The rule
 """
 from __future__ import annotations
 
+import contextlib
 import os
+from typing import Iterator
 
 
 class MocapError(ValueError):
@@ -53,3 +55,28 @@ class MocapWarning(UserWarning):
 
     The command line prints each one as ``mocap COMMAND: warning: <message>``.
     """
+
+
+@contextlib.contextmanager
+def reading(path: str | os.PathLike, what: str = "file",
+            missing: str = "no such file") -> Iterator[None]:
+    """Turn the operating system's refusals while reading ``path`` into one-line
+    :class:`MocapError`\ s naming the file: ``missing`` for a file that is not there, "is a
+    directory, not a <what>", "cannot read <what>: <reason>" (unreadable, undecodable).
+
+    Examples
+    --------
+    >>> with reading("no/such.c3d", "C3D file"):         # doctest: +ELLIPSIS
+    ...     open("no/such.c3d", "rb")
+    Traceback (most recent call last):
+    mocap.errors.MocapError: no/such.c3d: no such file
+    """
+    try:
+        yield
+    except FileNotFoundError:
+        raise MocapError(missing, path) from None
+    except IsADirectoryError:
+        raise MocapError(f"is a directory, not a {what}", path) from None
+    except (OSError, UnicodeDecodeError) as error:
+        reason = getattr(error, "strerror", None) or error
+        raise MocapError(f"cannot read {what}: {reason}", path) from None

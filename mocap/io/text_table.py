@@ -23,7 +23,7 @@ import os
 
 import numpy as np
 
-from mocap.errors import MocapError
+from mocap.errors import MocapError, reading
 
 #: Bytes the parser treats as blank around a cell.
 _SPACE, _CR, _NL = 32, 13, 10
@@ -34,24 +34,17 @@ COMPILED_ABOVE = 100_000
 
 def read_lines(path: str | os.PathLike, encoding: str = "utf-8") -> list[str]:
     """Lines of a text file; a missing or unreadable file is a :class:`MocapError`."""
-    try:
+    with reading(path):
         with open(path, "r", encoding=encoding, errors="replace", newline=None) as handle:
             return handle.read().splitlines()
-    except FileNotFoundError:
-        raise MocapError("no such file", path) from None
-    except OSError as error:
-        raise MocapError(f"cannot read file: {error.strerror or error}", path) from None
 
 
 def read_text(path: str | os.PathLike, what: str = "file") -> str:
     """The whole text of a UTF-8 file; missing, unreadable or undecodable is a
     :class:`MocapError` naming the file (``what`` names its kind in the message)."""
-    try:
-        return open(path, encoding="utf-8").read()
-    except FileNotFoundError:
-        raise MocapError(f"{what} not found", path) from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise MocapError(f"cannot read {what}: {error}", path) from None
+    with reading(path, what, missing=f"{what} not found"):
+        with open(path, encoding="utf-8") as handle:
+            return handle.read()
 
 
 def read_head(path: str | os.PathLike, count: int,
@@ -61,7 +54,7 @@ def read_head(path: str | os.PathLike, count: int,
     The header of a text table is small and read as text; the body goes to
     :func:`parse_table` unsplit (read straight from the file, not copied).
     """
-    try:
+    with reading(path):
         with open(path, "rb") as handle:
             head = handle.read(65536)
             while head.count(b"\n") < count:
@@ -86,12 +79,6 @@ def read_head(path: str | os.PathLike, count: int,
                 position = end + 1
             handle.seek(position + skip)
             body = handle.read()
-    except FileNotFoundError:
-        raise MocapError("no such file", path) from None
-    except IsADirectoryError:
-        raise MocapError("is a directory, not a file", path) from None
-    except OSError as error:
-        raise MocapError(f"cannot read file: {error.strerror or error}", path) from None
     text = [line.decode("utf-8", errors="replace").rstrip("\r") for line in lines]
     return text, body
 

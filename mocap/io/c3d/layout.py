@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mocap.errors import MocapError
+from mocap.errors import MocapError, reading
 
 BLOCK = 512
 #: Processor byte in the parameter section header → name.
@@ -334,7 +334,7 @@ def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
         counts). The message names the first problem found.
     """
     path = os.fspath(path)
-    try:
+    with reading(path, "C3D file"):
         with open(path, "rb") as handle:
             size = os.fstat(handle.fileno()).st_size
             # Only the header and parameter section are read here (at most 255
@@ -349,12 +349,6 @@ def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
                     wanted = min(max(data_block - 1, 0) * BLOCK, size)
                     if wanted > len(data):
                         data += handle.read(wanted - len(data))
-    except FileNotFoundError:
-        raise MocapError("no such file", path) from None
-    except IsADirectoryError:
-        raise MocapError("is a directory, not a C3D file", path) from None
-    except OSError as error:
-        raise MocapError(f"cannot read file: {error.strerror or error}", path) from None
     if size < 2 * BLOCK:
         raise _fail(path, f"only {size} bytes, shorter than a header and a parameter block")
     if data[1] != 0x50:

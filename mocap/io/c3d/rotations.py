@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mocap.errors import MocapError
+from mocap.errors import MocapError, reading
 
 BLOCK = 512
 
@@ -248,10 +248,8 @@ def load_parents(path: str | os.PathLike) -> dict[str, str | None]:
     import tomllib   # deferred: only a given hierarchy file needs it
 
     try:
-        with open(path, "rb") as handle:
+        with reading(path, "hierarchy file"), open(path, "rb") as handle:
             document = tomllib.load(handle)
-    except FileNotFoundError:
-        raise MocapError("no such file", path) from None
     except tomllib.TOMLDecodeError as error:
         raise MocapError(f"not valid TOML: {error}", path) from None
     table = document.get("parents")
