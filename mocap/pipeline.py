@@ -81,6 +81,8 @@ def used_markers(trial: Trial, markerset: MarkerSet) -> Trial:
     """``trial`` restricted to the labels ``markerset`` reads (Plug-in Gait files carry
     hundreds of model outputs stored as "markers"; cleaning them is wasted work)."""
     used = markerset.used_labels(trial.labels)
+    if list(used) == list(trial.labels):        # all of them: share the array, no copy
+        return trial
     columns = [trial.labels.index(label) for label in used]
     return Trial(used, trial.points[:, columns, :], trial.rate, trial.units, trial.path,
                  trial.format, metadata=dict(trial.metadata))

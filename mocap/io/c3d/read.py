@@ -323,7 +323,9 @@ def read_c3d(path: str | os.PathLike, engine: str = "mocap") -> Trial:
 
 def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.ndarray,
               analogs: np.ndarray, notes: list[str]) -> Trial:
-    points = np.array(points, dtype=float)
+    points = np.asarray(points, dtype=float)       # a fresh array of the reader's: no copy
+    if not points.flags.writeable:
+        points = points.copy()
     invalid = ~(residuals >= 0) | ~np.isfinite(points).all(axis=2)
     points[invalid] = np.nan
 
@@ -344,7 +346,8 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
     units = units[0] if isinstance(units, list) and units else units
     units = units.strip() if isinstance(units, str) else ""
     factor = unit_factor(units) if units else None
-    markers = points[:, marker_columns, :]
+    # without modelled outputs the markers are all the points (no copy: ``points`` is ours)
+    markers = points[:, marker_columns, :] if is_modelled.any() else points
     markers[(markers == 0).all(axis=2)] = np.nan      # a gap coded as (0, 0, 0)
     if factor is None and not np.isfinite(markers).any():
         factor = 1.0            # nothing to convert: no valid coordinate
@@ -352,7 +355,8 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
         guess, factor = infer_unit_factor(markers)
         notes.append(f"POINT:UNITS is {units!r}; {guess} inferred from the coordinates' "
                      f"magnitude")
-    markers = markers * factor
+    if factor != 1.0:
+        markers *= factor
 
     metadata = {
         "reader": reader,
