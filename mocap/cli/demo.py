@@ -20,6 +20,7 @@ import html
 import json
 import os
 import time
+from dataclasses import replace
 from pathlib import Path
 from typing import Callable
 
@@ -31,11 +32,11 @@ from dynamics.secondary import simulate_secondary
 from dynamics.viz.animate import animate_motion, plot_check
 from mocap import io
 from mocap.atomic import atomic_folder
-from mocap.io.angles_csv import write_angles_csv
 from mocap.body.retarget import motion_from_trial
 from mocap.cli.batch_rows import find_trials
 from mocap.cli.humanoid import export_motion
 from mocap.errors import MocapError
+from mocap.io.angles_csv import write_angles_csv
 from mocap.io.discovery import parse_trial_name
 from mocap.markersets import load_markerset
 from mocap.pipeline import Cleaning, marker_file_angles
@@ -187,6 +188,9 @@ def _run(out: Path, final: Path, data: str | None, chosen, people: int, seed: in
 
     with steps(f"fitting the N-mode SVD model without {person}'s {ACTION}"):
         training = corpus.without_cell(person, ACTION)
+        # the model records its sources where they will be once the staging folder is renamed
+        training = replace(training, sources={key: [shown(path) for path in paths]
+                                              for key, paths in training.sources.items()})
         model = MotionModel().fit(training)
         model.save(out / "model.npz")
 
