@@ -56,6 +56,10 @@ def estimate_missing(subject: Subject, markers: dict, path: str | None = None,
     keep = keep or {}
 
     def distance(a: str, b: str) -> np.ndarray:
+        absent = [name for name in (a, b) if name not in markers]
+        if absent:
+            raise MocapError(f"no {' or '.join(absent)} marker to estimate the subject's "
+                             "measurements from", path)
         d = np.linalg.norm(markers[a] - markers[b], axis=1)
         for name in (a, b):
             if name in keep:

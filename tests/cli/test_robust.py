@@ -270,3 +270,12 @@ def test_angle_plots_have_time_ticks_on_every_panel():
     assert len(shown) == 4
     for axis in shown:
         assert axis.get_xlabel() == "time (s)" and axis.xaxis.get_tick_params()["labelbottom"]
+
+
+def test_angles_with_a_marker_set_the_trial_lacks_is_one_line(walk, tmp_path, capsys):
+    """synthetic15 markers read with the Plug-in Gait set: no LASI to estimate the subject
+    from (a KeyError traceback before), one line naming what is missing."""
+    assert main(["angles", str(walk), "-m", "plugingait-lower", "-o", str(tmp_path / "a.csv")]) == 2
+    line = _one_error_line(capsys)
+    assert str(walk) in line and "LASI" in line
+    assert list(tmp_path.iterdir()) == []
