@@ -18,6 +18,8 @@ from math import factorial
 
 import numpy as np
 
+from mocap.errors import MocapError
+
 
 def _design(window: int, order: int) -> tuple[np.ndarray, np.ndarray]:
     half = window // 2
@@ -81,7 +83,7 @@ def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
     """
     x = np.asarray(values, dtype=float)
     if not 0 < cutoff < rate / 2:
-        raise ValueError(f"cutoff {cutoff} Hz must be between 0 and {rate / 2} Hz")
+        raise MocapError(f"cutoff {cutoff} Hz must be between 0 and {rate / 2} Hz")
     n = x.shape[0]
     if n < 4:
         return x.copy()

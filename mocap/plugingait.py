@@ -318,7 +318,7 @@ def hip_joint_centres(rotation: np.ndarray, origin: np.ndarray, subject: Subject
     """Davis hip joint centres (frames, 3) per side, millimetres."""
     legs = [subject.leg_length[s] for s in SIDES]
     if any(v is None for v in legs):
-        raise ValueError("leg lengths must be known (calibrate or give them)")
+        raise MocapError("leg lengths must be known (calibrate or give them)")
     mean_leg = float(np.mean(legs))
     c = mean_leg * 0.115 - 15.3
     half_iad = subject.inter_asis / 2.0

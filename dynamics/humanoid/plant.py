@@ -8,6 +8,7 @@ from mocap.angles import JointAngles
 from mocap.body.angles import motion_from_angles
 from mocap.body.anthropometry import foot_points
 from mocap.body.planting import planted_translation
+from mocap.errors import MocapError
 from mocap.skeleton import Motion
 
 
@@ -84,7 +85,7 @@ def motion_from_cycle(angles, skeleton=None, cycles: int = 1, up: str = "z") -> 
     """
     cycle = np.asarray(angles.values, dtype=float)
     if cycle.shape[0] < 3:
-        raise ValueError("a cycle needs at least 3 samples")
+        raise MocapError("a cycle needs at least 3 samples (samples= of the synthesised cycle)")
     mismatch = cycle[0] - (2 * cycle[-1] - cycle[-2])          # where the next sample should be
     cycle = cycle + np.linspace(0.0, 1.0, len(cycle))[:, None, None] * mismatch
     samples, repeats = len(cycle), cycles + 2

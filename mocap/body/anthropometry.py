@@ -40,6 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mocap.body.segments import BODY_PARENTS, BODY_SEGMENTS, default_skeleton
+from mocap.errors import MocapError
 from mocap.skeleton import Motion
 
 #: (mass fraction, COM fraction from proximal/upper end, r_sag, r_trans, r_long), male.
@@ -211,7 +212,7 @@ def segment_inertias(skeleton, body_mass: float, sex: str = "male") -> list[Segm
         axis = distal - proximal
         length = float(np.linalg.norm(axis))
         if length < 1e-6:
-            raise ValueError(f"segment {name!r} has no length")
+            raise MocapError(f"segment {name!r} has no length")
         long_axis = axis / length
         ap = np.array([0.0, 0.0, 1.0])
         if abs(long_axis @ ap) > 0.9:                 # the foot: long axis is anterior
@@ -296,7 +297,7 @@ def _end_points(skeleton, index: int, kind: str) -> tuple[np.ndarray, np.ndarray
         hips = [c for c in children if segment_kind(names[c]) == "thigh"]
         trunk = [c for c in children if segment_kind(names[c]) == "thorax"]
         if not hips:
-            raise ValueError("the pelvis needs two thighs as children")
+            raise MocapError("the pelvis needs two thighs as children")
         middle = skeleton.offsets[hips].mean(axis=0)
         if trunk:
             return middle, skeleton.offsets[trunk[0]]
@@ -309,7 +310,7 @@ def _end_points(skeleton, index: int, kind: str) -> tuple[np.ndarray, np.ndarray
         return origin, skeleton.offsets[head[0] if head else children[0]]
     if kind == "foot":
         if not np.isfinite(end).all():
-            raise ValueError(f"foot {names[index]!r} needs an end site (toe tip)")
+            raise MocapError(f"foot {names[index]!r} needs an end site (toe tip)")
         points = foot_points(end)
         return points["heel"], points["toe"]
     if kind in ("hand", "head"):
@@ -320,5 +321,5 @@ def _end_points(skeleton, index: int, kind: str) -> tuple[np.ndarray, np.ndarray
         fraction = 0.74 if kind == "hand" else 0.85
         return origin, along * fraction if parent >= 0 else np.array([0, 0.2, 0])
     if not children:
-        raise ValueError(f"segment {names[index]!r} has no child to give its length")
+        raise MocapError(f"segment {names[index]!r} has no child to give its length")
     return origin, skeleton.offsets[children[0]]
