@@ -131,7 +131,7 @@ def _named_like_markers(path: Path, markerset) -> bool:
 
 
 def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
-                      lowpass_hz: float | None = None, max_gap_frames: int | None = None,
+                      lowpass_hz: float | None = None, max_gap_seconds: float | None = None,
                       joint_map: str | Path | dict | None = None):
     """Joint angles of one trial file.
 
@@ -149,9 +149,8 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     lowpass_hz : float, optional
         Zero-lag Butterworth low-pass of the markers before the angles
         (:func:`mocap.clean.lowpass`), Hz.
-    max_gap_frames : int, optional
-        Fill marker gaps up to this many frames with cubic splines first
-        (:func:`mocap.clean.fill_gaps`).
+    max_gap_seconds : float, optional
+        Fill marker gaps up to this long first (:func:`mocap.clean.fill_gaps`), seconds.
     joint_map : path or dict, optional
         BVH/AMC: body segment → joint name where the rig's names do not say it.
 
@@ -172,7 +171,7 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     if markerset is None:
         raise MocapError("marker trials need markerset= to turn markers into joint angles",
                          path)
-    cleaning = Cleaning(max_gap_frames=int(max_gap_frames) if max_gap_frames else None,
+    cleaning = Cleaning(max_gap_seconds=float(max_gap_seconds) if max_gap_seconds else None,
                         lowpass_hz=float(lowpass_hz) if lowpass_hz else None, short_runs="keep")
     return marker_file_angles(path, markerset, sequence, cleaning).angles
 
@@ -216,7 +215,7 @@ class MotionCorpus:
     sources : dict of (person, action) to list of str
         Files of each cell.
     cleaning : dict
-        Marker cleaning applied before the angles: ``lowpass_hz``, ``max_gap_frames``.
+        Marker cleaning applied before the angles: ``lowpass_hz``, ``max_gap_seconds``.
     representation : {"euler", "rotvec"}
         ``"euler"``: ``angles`` are Euler angles (degrees, ``sequence``); ``"rotvec"``
         (skeleton corpora, :mod:`synthesis.skeletons`): rotation vectors about
@@ -359,7 +358,7 @@ def stack_corpus(cells: dict[tuple[str, str], list[tuple[np.ndarray, float, int]
 def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = "ZXY",
                 samples: int = DEFAULT_SAMPLES, cycles: bool = False,
                 cycle_column: str | None = None, lowpass_hz: float | None = None,
-                max_gap_frames: int | None = None,
+                max_gap_seconds: float | None = None,
                 progress: Callable[[Iterable, str], Iterable] | None = None,
                 representation: str = "auto", body: bool = False,
                 joint_map: str | Path | dict | None = None) -> MotionCorpus:
@@ -380,7 +379,7 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
     cycle_column : str, optional
         Reference angle column for cycle detection (``"r_thigh.Y"``); default: the column
         with the largest mean standard deviation over the corpus.
-    lowpass_hz, max_gap_frames : optional
+    lowpass_hz, max_gap_seconds : optional
         Marker cleaning before the angles (see :func:`read_trial_angles`).
     progress : callable, optional
         ``progress(iterable, description)`` wrapper (e.g. :func:`mocap.progress.progress`).
@@ -419,7 +418,7 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
     wrap = progress or (lambda items, description: items)
     read = []
     for entry in wrap(entries, "reading trials"):
-        angles = read_trial_angles(entry.path, markerset, sequence, lowpass_hz, max_gap_frames,
+        angles = read_trial_angles(entry.path, markerset, sequence, lowpass_hz, max_gap_seconds,
                                    joint_map=joint_map)
         read.append((entry, angles))
     reference_segments, reference_sequence = read[0][1].segments, read[0][1].sequence
@@ -453,7 +452,7 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
                         markerset=markerset_name, cycles=cycles,
                         cycle_column=None if reference is None else columns[reference],
                         sources=sources,
-                        cleaning={"lowpass_hz": lowpass_hz, "max_gap_frames": max_gap_frames})
+                        cleaning={"lowpass_hz": lowpass_hz, "max_gap_seconds": max_gap_seconds})
 
 
 def _flat(angles) -> np.ndarray:

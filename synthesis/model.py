@@ -396,7 +396,7 @@ class MotionModel:
             return curve, duration
         angles = read_trial_angles(path, self.markerset, self.sequence,
                                    self.cleaning.get("lowpass_hz"),
-                                   self.cleaning.get("max_gap_frames"))
+                                   self.cleaning.get("max_gap_seconds"))
         try:
             return self.normalise(angles)
         except MocapError as error:

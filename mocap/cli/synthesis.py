@@ -98,9 +98,9 @@ def _add_corpus_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--cycle-angle", metavar="COLUMN",
                         help="angle column whose maxima cut the cycles (e.g. r_thigh.Y); "
                              "default: the angle that moves most over the corpus")
-    parser.add_argument("--fill-gaps", type=options.whole(0, 1_000_000), default=None, metavar="FRAMES",
-                        help="fill marker gaps of up to FRAMES frames (cubic spline) before the "
-                             "angles; the model remembers it for later trials")
+    parser.add_argument("--fill-gaps", type=options.SECONDS_GAP, default=None, metavar="SECONDS",
+                        help="fill marker gaps up to this long (seconds, as in mocap angles) "
+                             "before the angles; the model remembers it for later trials")
     parser.add_argument("--lowpass", type=options.CUTOFF, default=None, metavar="HZ",
                         help="zero-lag Butterworth low-pass of the markers at HZ before the "
                              "angles (e.g. 6); the model remembers it for later trials")
@@ -145,7 +145,7 @@ def _load_corpus(args: argparse.Namespace):
     corpus = load_corpus(args.corpus, args.manifest, people=args.people, actions=args.actions,
                          markerset=args.markerset, sequence=args.sequence, samples=args.samples,
                          cycles=args.cycles, cycle_column=args.cycle_angle,
-                         lowpass_hz=args.lowpass, max_gap_frames=args.fill_gaps,
+                         lowpass_hz=args.lowpass, max_gap_seconds=args.fill_gaps,
                          progress=progress, body=args.body, joint_map=args.joint_map)
     if corpus.representation == "rotvec":
         where = "the body model" if corpus.rig["on_body"] else "the rig itself"
