@@ -172,7 +172,8 @@ def test_bts_file_ezc3d_misreads_is_smooth_with_our_layout():
     """ezc3d skips the 6 analog words per frame it is not told about and scrambles points."""
     import dataclasses
 
-    from mocap.io.c3d.layout import decode_c3d_data, inspect_c3d
+    from mocap.io.c3d.decode import decode_c3d_data
+    from mocap.io.c3d.layout import inspect_c3d
 
     path = realdata_path("c3dorg_via_c3dio/sample_28/type1.C3D")
     trial = read(path)

@@ -91,7 +91,8 @@ def test_zero_marker_is_missing_in_every_text_format(tmp_path):
 
 
 def test_c3d_written_by_us_is_read_identically_by_ezc3d_and_our_decoder(tmp_path):
-    from mocap.io.c3d.layout import decode_c3d_data, inspect_c3d
+    from mocap.io.c3d.decode import decode_c3d_data
+    from mocap.io.c3d.layout import inspect_c3d
 
     trial = synthetic_trial()
     path = tmp_path / "t.c3d"

@@ -1,2 +1,3 @@
 """C3D files: ``layout`` (header and parameter section, validated before any data is
-decoded), ``read`` (points, analogs, events into a Trial) and ``write`` (with ezc3d)."""
+decoded), ``decode`` (the data section), ``read`` (points, analogs, events into a Trial),
+``forceplates``, ``rotations`` (markerless segment poses), ``parameters`` and ``write``."""

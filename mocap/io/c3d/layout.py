@@ -117,7 +117,7 @@ class C3DLayout:
         return self.parameters.get(group, {}).get(name, default)
 
 
-def _int_dtype(processor: str, size: int) -> np.dtype:
+def int_dtype(processor: str, size: int) -> np.dtype:
     return np.dtype((">" if processor == "mips" else "<") + f"i{size}")
 
 
@@ -136,17 +136,6 @@ def decode_floats(raw: bytes | np.ndarray, processor: str) -> np.ndarray:
             swapped = ((words >> 16) | (words << 16)).astype("<u4")
             return swapped.view("<f4").astype(float) / 4.0
         return np.frombuffer(raw, dtype="<f4").astype(float)
-
-
-def _stored_floats(raw: bytes, processor: str) -> np.ndarray:
-    """The 32-bit floats of ``raw`` as float32, not yet scaled: a DEC file's still read four
-    times too large (see :func:`decode_floats`, which divides by 4)."""
-    if processor == "mips":
-        return np.frombuffer(raw, dtype=">f4")
-    if processor == "dec":
-        words = np.frombuffer(raw, dtype="<u4")
-        return ((words >> 16) | (words << 16)).astype("<u4").view("<f4")
-    return np.frombuffer(raw, dtype="<f4")
 
 
 def _signed_byte(value: int) -> int:
@@ -200,7 +189,7 @@ def _decode_parameter(raw: bytes, data_type: int, dims: tuple[int, ...], process
     if data_type == 1:
         values = np.frombuffer(raw, dtype=np.int8).astype(np.int64)
     elif data_type == 2:
-        values = np.frombuffer(raw, dtype=_int_dtype(processor, 2)).astype(np.int64)
+        values = np.frombuffer(raw, dtype=int_dtype(processor, 2)).astype(np.int64)
     else:
         values = decode_floats(raw, processor)
     if len(dims) > 1:
@@ -234,7 +223,7 @@ def _walk_parameters(data: bytes, start: int, end: int, processor: str,
         if offset_at + 2 > end:
             raise _fail(path, f"parameter section ends inside an entry at byte {position}")
         name = data[name_start:offset_at].decode("latin-1").strip().upper()
-        offset = int(np.frombuffer(data, _int_dtype(processor, 2), 1, offset_at)[0])
+        offset = int(np.frombuffer(data, int_dtype(processor, 2), 1, offset_at)[0])
         next_position = offset_at + offset if offset != 0 else None
         body = offset_at + 2
         if offset < 0 or (next_position is not None and next_position > end):
@@ -374,7 +363,7 @@ def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
         raise _fail(path, f"unknown processor type {processor_byte} "
                           f"(expected 84 Intel, 85 DEC or 86 SGI/MIPS)")
     processor = PROCESSORS[processor_byte]
-    words = np.frombuffer(data, _int_dtype(processor, 2), 12, 0).astype(np.int64)
+    words = np.frombuffer(data, int_dtype(processor, 2), 12, 0).astype(np.int64)
     uwords = words & 0xFFFF
     point_count = int(uwords[1])
     analog_per_frame = int(uwords[2])
@@ -560,56 +549,3 @@ def _choose_layout(path, size, processor, parameter_block, data_block, header_po
     raise _fail(path, f"truncated: the header announces {best.frames} frames "
                       f"({offset + best.frames * best.frame_bytes} bytes) but the file "
                       f"has {size} bytes, {complete} complete frames and a partial one")
-
-
-def decode_c3d_data(layout: C3DLayout) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Decode the data section of a checked file, vectorised over frames.
-
-    Parameters
-    ----------
-    layout : C3DLayout
-        From :func:`inspect_c3d`.
-
-    Returns
-    -------
-    points : ndarray, shape (frames, points, 3), float
-        Coordinates in the file's units (POINT:UNITS).
-    residuals : ndarray, shape (frames, points), float
-        Negative where the point is invalid.
-    analogs : ndarray, shape (frames * samples_per_frame, channels), float
-        Raw stored analog values (no scale or offset applied).
-    """
-    with open(layout.path, "rb") as handle:
-        handle.seek(layout.data_offset)
-        raw = handle.read(layout.frames * layout.frame_bytes)
-    n_words = layout.frame_bytes // layout.word_bytes
-    # Stored words as they are (float32 or int16, no copy); each part is converted to
-    # float64 once, by itself (a 100 000-frame trial is hundreds of MB as float64).
-    if layout.is_float:
-        values = _stored_floats(raw, layout.processor).reshape(layout.frames, n_words)
-    else:
-        values = np.frombuffer(raw, dtype=_int_dtype(layout.processor, 2)).reshape(
-            layout.frames, n_words)
-    point_words = values[:, :4 * layout.point_count].reshape(layout.frames,
-                                                            layout.point_count, 4)
-    with np.errstate(invalid="ignore", over="ignore"):
-        points = point_words[:, :, :3].astype(float)
-        fourth = point_words[:, :, 3].astype(float)
-        if layout.processor == "dec" and layout.is_float:
-            points /= 4.0
-            fourth /= 4.0
-    if not layout.is_float:
-        points *= layout.scale
-    # Fourth word: high byte camera mask, low byte residual; a negative word
-    # (a negative float in float files) marks an invalid point.
-    invalid = ~(fourth >= 0)
-    word = np.clip(np.where(invalid, 0, fourth), 0, 65535).astype(np.int64)
-    residuals = np.where(invalid, -1.0, (word & 0xFF) * abs(layout.scale))
-    analogs = values[:, 4 * layout.point_count:].reshape(
-        layout.frames * max(layout.analog_samples_per_frame, 0), layout.analog_channels) \
-        if layout.analog_channels else np.zeros((0, 0))
-    if layout.analog_channels:
-        with np.errstate(invalid="ignore", over="ignore"):
-            analogs = analogs.astype(float) / (4.0 if layout.is_float
-                                               and layout.processor == "dec" else 1.0)
-    return points, residuals, analogs

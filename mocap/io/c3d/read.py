@@ -5,7 +5,7 @@ Reading goes in two steps:
 1. :func:`mocap.io.c3d.layout.inspect_c3d` checks the header, walks the parameter
    section with bounds checks and matches the data size against the file size,
    in pure Python. Damaged files stop here with a :class:`MocapError`.
-2. :func:`mocap.io.c3d.layout.decode_c3d_data` decodes the data section of the
+2. :func:`mocap.io.c3d.decode.decode_c3d_data` decodes the data section of the
    checked layout with numpy (Intel, DEC and SGI/MIPS; integer and float).
 
 Why our own decoder rather than ezc3d or the ``c3d`` package (the design's first
@@ -59,7 +59,8 @@ import os
 import numpy as np
 
 from mocap.errors import MocapError
-from mocap.io.c3d.layout import C3DLayout, count_parameter, decode_c3d_data, inspect_c3d
+from mocap.io.c3d.decode import decode_c3d_data
+from mocap.io.c3d.layout import C3DLayout, count_parameter, inspect_c3d
 from mocap.trial import Trial
 
 #: POINT parameters listing computed (non-marker) points, as Vicon and others write them.

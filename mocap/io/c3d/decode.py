@@ -1,0 +1,71 @@
+"""Decoding a checked C3D file's data section: points, residuals and raw analog words,
+vectorised over frames (Intel, DEC and MIPS number formats, integer or float storage)."""
+from __future__ import annotations
+
+import numpy as np
+
+from mocap.io.c3d.layout import C3DLayout, int_dtype
+
+
+def _stored_floats(raw: bytes, processor: str) -> np.ndarray:
+    """The 32-bit floats of ``raw`` as float32, not yet scaled: a DEC file's still read four
+    times too large (see :func:`decode_floats`, which divides by 4)."""
+    if processor == "mips":
+        return np.frombuffer(raw, dtype=">f4")
+    if processor == "dec":
+        words = np.frombuffer(raw, dtype="<u4")
+        return ((words >> 16) | (words << 16)).astype("<u4").view("<f4")
+    return np.frombuffer(raw, dtype="<f4")
+
+
+def decode_c3d_data(layout: C3DLayout) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Decode the data section of a checked file, vectorised over frames.
+
+    Parameters
+    ----------
+    layout : C3DLayout
+        From :func:`inspect_c3d`.
+
+    Returns
+    -------
+    points : ndarray, shape (frames, points, 3), float
+        Coordinates in the file's units (POINT:UNITS).
+    residuals : ndarray, shape (frames, points), float
+        Negative where the point is invalid.
+    analogs : ndarray, shape (frames * samples_per_frame, channels), float
+        Raw stored analog values (no scale or offset applied).
+    """
+    with open(layout.path, "rb") as handle:
+        handle.seek(layout.data_offset)
+        raw = handle.read(layout.frames * layout.frame_bytes)
+    n_words = layout.frame_bytes // layout.word_bytes
+    # Stored words as they are (float32 or int16, no copy); each part is converted to
+    # float64 once, by itself (a 100 000-frame trial is hundreds of MB as float64).
+    if layout.is_float:
+        values = _stored_floats(raw, layout.processor).reshape(layout.frames, n_words)
+    else:
+        values = np.frombuffer(raw, dtype=int_dtype(layout.processor, 2)).reshape(
+            layout.frames, n_words)
+    point_words = values[:, :4 * layout.point_count].reshape(layout.frames,
+                                                            layout.point_count, 4)
+    with np.errstate(invalid="ignore", over="ignore"):
+        points = point_words[:, :, :3].astype(float)
+        fourth = point_words[:, :, 3].astype(float)
+        if layout.processor == "dec" and layout.is_float:
+            points /= 4.0
+            fourth /= 4.0
+    if not layout.is_float:
+        points *= layout.scale
+    # Fourth word: high byte camera mask, low byte residual; a negative word
+    # (a negative float in float files) marks an invalid point.
+    invalid = ~(fourth >= 0)
+    word = np.clip(np.where(invalid, 0, fourth), 0, 65535).astype(np.int64)
+    residuals = np.where(invalid, -1.0, (word & 0xFF) * abs(layout.scale))
+    analogs = values[:, 4 * layout.point_count:].reshape(
+        layout.frames * max(layout.analog_samples_per_frame, 0), layout.analog_channels) \
+        if layout.analog_channels else np.zeros((0, 0))
+    if layout.analog_channels:
+        with np.errstate(invalid="ignore", over="ignore"):
+            analogs = analogs.astype(float) / (4.0 if layout.is_float
+                                               and layout.processor == "dec" else 1.0)
+    return points, residuals, analogs
