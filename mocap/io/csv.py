@@ -51,6 +51,7 @@ def read_csv(path: str | os.PathLike) -> Trial:
     Parameters
     ----------
     path : str or PathLike
+        The ``.csv`` file (``time,<label>_x,<label>_y,<label>_z…`` or Nexus sections).
 
     Returns
     -------

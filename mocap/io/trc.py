@@ -46,6 +46,7 @@ def read_trc(path: str | os.PathLike) -> Trial:
     Parameters
     ----------
     path : str or PathLike
+        The ``.trc`` file (OpenSim / Motion Analysis layout).
 
     Returns
     -------
