@@ -52,17 +52,17 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                         help="show the version and exit")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     subparsers.required = True
-    modules = [module for module, _ in COMMANDS.values()]
-    wanted = [COMMANDS[command][0]] if command in COMMANDS else (
-        [] if command is not None else list(dict.fromkeys(modules)))
-    for module in wanted:
-        importlib.import_module(module).register(subparsers)
-    registered = set(subparsers.choices)
-    for name, (_, text) in COMMANDS.items():
-        if name not in registered:
+    wanted = ({COMMANDS[command][0]} if command in COMMANDS else
+              set() if command is not None else {module for module, _ in COMMANDS.values()})
+    # in the table's order: a wanted module registers all of its commands at its first one
+    # (each module's commands stand together in the table), the others are listed by name
+    for name, (module, text) in COMMANDS.items():
+        if name in subparsers.choices:
+            continue
+        if module in wanted:
+            importlib.import_module(module).register(subparsers)
+        else:
             subparsers.add_parser(name, help=text)
-    # keep ``mocap --help`` in the table's order whatever was registered first
-    subparsers._choices_actions.sort(key=lambda action: list(COMMANDS).index(action.dest))
     return parser
 
 
