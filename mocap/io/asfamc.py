@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from mocap.errors import MocapError
+from mocap.errors import MocapError, reading
 from mocap.io.bvh import UNIT_SCALES, detect_units
 from mocap.skeleton import Motion, Skeleton
 
@@ -74,10 +74,8 @@ def read_asf(path: str | os.PathLike) -> AsfSkeleton:
         naming unknown bones or forming a cycle.
     """
     path = os.fspath(path)
-    try:
+    with reading(path, "ASF file"):
         lines = Path(path).read_text(encoding="utf-8", errors="replace").splitlines()
-    except OSError as error:
-        raise MocapError(f"cannot read ASF file: {error.strerror or error}", path) from None
     section = None
     name = "asf"
     length, angle = 1.0, "deg"
@@ -177,10 +175,8 @@ def read_amc(path: str | os.PathLike, asf: AsfSkeleton) -> tuple[dict[str, np.nd
         From ``:DEGREES``/``:RADIANS`` in the AMC header, else the ASF's.
     """
     path = os.fspath(path)
-    try:
+    with reading(path, "AMC file"):
         lines = Path(path).read_text(encoding="utf-8", errors="replace").splitlines()
-    except OSError as error:
-        raise MocapError(f"cannot read AMC file: {error.strerror or error}", path) from None
     sizes = {name: len(bone.dof) for name, bone in asf.bones.items()}
     sizes["root"] = len(asf.root_order)
     angle = asf.angle_unit

@@ -36,7 +36,7 @@ from scipy.spatial.transform import Rotation
 
 from mocap.angles import unwrap_columns
 from mocap.atomic import atomic_path
-from mocap.errors import MocapError
+from mocap.errors import MocapError, reading
 from mocap.skeleton import Motion, Skeleton, frame_rate
 
 #: Metres per unit for the units a BVH file may use.
@@ -305,10 +305,8 @@ def read_bvh(path: str | os.PathLike, units: str | None = None) -> Motion:
         a truncated motion section, non-finite values, an unknown unit.
     """
     path = os.fspath(path)
-    try:
+    with reading(path, "BVH file"):
         text = Path(path).read_text(encoding="utf-8", errors="replace")
-    except OSError as error:
-        raise MocapError(f"cannot read BVH file: {error.strerror or error}", path) from None
     if not text.lstrip().upper().startswith("HIERARCHY"):
         raise MocapError("not a BVH file: it does not start with HIERARCHY", path)
     split = re.search(r"^\s*MOTION\s*$", text, re.MULTILINE | re.IGNORECASE)

@@ -71,7 +71,7 @@ from typing import Any
 
 import numpy as np
 
-from mocap.errors import MocapError
+from mocap.errors import MocapError, reading
 from mocap.markersets.axes import AXIS_NAMES, axes_matrix
 from mocap.markersets.model import MarkerSet, Segment, VirtualMarker
 from mocap.markersets.virtual import HJC_METHODS, VIRTUAL_TYPES
@@ -106,10 +106,8 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
         return parse_markerset(candidate.read_text(encoding="utf-8"), str(candidate))
     if not path.is_file():
         raise MocapError("marker set file not found", path)
-    try:
+    with reading(path, "marker set"):
         text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise MocapError(f"cannot read marker set: {error}", path) from None
     return parse_markerset(text, str(path))
 
 
