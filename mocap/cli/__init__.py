@@ -96,10 +96,11 @@ def _warning_printer(command: str):
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:
         text = str(message)
-        if issubclass(category, (MocapWarning, UserWarning)) and text not in seen:
-            seen.add(text)
-            print(f"mocap {command}: warning: {text}", file=sys.stderr)
-        elif not issubclass(category, (MocapWarning, UserWarning)):
+        if issubclass(category, UserWarning):       # MocapWarning is one too
+            if text not in seen:
+                seen.add(text)
+                print(f"mocap {command}: warning: {text}", file=sys.stderr)
+        else:
             _default_showwarning(message, category, filename, lineno, file, line)
 
     return show
