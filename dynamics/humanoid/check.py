@@ -29,8 +29,8 @@ from mocap.filtering import butterworth_lowpass
 from mocap.skeleton import Motion
 
 from dynamics.humanoid.contact import (ballistic_runs, calibrate_contacts, estimate_floor,
-                                       foot_skate, points_in_world, preference_weights,
-                                       solve_contact_forces)
+                                       foot_skate, joint_soles, points_in_world,
+                                       preference_weights, solve_contact_forces)
 from dynamics.humanoid.inverse import contact_joint_torques, rnea_batch
 from dynamics.humanoid.kinematics import centre_of_mass, motion_kinematics
 from dynamics.humanoid.model import GRAVITY, Humanoid, build_humanoid
@@ -207,7 +207,14 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
                          f"{body.frames}")
     if humanoid is None:
         humanoid = build_humanoid(body.skeleton, body_mass, sex)
-    floor_height = estimate_floor(body, humanoid) if floor == "auto" else float(floor)
+    # A rig's feet end at joints: their soles lie below, under the stance normal.
+    joint_feet = [n for n in body.metadata.get("feet_at_joints", ()) if n in body.skeleton.names]
+    points, sole_up = humanoid.contact_points, {}
+    if joint_feet:
+        points, sole_up = joint_soles(humanoid, joint_feet, *body.forward_kinematics(),
+                                      body.rate)
+    floor_height = estimate_floor(body, humanoid, points=points) if floor == "auto" \
+        else float(floor)
     if floor_height:
         body = Motion(body.skeleton, body.root_translation - [0.0, floor_height, 0.0],
                       body.rotations, body.rate, dict(body.metadata))
@@ -229,8 +236,8 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
     prior = {names.index(name): shift
              for name, shift in body.metadata.get("sole_calibration_m", {}).items()
              if name in names}
-    calibration = calibrate_contacts(humanoid.contact_points, segments, world_r, world_p,
-                                     rate, prior_shift=prior)
+    calibration = calibrate_contacts(points, segments, world_r, world_p, rate,
+                                     prior_shift=prior, sole_up=sole_up)
     contact_world = points_in_world(calibration.points, segments, world_r, world_p)
     heights = contact_world[:, :, 1] - calibration.floors
     speed = np.linalg.norm(np.gradient(contact_world, 1.0 / rate, axis=0), axis=2)

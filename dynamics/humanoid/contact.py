@@ -43,6 +43,8 @@ import numpy as np
 
 from mocap.skeleton import Motion
 
+from mocap.body.anthropometry import foot_points
+
 from dynamics.humanoid.model import Humanoid
 
 
@@ -53,6 +55,15 @@ PREFERENCE_SPEED = 0.1
 MAX_PITCH_DEG = 30.0
 #: Ridge cost of a contact force along its preferred direction, relative to the edges.
 PREFERRED_COST = 0.1
+#: A rig's sole below its toe point, in leg lengths (hip to ankle): 3 cm for a 0.86 m leg,
+#: the middle of what a toe point can be — a toe-tip end site on the sole (0), the
+#: metatarsophalangeal joint centre barefoot (about 2 cm) or in shoes (4-6 cm) — so
+#: that :func:`calibrate_contacts`'s 3 cm step reaches all of them.
+SOLE_BELOW_TOE = 0.035
+#: A rig's sole at least this far below its ankle joint centre, in leg lengths: the
+#: lateral malleolus height 0.039 of the stature over the hip-to-ankle 0.491 (Winter
+#: 2009, Fig. 4.1), 6.8 cm for a 0.86 m leg.
+SOLE_BELOW_ANKLE = 0.079
 
 
 @dataclass
@@ -94,7 +105,8 @@ def _runs(mask: np.ndarray, shortest: int) -> list[tuple[int, int]]:
 def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndarray,
                        world_p: np.ndarray, rate: float, floor: float = 0.0,
                        still_speed: float = 0.2, step: float = 0.03,
-                       prior_shift: dict | None = None) -> ContactCalibration:
+                       prior_shift: dict | None = None, sole_up: dict | None = None
+                       ) -> ContactCalibration:
     """Calibrate soles and find the floor under each foot (module docstring).
 
     Parameters
@@ -115,6 +127,9 @@ def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndar
         before this one lowered the sole (``mocap.skeleton``'s ``sole_calibration_m``).
         Where the foot's stances lie on several levels, that calibration mixed them: it is
         undone and the foot's lowest stances are taken as standing on the floor.
+    sole_up : dict, optional
+        Foot segment index → the direction (foot frame) the sole normal is kept near
+        (default the foot's Y; :func:`joint_soles` gives a rig's feet theirs).
     """
     frames = world_p.shape[0]
     segments = np.asarray(segments)
@@ -125,31 +140,15 @@ def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndar
     if frames < 3:
         return result
     world = points_in_world(points, list(segments), world_r, world_p)
-    speed = np.linalg.norm(np.gradient(world, 1.0 / rate, axis=0), axis=2)
-    shortest = max(int(round(0.05 * rate)), 2)
     found = []
     for foot in sorted(set(segments.tolist())):
         mine = np.flatnonzero(segments == foot)
-        still = (speed[:, mine] < still_speed).all(axis=1)
-        runs = _runs(still, shortest)
+        runs = _stance_runs(world[:, mine], rate, still_speed)
         if not runs:
             continue
-        up = np.swapaxes(world_r[:, foot], 1, 2)[:, :, 1]              # Rᵀ e_y, (F, 3)
-        normals, heights = [], []
-        for a, b in runs:
-            n = np.median(up[a:b], axis=0)
-            normals.append(n / np.linalg.norm(n))
-            heights.append(float(np.median(world_p[a:b, foot, 1])))
-        normal = np.mean(normals, axis=0)
-        normal /= np.linalg.norm(normal)
-        tilt = np.degrees(np.arccos(np.clip(normal[1], -1.0, 1.0)))
-        if tilt > MAX_PITCH_DEG:                    # at most MAX_PITCH_DEG from the foot's Y
-            axis = np.cross([0.0, 1.0, 0.0], normal)
-            axis /= np.linalg.norm(axis)
-            angle = np.radians(MAX_PITCH_DEG)
-            normal = np.array([0.0, 1.0, 0.0]) * np.cos(angle) + \
-                np.cross(axis, [0.0, 1.0, 0.0]) * np.sin(angle)
-        heights = np.array(heights)
+        normal = _stance_normal(world_r[:, foot], runs,
+                                up=(sole_up or {}).get(int(foot), np.array([0.0, 1.0, 0.0])))
+        heights = np.array([float(np.median(world_p[a:b, foot, 1])) for a, b in runs])
         prior = (prior_shift or {}).get(int(foot), 0.0)
         several = heights.max() - heights.min() > 2 * step
         if prior and several:
@@ -173,13 +172,102 @@ def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndar
         run_floor = np.where(other, heights - d, floor)
         calibrated[mine] = points[mine] - np.outer(points[mine] @ normal + d, normal)
         floors[:, mine] = _floor_under(runs, run_floor, frames, floor)[:, None]
-        result.pitch_deg[int(foot)] = float(np.degrees(np.arccos(np.clip(normal @ default,
+        reference = (sole_up or {}).get(int(foot), default)
+        result.pitch_deg[int(foot)] = float(np.degrees(np.arccos(np.clip(normal @ reference,
                                                                           -1, 1))))
         result.shift_mm[int(foot)] = 1000.0 * (d - d0)
         for level in run_floor:
             if all(abs(level - seen) > 0.01 for seen in result.levels):
                 result.levels.append(float(level))
     return result
+
+
+def _stance_normal(rotations: np.ndarray, runs: list[tuple[int, int]],
+                   up: np.ndarray | None = None) -> np.ndarray:
+    """The floor's normal seen from a foot in its stances, ``Rᵀ e_y`` (median per stance,
+    mean over stances), unit, in the foot frame; with ``up`` (a direction in the foot
+    frame) kept within :data:`MAX_PITCH_DEG` of it."""
+    seen = np.swapaxes(rotations, 1, 2)[:, :, 1]                       # Rᵀ e_y, (F, 3)
+    normals = [np.median(seen[a:b], axis=0) for a, b in runs]
+    normal = np.mean([n / np.linalg.norm(n) for n in normals], axis=0)
+    normal /= np.linalg.norm(normal)
+    if up is None:
+        return normal
+    up = np.asarray(up, float)
+    tilt = np.degrees(np.arccos(np.clip(normal @ up, -1.0, 1.0)))
+    if tilt > MAX_PITCH_DEG:
+        axis = np.cross(up, normal)
+        axis /= np.linalg.norm(axis)
+        angle = np.radians(MAX_PITCH_DEG)
+        normal = up * np.cos(angle) + np.cross(axis, up) * np.sin(angle)
+    return normal
+
+
+def _stance_runs(world: np.ndarray, rate: float, still_speed: float) -> list[tuple[int, int]]:
+    """Runs of at least 50 ms (2 frames) where every point of ``world`` (frames, points, 3)
+    of one foot is slower than ``still_speed``."""
+    speed = np.linalg.norm(np.gradient(world, 1.0 / rate, axis=0), axis=2)
+    return _runs((speed < still_speed).all(axis=1), max(int(round(0.05 * rate)), 2))
+
+
+def joint_soles(humanoid: Humanoid, feet: list[str], world_r: np.ndarray,
+                world_p: np.ndarray, rate: float, still_speed: float = 0.2
+                ) -> tuple[np.ndarray, dict]:
+    """Contact points under the feet of a rig whose foot ends at a joint (module docstring).
+
+    A skeleton's ankle and toe are joint centres on the foot's bones, and its foot frame
+    need not be anatomical (Bandai's X runs along the bone, pitched 40° down). The sole's
+    normal in the foot frame is the floor's normal seen from the foot in its stances
+    (orientation only, whatever the floor height); the contact points are laid out
+    across and along it (:func:`mocap.body.anthropometry.foot_points` with that ``up``)
+    on the plane :data:`SOLE_BELOW_TOE` leg lengths below the toe point and at least
+    :data:`SOLE_BELOW_ANKLE` below the ankle. :func:`calibrate_contacts` then fits the
+    sole's height to the stances within its ``step`` of this plane.
+
+    Parameters
+    ----------
+    humanoid : Humanoid
+    feet : list of str
+        The feet to lay out (``"l_foot"``, ``"r_foot"``), the others keep their points.
+    world_r, world_p : segment poses, (frames, segments, 3, 3) and (frames, segments, 3)
+    rate : float, Hz
+    still_speed : float, m/s
+
+    Returns
+    -------
+    points : ndarray, shape (points, 3)
+        Contact points in their foot's frame (``humanoid.contact_points`` order).
+    normals : dict
+        Foot segment index → sole normal in its frame (the ``sole_up`` of
+        :func:`calibrate_contacts`).
+    """
+    skeleton = humanoid.skeleton
+    segments = np.asarray(humanoid.contact_segments)
+    points = np.array(humanoid.contact_points, dtype=float)
+    normals = {}
+    leg = _leg_length(skeleton)
+    for name in feet:
+        foot = skeleton.index(name)
+        mine = np.flatnonzero(segments == foot)
+        runs = _stance_runs(points_in_world(points[mine], [foot] * mine.size, world_r,
+                                            world_p), rate, still_speed)
+        if not runs:
+            continue
+        normal = _stance_normal(world_r[:, foot], runs)
+        toe = skeleton.end_sites[foot]
+        laid = np.array(list(foot_points(toe, up=normal).values()))
+        level = min(toe @ normal - SOLE_BELOW_TOE * leg, -SOLE_BELOW_ANKLE * leg)
+        points[mine] = laid - np.outer(laid @ normal - level, normal)
+        normals[int(foot)] = normal
+    return points, normals
+
+
+def _leg_length(skeleton) -> float:
+    """Mean hip-to-ankle length (thigh + shank offsets) of a body skeleton, metres."""
+    names = skeleton.names
+    return float(np.mean([np.linalg.norm(skeleton.offsets[names.index(side + "shank")])
+                          + np.linalg.norm(skeleton.offsets[names.index(side + "foot")])
+                          for side in ("l_", "r_")]))
 
 
 def _floor_under(runs: list[tuple[int, int]], levels: np.ndarray, frames: int,
@@ -397,12 +485,15 @@ def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndar
     return forces, wrench - supplied
 
 
-def estimate_floor(body: Motion, humanoid: Humanoid, still_speed: float = 0.15) -> float:
+def estimate_floor(body: Motion, humanoid: Humanoid, still_speed: float = 0.15,
+                   points: np.ndarray | None = None) -> float:
     """Floor height (m) of a motion: the median height of each foot's lowest contact point
     over the frames where that foot stands still (all its points slower than
-    ``still_speed`` m/s); 0 when a foot never stands still."""
+    ``still_speed`` m/s); 0 when a foot never stands still. ``points`` replaces the
+    humanoid's contact points (a rig's soles, :func:`joint_soles`)."""
     world_r, world_p = body.forward_kinematics()
-    contacts = contact_positions(humanoid, world_r, world_p)
+    contacts = points_in_world(humanoid.contact_points if points is None else points,
+                               humanoid.contact_segments, world_r, world_p)
     speed = np.linalg.norm(np.gradient(contacts, 1.0 / body.rate, axis=0), axis=2)
     heights = []
     for foot in sorted(set(humanoid.contact_segments)):

@@ -155,8 +155,8 @@ class SegmentInertia:
         return float(np.linalg.norm(self.distal - self.proximal))
 
 
-def foot_points(end_site: np.ndarray, half_width: tuple[float, float] = (0.025, 0.04)
-                ) -> dict[str, np.ndarray]:
+def foot_points(end_site: np.ndarray, half_width: tuple[float, float] = (0.025, 0.04),
+                up: np.ndarray | None = None) -> dict[str, np.ndarray]:
     """Heel and toe contact points of a foot in its frame (origin at the ankle).
 
     Parameters
@@ -164,6 +164,10 @@ def foot_points(end_site: np.ndarray, half_width: tuple[float, float] = (0.025, 
     end_site : ndarray, shape (3,), metres
         The toe tip in the foot frame (Y up, Z anterior at rest).
     half_width : (heel, toe) half-widths, metres.
+    up : ndarray, shape (3,), optional
+        The sole's normal in the foot frame (default Y): the heel lies under the ankle at
+        the toe's level along it, the widths across it (a rig's foot frame whose axes are
+        not anatomical, e.g. X along the foot bone, gives it from the stance phases).
 
     Returns
     -------
@@ -172,10 +176,11 @@ def foot_points(end_site: np.ndarray, half_width: tuple[float, float] = (0.025, 
         ``toe_medial``/``toe_lateral`` (sign of X does not matter: both sides are used).
     """
     toe = np.asarray(end_site, float)
-    horizontal = toe * np.array([1.0, 0.0, 1.0])
-    heel = np.array([0.0, toe[1], 0.0]) - 0.2 * horizontal
+    up = np.array([0.0, 1.0, 0.0]) if up is None else np.asarray(up, float) / np.linalg.norm(up)
+    horizontal = toe - (toe @ up) * up
+    heel = (toe @ up) * up - 0.2 * horizontal
     forward = horizontal / max(np.linalg.norm(horizontal), 1e-9)
-    side = np.cross(np.array([0.0, 1.0, 0.0]), forward)       # +X when facing +Z
+    side = np.cross(up, forward)                              # +X when facing +Z
     # Ball of the foot (metatarsal heads) at 80 % of heel→toe, where the width is.
     ball = heel + 0.8 * (toe - heel)
     return {

@@ -277,6 +277,8 @@ def reduce_to_segments(motion: Motion, partial: bool = False,
     head, hands and feet are the furthest end site of the skipped subtree (head top,
     finger tip, toe tip) in the segment's frame, averaged over frames; where the rig has
     none (an End Site at the joint itself), a length in proportion to the parent segment.
+    ``metadata["feet_at_joints"]`` lists the feet whose toe is such a point of the rig:
+    a joint centre on the foot's bones, not on the sole.
 
     Parameters
     ----------
@@ -323,6 +325,7 @@ def reduce_to_segments(motion: Motion, partial: bool = False,
     ends_index, ends = motion.end_site_positions((world_r, world_p))
     everything = np.concatenate([world_p, ends], axis=1)
     owners = list(range(sk.count)) + ends_index
+    joint_feet = []
     for leaf in ("head", "l_hand", "r_hand", "l_foot", "r_foot"):
         if leaf not in found:
             continue
@@ -336,8 +339,13 @@ def reduce_to_segments(motion: Motion, partial: bool = False,
         far = np.argmax(np.linalg.norm(mean, axis=1))
         if np.linalg.norm(mean[far]) > 1e-6:       # a rig with End Site OFFSET 0 has none
             reduced.skeleton.end_sites[names.index(leaf)] = mean[far]
+            if leaf.endswith("foot") and "sole_calibration_m" not in motion.metadata:
+                joint_feet.append(leaf)
     # Leaves the rig gives no extent (Bandai's head and hands end at their joint): the
     # proportional default, as for marker-built skeletons.
     _default_end_sites(reduced.skeleton)
     reduced.metadata["segment_map"] = {s: sk.names[found[s]] for s in names}
+    # Feet whose toe is a joint of the rig (a toe joint or the toe's end site): points on
+    # the foot's bones, with the sole below them (``dynamics.humanoid.contact.joint_soles``).
+    reduced.metadata["feet_at_joints"] = joint_feet
     return reduced

@@ -1,0 +1,79 @@
+"""The dynamics check on real skeleton (BVH) captures: the Bandai Namco corpus, whose feet
+end at joint centres (ankle, toe joint) with the soles below them."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from dynamics.humanoid.check import check_motion
+from mocap.body.retarget import reduce_to_segments
+from mocap.io.motion import read_motion
+from mocap.skeleton import Motion
+from tests.conftest import realdata_path
+
+STYLES = ("active", "elderly", "exhausted", "feminine", "masculine", "normal", "youthful")
+
+
+def _body(content: str, style: str, take: int = 1) -> Motion:
+    path = realdata_path(f"bandai2/dataset-2_{content}_{style}_{take:03d}.bvh")
+    return reduce_to_segments(read_motion(path), partial=True)
+
+
+@pytest.fixture(scope="module")
+def walk():
+    body = _body("walk", "normal")
+    return body, check_motion(body)
+
+
+def test_rig_soles_lie_below_the_joints_on_the_floor(walk):
+    """Bandai's ankle joint stands 117 mm and its toe joint 42 mm above y = 0 (shod feet):
+    the soles are found on the floor there, about 15 mm below the anatomical prior
+    (3 cm under the toe joint), not at the joints (which floated 60 mm above it)."""
+    body, report = walk
+    assert body.metadata["feet_at_joints"] == ["l_foot", "r_foot"]
+    calibration = report.calibration
+    assert calibration.levels == [0.0]
+    for shift in calibration.shift_mm.values():
+        assert 5.0 < shift < 25.0                   # lowered within the 30 mm step
+    heights = report.contact_positions[..., 1] - calibration.floors
+    assert abs(np.median(heights[report.contact_active])) < 0.003
+    # The sole plane lies ~117 mm below the ankle joint (the stance ankle height).
+    world_r, world_p = body.forward_kinematics()
+    ankle = world_p[:, body.skeleton.index("l_foot"), 1]
+    still = np.linalg.norm(np.gradient(world_p[:, body.skeleton.index("l_foot")], axis=0)
+                           * body.rate, axis=1) < 0.1
+    foot = [k for k, s in enumerate(report.contact_segments)
+            if s == body.skeleton.index("l_foot")]
+    lowest = (report.contact_positions[:, foot, 1]).min(axis=1)
+    np.testing.assert_allclose(np.median((ankle - lowest)[still]), np.median(ankle[still]),
+                               atol=0.005)
+    assert not any(r.startswith("floating") for r in report.reasons)
+
+
+def test_standing_captures_are_plausible():
+    """Waving and raising both hands (standing still on both feet) in every style."""
+    verdicts = [check_motion(_body(content, style)).verdict
+                for content in ("wave-both-hands", "raise-up-both-hands") for style in STYLES]
+    assert verdicts == ["plausible"] * len(verdicts)
+
+
+def test_faults_on_a_real_rig_are_flagged(walk):
+    body, _ = walk
+
+    def moved(dy: float = 0.0, glide: float = 0.0) -> list[str]:
+        root = body.root_translation + [0.0, dy, 0.0]
+        root[:, 0] += glide * body.times
+        return check_motion(Motion(body.skeleton, root, body.rotations, body.rate,
+                                   dict(body.metadata))).reasons
+
+    assert any(r.startswith("floating") for r in moved(dy=0.30))      # held up 30 cm
+    assert any(r.startswith("floating") for r in moved(dy=0.05))      # 5 cm up
+    assert any(r.startswith("penetrates") for r in moved(dy=-0.05))   # sunk 5 cm
+    assert any("skate" in r for r in moved(glide=0.5))                 # sliding 0.5 m/s
+
+
+def test_walks_are_plausible():
+    """One take of every style walking: all but the exaggerated 'active' style."""
+    reports = {style: check_motion(_body("walk", style)) for style in STYLES}
+    plausible = [s for s, r in reports.items() if r.verdict == "plausible"]
+    assert {"elderly", "exhausted", "feminine", "normal"} <= set(plausible)
