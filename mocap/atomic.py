@@ -5,19 +5,114 @@ The temporary names carry the writing process's id (``.walk.csv.<pid>-<random>.p
 leftover that the next write of the same output recognises as dead and removes.
 Problems with the place itself (a folder where a file should go, a folder without write
 permission) are :class:`~mocap.errors.MocapError`, one line naming the path.
+
+A command that writes several outputs (a CSV and its plot, frames and their GIF) runs inside
+:func:`all_or_nothing`: when it fails or is interrupted after some of them were renamed into
+place, those are undone (a new file removed, a replaced one given back its previous content),
+so a failed command leaves none of its outputs.
 """
 from __future__ import annotations
 
 import contextlib
+import contextvars
 import errno
 import glob
 import os
 import shutil
+import stat
 import tempfile
 from pathlib import Path
 from typing import Iterator
 
 from mocap.errors import MocapError
+
+
+class _Journal:
+    """The outputs put in place inside one :func:`all_or_nothing` block: (target, backup of
+    what it replaced or None)."""
+
+    def __init__(self) -> None:
+        self.entries: list[tuple[Path, Path | None]] = []
+
+    def undo(self) -> None:
+        """Take back every output put in place so far (newest first)."""
+        while self.entries:
+            target, backup = self.entries.pop()
+            with contextlib.suppress(OSError):
+                if target.is_dir() and not target.is_symlink():
+                    shutil.rmtree(target)
+                else:
+                    target.unlink()
+            if backup is not None:
+                with contextlib.suppress(OSError):
+                    os.replace(backup, target)
+                if backup.name == "x":
+                    _remove_backup(backup)
+
+    def settle(self) -> None:
+        """Keep the outputs: drop the backups of what they replaced."""
+        while self.entries:
+            _, backup = self.entries.pop()
+            if backup is not None:
+                _remove_backup(backup)
+
+
+_JOURNAL: contextvars.ContextVar[_Journal | None] = contextvars.ContextVar(
+    "mocap_atomic_journal", default=None)
+
+
+def _remove_backup(backup: Path) -> None:
+    if backup.name == "x" and backup.parent.name.endswith(".part"):
+        shutil.rmtree(backup.parent, ignore_errors=True)    # a folder's own .part holder
+    else:
+        with contextlib.suppress(OSError):
+            backup.unlink()
+
+
+@contextlib.contextmanager
+def all_or_nothing() -> Iterator[_Journal]:
+    """Outputs written with :func:`atomic_path` / :func:`atomic_folder` inside the block are
+    undone when the block raises (an error, Ctrl-C), or when the caller calls ``undo()`` on
+    the yielded journal: a new output is removed, a replaced one gets its old content back.
+    A block inside another one joins the outer one.
+
+    Examples
+    --------
+    >>> with all_or_nothing():                         # doctest: +SKIP
+    ...     write(angles, "walk.csv"); plot(angles, "walk.png")   # both or neither
+    """
+    journal = _JOURNAL.get()
+    if journal is not None:
+        yield journal
+        return
+    journal = _Journal()
+    token = _JOURNAL.set(journal)
+    try:
+        yield journal
+    except BaseException:
+        journal.undo()
+        raise
+    else:
+        journal.settle()
+    finally:
+        _JOURNAL.reset(token)
+
+
+def _backup_of(target: Path, prefix: str) -> Path | None:
+    """A hard link (else a copy) of an existing ``target`` under a leftover name the next
+    write recognises, for :func:`all_or_nothing` to give back; None when nothing is there."""
+    if not target.is_file():
+        return None
+    fd, name = tempfile.mkstemp(prefix=f"{prefix}{os.getpid()}-old-",
+                                suffix=".part" + target.suffix, dir=target.parent)
+    os.close(fd)
+    backup = Path(name)
+    try:
+        os.unlink(backup)
+        os.link(target, backup)
+    except OSError:
+        shutil.copy2(target, backup)
+    return backup
 
 
 def _alive(pid: int) -> bool:
@@ -48,6 +143,19 @@ def _remove_dead_leftovers(parent: Path, pattern: str, prefix: str) -> None:
                 shutil.rmtree(leftover)
             else:
                 leftover.unlink()
+
+
+def refuse_special(path: str | os.PathLike) -> None:
+    """MocapError when ``path`` exists and is neither a regular file nor a folder (a FIFO, a
+    device such as /dev/null or /dev/full, a socket): renaming a finished output onto it
+    would replace the device itself."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return
+    if not (stat.S_ISREG(mode) or stat.S_ISDIR(mode)):
+        raise MocapError("is not a regular file (a pipe, socket or device); give a file "
+                         "name for the output", path)
 
 
 def _writable_parent(target: Path) -> Path:
@@ -92,6 +200,7 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
     target = Path(path)
     if target.is_dir():
         raise MocapError("is a folder; give a file name for the output", target)
+    refuse_special(target)
     parent = _writable_parent(target)
     prefix = f".{target.name}."
     _remove_dead_leftovers(parent, f"{glob.escape(prefix)}*.part{glob.escape(target.suffix)}", prefix)
@@ -105,9 +214,13 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
     umask = os.umask(0)
     os.umask(umask)
     os.chmod(tmp, 0o666 & ~umask)          # mkstemp's 0600 would outlive the rename
+    journal = _JOURNAL.get()
     try:
         yield tmp
+        backup = _backup_of(target, prefix) if journal is not None else None
         os.replace(tmp, target)
+        if journal is not None:
+            journal.entries.append((target, backup))
     except BaseException as error:
         with contextlib.suppress(FileNotFoundError):
             tmp.unlink()
@@ -157,6 +270,7 @@ def atomic_folder(path: str | os.PathLike, replace: bool = False) -> Iterator[Pa
     except OSError as error:
         raise _os_error(error, target) from None
     os.chmod(tmp, 0o777 & ~_umask())
+    journal = _JOURNAL.get()
     try:
         yield tmp
         if target.exists():
@@ -164,9 +278,14 @@ def atomic_folder(path: str | os.PathLike, replace: bool = False) -> Iterator[Pa
                                         dir=parent))
             os.replace(target, old / "x")
             os.replace(tmp, target)
-            shutil.rmtree(old, ignore_errors=True)
+            if journal is not None:
+                journal.entries.append((target, old / "x"))
+            else:
+                shutil.rmtree(old, ignore_errors=True)
         else:
             os.replace(tmp, target)
+            if journal is not None:
+                journal.entries.append((target, None))
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise

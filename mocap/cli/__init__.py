@@ -178,12 +178,15 @@ def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
         subparser = parser._subparsers._group_actions[0].choices.get(command)
         from mocap.cli.paths import check_paths
         check_paths(command, args)
-        with warnings.catch_warnings():
+        from mocap.atomic import all_or_nothing
+        with warnings.catch_warnings(), all_or_nothing() as outputs:
             warnings.simplefilter("always", MocapWarning)
             warnings.showwarning = _warning_printer(command)
             status = args.func(args)
-        if interrupts.seen:                     # an interrupt Python swallowed on the way
-            raise KeyboardInterrupt
+            if interrupts.seen:                 # an interrupt Python swallowed on the way
+                raise KeyboardInterrupt
+            if status not in (None, 0, 1):      # a refusal after some outputs: none stay
+                outputs.undo()
     except MocapError as error:
         if interrupts.seen:                     # the mistake came after a swallowed Ctrl-C
             print(f"mocap {command}: interrupted", file=sys.stderr)

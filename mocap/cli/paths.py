@@ -7,7 +7,8 @@ before the handler, on the options named in :data:`INPUTS` and :data:`OUTPUTS`:
   because reading it could block forever;
 - an output that names an input (or the same file as another output) is refused, so no
   command overwrites what it reads;
-- an output that is an existing folder where a file is written is refused.
+- an output that is an existing folder where a file is written is refused, and so is one
+  that is a FIFO or a device (finishing the output would replace the device itself).
 
 Commands that expand folders into many outputs call :func:`refuse_overwrite` per file.
 """
@@ -19,6 +20,7 @@ import stat
 from pathlib import Path
 from typing import Iterable
 
+from mocap.atomic import refuse_special
 from mocap.errors import MocapError
 
 #: Option destinations that name files or folders a command reads.
@@ -78,6 +80,7 @@ def check_paths(command: str, args: argparse.Namespace) -> None:
     seen: list[str] = []
     for name, path in outputs:
         refuse_overwrite(path, files_only)
+        refuse_special(path)
         if any(Path(path).absolute() == Path(other).absolute() for other in seen):
             raise MocapError("two outputs name the same file", path)
         seen.append(path)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import os
 import signal
+import stat
 import subprocess
 import sys
 import time
@@ -111,11 +112,80 @@ def test_a_folder_or_unwritable_place_as_output_is_one_line(walk, tmp_path, caps
     blocker.write_text("x")
     assert main(["convert", str(walk), str(blocker / "out.csv")]) == 2
     assert "in the way" in _one_error_line(capsys)
-    if os.geteuid() != 0:                       # root writes anywhere
+    if os.geteuid() != 0:                       # root writes anywhere (see the next test)
         locked = tmp_path / "locked"
         locked.mkdir(mode=0o500)
         assert main(["convert", str(walk), str(locked / "out.csv")]) == 2
         assert "permission denied" in _one_error_line(capsys)
+
+
+@pytest.mark.skipif(not Path("/sys/kernel").is_dir() or not Path("/proc/self").is_dir(),
+                    reason="needs Linux /proc and /sys")
+@pytest.mark.parametrize("place", ["/sys", "/sys/kernel", "/proc", "/proc/self"])
+def test_a_place_the_system_refuses_even_to_root_is_one_line(place, walk, capsys):
+    """sysfs and procfs refuse new files to every user, root included (the read-only
+    folder of the test above, which root would bypass): one line, exit 2, nothing made."""
+    target = Path(place) / f"mocap-test-{os.getpid()}.csv"
+    before = sorted(os.listdir(place))
+    assert main(["convert", str(walk), str(target)]) == 2
+    line = _one_error_line(capsys)
+    assert str(target) in line and "cannot write" in line
+    assert sorted(os.listdir(place)) == before
+
+
+def test_an_existing_pipe_or_device_as_output_is_refused_not_replaced(walk, tmp_path, capsys):
+    """Renaming the finished file onto a FIFO or a device node would replace the node
+    itself (as root, -o /dev/null would turn /dev/null into a CSV)."""
+    nodes = [tmp_path / "fifo.csv"]
+    os.mkfifo(nodes[0])
+    if os.geteuid() == 0:                        # a private copy of /dev/full (1, 7)
+        nodes.append(tmp_path / "full.trc")
+        os.mknod(nodes[1], 0o666 | stat.S_IFCHR, os.makedev(1, 7))
+    for node in nodes:
+        assert main(["convert", str(walk), str(node)]) == 2
+        line = _one_error_line(capsys)
+        assert str(node) in line and "not a regular file" in line
+    assert stat.S_ISFIFO(os.lstat(nodes[0]).st_mode)
+    if len(nodes) == 2:
+        assert stat.S_ISCHR(os.lstat(nodes[1]).st_mode)
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in nodes)
+
+
+def test_a_command_that_fails_after_writing_one_output_leaves_none(walk, tmp_path, capsys):
+    """angles writes its CSV, then cannot write the plot: the CSV goes too (a new one is
+    removed, a replaced one gets its previous content back)."""
+    (tmp_path / "blocker").write_text("x")
+    argv = ["angles", str(walk), "-m", "synthetic15", "-o", str(tmp_path / "a.csv"),
+            "--plot", str(tmp_path / "blocker" / "a.png")]
+    assert main(argv) == 2
+    assert "in the way" in _one_error_line(capsys)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["blocker"]
+    (tmp_path / "a.csv").write_text("the user's old angles")
+    assert main(argv) == 2
+    assert (tmp_path / "a.csv").read_text() == "the user's old angles"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.csv", "blocker"]
+
+
+def test_ctrl_c_after_some_outputs_takes_them_back(tmp_path):
+    from mocap.atomic import all_or_nothing, atomic_folder, atomic_path
+    (tmp_path / "old.csv").write_text("old")
+    with pytest.raises(KeyboardInterrupt):
+        with all_or_nothing():
+            with atomic_path(tmp_path / "new.csv") as tmp:
+                tmp.write_text("new")
+            with atomic_path(tmp_path / "old.csv") as tmp:
+                tmp.write_text("replaced")
+            with atomic_folder(tmp_path / "corpus") as staging:
+                (staging / "a.c3d").write_text("a")
+            assert (tmp_path / "old.csv").read_text() == "replaced"
+            raise KeyboardInterrupt
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["old.csv"]
+    assert (tmp_path / "old.csv").read_text() == "old"
+    with all_or_nothing():                       # success: the outputs stay, no backups
+        with atomic_path(tmp_path / "old.csv") as tmp:
+            tmp.write_text("kept")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["old.csv"]
+    assert (tmp_path / "old.csv").read_text() == "kept"
 
 
 def test_generate_refuses_an_existing_corpus_and_a_failure_leaves_nothing(tmp_path, capsys):
