@@ -208,7 +208,8 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
     if humanoid is None:
         humanoid = build_humanoid(body.skeleton, body_mass, sex)
     # A rig's feet end at joints: their soles lie below, under the stance normal.
-    joint_feet = [n for n in body.metadata.get("feet_at_joints", ()) if n in body.skeleton.names]
+    joint_feet = {n: kind for n, kind in body.metadata.get("feet_at_joints", {}).items()
+                  if n in body.skeleton.names}
     points, sole_up = humanoid.contact_points, {}
     if joint_feet:
         points, sole_up = joint_soles(humanoid, joint_feet, *body.forward_kinematics(),

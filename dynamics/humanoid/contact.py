@@ -43,7 +43,7 @@ import numpy as np
 
 from mocap.skeleton import Motion
 
-from mocap.body.anthropometry import foot_points
+from mocap.body.anthropometry import foot_points, leg_length
 
 from dynamics.humanoid.model import Humanoid
 
@@ -64,6 +64,10 @@ SOLE_BELOW_TOE = 0.035
 #: lateral malleolus height 0.039 of the stature over the hip-to-ankle 0.491 (Winter
 #: 2009, Fig. 4.1), 6.8 cm for a 0.86 m leg.
 SOLE_BELOW_ANKLE = 0.079
+#: The toes (phalanges) beyond a rig's toe joint, in leg lengths: 0.27 of the foot length
+#: (the metatarsal heads at 0.73 of it from the heel), the foot 0.152 of the stature
+#: (Winter 2009), i.e. 0.041 of the stature over the hip-to-ankle 0.491.
+TOE_LENGTH = 0.084
 
 
 @dataclass
@@ -210,7 +214,7 @@ def _stance_runs(world: np.ndarray, rate: float, still_speed: float) -> list[tup
     return _runs((speed < still_speed).all(axis=1), max(int(round(0.05 * rate)), 2))
 
 
-def joint_soles(humanoid: Humanoid, feet: list[str], world_r: np.ndarray,
+def joint_soles(humanoid: Humanoid, feet: dict[str, str], world_r: np.ndarray,
                 world_p: np.ndarray, rate: float, still_speed: float = 0.2
                 ) -> tuple[np.ndarray, dict]:
     """Contact points under the feet of a rig whose foot ends at a joint (module docstring).
@@ -227,8 +231,10 @@ def joint_soles(humanoid: Humanoid, feet: list[str], world_r: np.ndarray,
     Parameters
     ----------
     humanoid : Humanoid
-    feet : list of str
-        The feet to lay out (``"l_foot"``, ``"r_foot"``), the others keep their points.
+    feet : dict
+        The feet to lay out (``"l_foot"``, ``"r_foot"``) → what their toe point is,
+        ``"toe joint"`` (the toes, :data:`TOE_LENGTH`, are added beyond it) or
+        ``"end site"`` (the rig's toe tip); the others keep their points.
     world_r, world_p : segment poses, (frames, segments, 3, 3) and (frames, segments, 3)
     rate : float, Hz
     still_speed : float, m/s
@@ -245,8 +251,8 @@ def joint_soles(humanoid: Humanoid, feet: list[str], world_r: np.ndarray,
     segments = np.asarray(humanoid.contact_segments)
     points = np.array(humanoid.contact_points, dtype=float)
     normals = {}
-    leg = _leg_length(skeleton)
-    for name in feet:
+    leg = leg_length(skeleton)
+    for name, kind in feet.items():
         foot = skeleton.index(name)
         mine = np.flatnonzero(segments == foot)
         runs = _stance_runs(points_in_world(points[mine], [foot] * mine.size, world_r,
@@ -255,19 +261,21 @@ def joint_soles(humanoid: Humanoid, feet: list[str], world_r: np.ndarray,
             continue
         normal = _stance_normal(world_r[:, foot], runs)
         toe = skeleton.end_sites[foot]
-        laid = np.array(list(foot_points(toe, up=normal).values()))
         level = min(toe @ normal - SOLE_BELOW_TOE * leg, -SOLE_BELOW_ANKLE * leg)
+        laid = foot_points(toe, up=normal)
+        if kind == "toe joint":
+            # The toes beyond the toe joint (phalanges), which push off after the heel
+            # rises; the ball (metatarsal heads) stays under the joint.
+            ahead = toe - (toe @ normal) * normal
+            tip = toe + TOE_LENGTH * leg * ahead / max(np.linalg.norm(ahead), 1e-9)
+            longer = foot_points(tip, up=normal)
+            ball = longer["heel"] + 0.8 * (tip - longer["heel"])
+            laid = {k: v + (toe - ball if k.startswith("toe_") else 0.0)
+                    for k, v in longer.items()}
+        laid = np.array(list(laid.values()))
         points[mine] = laid - np.outer(laid @ normal - level, normal)
         normals[int(foot)] = normal
     return points, normals
-
-
-def _leg_length(skeleton) -> float:
-    """Mean hip-to-ankle length (thigh + shank offsets) of a body skeleton, metres."""
-    names = skeleton.names
-    return float(np.mean([np.linalg.norm(skeleton.offsets[names.index(side + "shank")])
-                          + np.linalg.norm(skeleton.offsets[names.index(side + "foot")])
-                          for side in ("l_", "r_")]))
 
 
 def _floor_under(runs: list[tuple[int, int]], levels: np.ndarray, frames: int,

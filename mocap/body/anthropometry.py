@@ -234,7 +234,7 @@ def segment_inertias(skeleton, body_mass: float, sex: str = "male") -> list[Segm
     return result
 
 
-def _leg_length(skeleton) -> float:
+def leg_length(skeleton) -> float:
     """Mean thigh + shank length (hip to ankle) of a body skeleton, metres."""
     names = skeleton.names
     total = []
@@ -264,7 +264,7 @@ def lumped_segments(skeleton, body_mass: float, sex: str = "male"
     if not missing:
         return []
     reference = default_skeleton(1.75)
-    scale = _leg_length(skeleton) / _leg_length(reference)
+    scale = leg_length(skeleton) / leg_length(reference)
     reference = default_skeleton(1.75 * scale)
     parts = segment_inertias(reference, body_mass, sex)
     rest = Motion.still(reference, 1, 1.0).forward_kinematics()[1][0]
@@ -308,7 +308,7 @@ def _end_points(skeleton, index: int, kind: str) -> tuple[np.ndarray, np.ndarray
             return middle, skeleton.offsets[trunk[0]]
         # No trunk (a lower-body marker set): de Leva's lower trunk is 0.0837 of the
         # standing height, about 0.2 of the thigh + shank length, straight up.
-        leg = _leg_length(skeleton)
+        leg = leg_length(skeleton)
         return middle, middle + np.array([0.0, 0.2 * leg, 0.0])
     if kind == "thorax":
         head = [c for c in children if segment_kind(names[c]) == "head"]

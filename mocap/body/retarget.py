@@ -277,8 +277,10 @@ def reduce_to_segments(motion: Motion, partial: bool = False,
     head, hands and feet are the furthest end site of the skipped subtree (head top,
     finger tip, toe tip) in the segment's frame, averaged over frames; where the rig has
     none (an End Site at the joint itself), a length in proportion to the parent segment.
-    ``metadata["feet_at_joints"]`` lists the feet whose toe is such a point of the rig:
-    a joint centre on the foot's bones, not on the sole.
+    ``metadata["feet_at_joints"]`` maps the feet whose toe is such a point of the rig —
+    a joint centre on the foot's bones, not on the sole — to what it is: ``"toe joint"``
+    (a joint with no extent beyond it, Bandai's Toes_L: the phalanges are not in the rig)
+    or ``"end site"`` (the rig's toe tip, CMU's ToeBase end site).
 
     Parameters
     ----------
@@ -325,7 +327,7 @@ def reduce_to_segments(motion: Motion, partial: bool = False,
     ends_index, ends = motion.end_site_positions((world_r, world_p))
     everything = np.concatenate([world_p, ends], axis=1)
     owners = list(range(sk.count)) + ends_index
-    joint_feet = []
+    joint_feet: dict[str, str] = {}
     for leaf in ("head", "l_hand", "r_hand", "l_foot", "r_foot"):
         if leaf not in found:
             continue
@@ -340,7 +342,7 @@ def reduce_to_segments(motion: Motion, partial: bool = False,
         if np.linalg.norm(mean[far]) > 1e-6:       # a rig with End Site OFFSET 0 has none
             reduced.skeleton.end_sites[names.index(leaf)] = mean[far]
             if leaf.endswith("foot") and "sole_calibration_m" not in motion.metadata:
-                joint_feet.append(leaf)
+                joint_feet[leaf] = "toe joint" if cols[far] < sk.count else "end site"
     # Leaves the rig gives no extent (Bandai's head and hands end at their joint): the
     # proportional default, as for marker-built skeletons.
     _default_end_sites(reduced.skeleton)

@@ -32,6 +32,12 @@ from mocap.io.motion import MARKER_SUFFIXES, read_motion
 from mocap.markersets import load_markerset
 
 
+#: Low-pass (Hz) of the motion before the inverse dynamics when none is given: Winter's
+#: customary cutoff for walking kinematics, the one the real Plug-in Gait walks and their
+#: force plates were compared at.
+DEFAULT_LOWPASS = 6.0
+
+
 def _motion_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("motion", metavar="MOTION",
                         help="motion file: .bvh, .amc (with its .asf), a joint-angle .csv, or a "
@@ -94,8 +100,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                             "axis (default 0), or 'auto': where the feet stand still")
     check.add_argument("--lowpass", type=options.real(minimum=0, maximum=1e6), metavar="HZ",
                        help="low-pass the motion (zero-lag Butterworth) before inverse "
-                            "dynamics; default 6 Hz for marker trials, none for other "
-                            "motions; 0 turns it off")
+                            "dynamics; default 6 Hz (motions sampled at 12 Hz or less: "
+                            "none); 0 turns it off")
     check.add_argument("--forces", choices=("plates",),
                        help="'plates': also read the C3D file's force plates, compare the "
                             "estimated ground reaction with them (r and RMS %% BW per plate "
@@ -166,7 +172,8 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
 
     Marker trials are read once: the motion from their markers and, with ``plates``, the
     force plates. ``mass`` defaults to a C3D file's PROCESSING:BODYMASS, else 75 kg;
-    ``lowpass`` to 6 Hz for marker trials (0: off).
+    ``lowpass`` to :data:`DEFAULT_LOWPASS` for every motion sampled above twice that
+    (0: off), as customary for the inverse dynamics of captured walking.
 
     Returns
     -------
@@ -190,10 +197,13 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
             raise MocapError(f"the dynamics check needs at least 3 frames, the trial has "
                              f"{trial.frames}", path)
         motion = motion_from_trial(trial, chosen)
-        if lowpass is None:
-            lowpass = 6.0
     else:
         motion = read_motion(path, asf=asf, units=units, rate=rate, joint_map=joint_map)
+    if lowpass is None:
+        # The same band for every motion, whatever its frame rate: differentiated twice,
+        # an unfiltered 30 Hz capture keeps everything up to 15 Hz (the Savitzky-Golay
+        # window of 0.1 s is then 3 frames, no smoothing at all), a 100 Hz one ~11 Hz.
+        lowpass = DEFAULT_LOWPASS if motion.rate > 2.0 * DEFAULT_LOWPASS else 0.0
     mass_source = "given"
     if mass is None:
         stored = _stored_mass(trial)
