@@ -48,6 +48,10 @@ class MeasuredPlates:
     ----------
     force, cop, free_moment : ndarray, shape (plates, frames, 3)
         N, m (NaN while unloaded), N·m; Y up, floor at 0.
+    moment : ndarray, shape (plates, frames, 3)
+        N·m, each plate's whole wrench moment about the origin of this frame (the COP's
+        moment of the force plus the free moment; defined in every frame, unlike the COP).
+        Inverse dynamics moves it to a joint as ``moment − p × force``.
     outlines : ndarray, shape (plates, 4, 3)
         Plate corners in the same frame.
     names : list of str
@@ -59,6 +63,7 @@ class MeasuredPlates:
     free_moment: np.ndarray
     outlines: np.ndarray
     names: list[str]
+    moment: np.ndarray | None = None
 
     @property
     def vertical(self) -> np.ndarray:
@@ -92,10 +97,18 @@ def measured_plates(trial, floor: float = 0.0, up: str = "z",
     free = np.stack([p.free_moment @ turn.T for p in parts])
     cop = np.stack([p.cop @ turn.T for p in parts]) - shift
     outlines = np.stack([p.plate.corners @ turn.T for p in parts]) - shift
+    # The moment about the origin (the floor-shifted one): COP × force + free moment where
+    # the COP is defined (it carries a plate's COP correction), the plate's own moment
+    # elsewhere (an unloaded plate's small offsets), so it is finite in every frame.
+    raw = np.stack([p.moment @ turn.T for p in parts]) - np.cross(shift, force)
+    defined = np.isfinite(cop).all(axis=2, keepdims=True)
+    moment = np.where(defined, np.cross(np.nan_to_num(cop), force) + free, raw)
     if lowpass:
-        force, free = (_lowpass(x, lowpass, trial.rate) for x in (force, free))
+        # Force and moment about a fixed point are linear in the plate's channels, so
+        # filtering them is filtering the plate; the COP (a ratio) is left as measured.
+        force, free, moment = (_lowpass(x, lowpass, trial.rate) for x in (force, free, moment))
     return MeasuredPlates(force, cop, free, outlines,
-                          [f"plate{p.plate.index + 1}" for p in parts])
+                          [f"plate{p.plate.index + 1}" for p in parts], moment)
 
 
 def _lowpass(values: np.ndarray, cutoff: float, rate: float) -> np.ndarray:
@@ -240,10 +253,13 @@ def plate_joint_torques(report, humanoid, plates: MeasuredPlates
     """Bottom-up inverse dynamics: joint torques with the measured plate wrenches applied
     to the feet that load them.
 
-    Each loaded plate's force acts at its centre of pressure on its foot (the owner of
-    :func:`plate_stances`), with its free moment; a joint's torque is the RNEA torque of
-    the motion minus the moments of the external wrenches on its subtree — the same
-    numbers as a recursion from the foot upwards.
+    Each loaded plate's wrench acts on its foot (the owner of :func:`plate_stances`): its
+    force, and its moment about the origin moved to the joint (``moment − p × force``,
+    the force at the centre of pressure plus the free moment, without dividing by a
+    vertical force that vanishes at heel strike and toe off, and filtered like the force
+    — :attr:`MeasuredPlates.moment`); a joint's torque is the RNEA torque of the motion
+    minus the moments of the external wrenches on its subtree — the same numbers as a
+    recursion from the foot upwards.
 
     Returns
     -------
@@ -266,16 +282,14 @@ def plate_joint_torques(report, humanoid, plates: MeasuredPlates
     feet = sorted(set(segments.tolist()))
     for foot in feet:
         on_plate = (owner == foot)
-        free = np.where(on_plate[..., None], plates.free_moment, 0.0).sum(axis=0)
-        cop = np.nan_to_num(plates.cop)
+        force = np.where(on_plate[..., None], plates.force, 0.0).sum(axis=0)       # (F, 3)
+        about_origin = np.where(on_plate[..., None], plates.moment, 0.0).sum(axis=0)
         touching = report.contact_active[:, segments == foot].any(axis=1)
         unmeasured = touching & ~on_plate.any(axis=0)
         for j in range(1, sk.count):
             if foot not in sk.subtree(j):
                 continue
-            moment = (np.cross(cop - world_p[None, :, j], np.where(on_plate[..., None],
-                                                                   plates.force, 0.0))
-                      .sum(axis=0) + free)
+            moment = about_origin - np.cross(world_p[:, j], force)
             external[:, j - 1] += np.einsum("fji,fj->fi", world_r[:, j], moment)
             valid[:, j - 1] &= ~unmeasured
             loaded[:, j - 1] |= on_plate.any(axis=0)
