@@ -13,7 +13,8 @@ For a motion on the floor y = 0 (world Y up):
    the centre of mass in the norm ``‖ΔF‖² + ‖ΔM / L‖²`` (L = :data:`TORQUE_LENGTH`): what
    they cannot supply is the residual — the non-physical "hand of God".
 5. Joint torques with those contact forces taken off, foot skating, penetration, floating
-   (flight phases that fall freely excepted), and a verdict with reasons against
+   (no foot point in contact, flight phases whose captured centre of mass falls freely
+   excepted), and a verdict with reasons against
    :class:`Thresholds` calibrated on real captured walks.
 """
 from __future__ import annotations
@@ -212,8 +213,7 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
                   if n in body.skeleton.names}
     points, sole_up = humanoid.contact_points, {}
     if joint_feet:
-        points, sole_up = joint_soles(humanoid, joint_feet, *body.forward_kinematics(),
-                                      body.rate)
+        points, sole_up = joint_soles(humanoid, joint_feet, *body.forward_kinematics())
     floor_height = estimate_floor(body, humanoid, points=points) if floor == "auto" \
         else float(floor)
     if floor_height:
@@ -277,11 +277,21 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
          np.zeros_like(calibration.floors)], axis=2), contact_height, contact_speed, rate)
     below = np.clip(-lowest - FLOOR_TOLERANCE, 0.0, None)
     penetration_mm = 1000.0 * float(below.max()) if frames else 0.0
-    above = lowest > FLOOR_TOLERANCE
-    floating_mm = 1000.0 * float(lowest[above].mean()) if above.any() else 0.0
+    # Off the floor: the toe tip counts here — a body on its toes stands on the floor.
+    resting = np.minimum(lowest, (raw_contacts[..., 1] - calibration.floors).min(axis=1))
+    above = resting > FLOOR_TOLERANCE
+    floating_mm = 1000.0 * float(resting[above].mean()) if above.any() else 0.0
     residual_pct = 100.0 * np.linalg.norm(residual[:, :3], axis=1) / humanoid.weight
-    ballistic = ballistic_runs(com, ~active.any(axis=1), rate)
-    unsupported = above & (residual_pct > thresholds.floating_residual_pct_bw) & ~ballistic
+    # Free fall judged on the captured (unfiltered) centre of mass: a low-pass spreads the
+    # landing's deceleration over the flight before it (at 6 Hz, a 0.15 s running flight
+    # falls at well under g in the filtered motion though the capture falls at g).
+    airborne = ~active.any(axis=1)
+    ballistic = ballistic_runs(centre_of_mass(humanoid, raw_r, raw_p), airborne, rate)
+    # Floating: off the floor with no contact point in reach, needing support that no
+    # free fall explains (a frame whose feet are in contact but cannot supply the wrench
+    # counts in the residual).
+    unsupported = above & airborne & (residual_pct > thresholds.floating_residual_pct_bw) \
+        & ~ballistic
 
     torque_rms = _rms(np.linalg.norm(residual_torque, axis=1))
     torque_limit = thresholds.residual_torque_rms_nm * humanoid.mass / 75.0

@@ -207,6 +207,23 @@ def _stance_normal(rotations: np.ndarray, runs: list[tuple[int, int]],
     return normal
 
 
+def _flat_foot_normal(rotations: np.ndarray, origins: np.ndarray, toe: np.ndarray,
+                      within: float = 0.01) -> np.ndarray:
+    """The floor's normal in a foot's frame while the foot is flat (unit, shape (3,)).
+
+    Flat: ankle and toe point both at their lowest together — the frames whose summed
+    heights above their minima are within ``within`` (m) of the least sum. No speed test,
+    so a runner's short stances count as well as a walker's; heights are only compared
+    with themselves, so the floor's level plays no part.
+    """
+    ankle = origins[:, 1]
+    tip = origins[:, 1] + rotations[:, 1, :] @ toe
+    raised = (ankle - ankle.min()) + (tip - tip.min())
+    seen = np.swapaxes(rotations, 1, 2)[:, :, 1]                       # Rᵀ e_y, (F, 3)
+    normal = np.median(seen[raised <= raised.min() + within], axis=0)
+    return normal / np.linalg.norm(normal)
+
+
 def _stance_runs(world: np.ndarray, rate: float, still_speed: float) -> list[tuple[int, int]]:
     """Runs of at least 50 ms (2 frames) where every point of ``world`` (frames, points, 3)
     of one foot is slower than ``still_speed``."""
@@ -215,14 +232,14 @@ def _stance_runs(world: np.ndarray, rate: float, still_speed: float) -> list[tup
 
 
 def joint_soles(humanoid: Humanoid, feet: dict[str, str], world_r: np.ndarray,
-                world_p: np.ndarray, rate: float, still_speed: float = 0.2
-                ) -> tuple[np.ndarray, dict]:
+                world_p: np.ndarray) -> tuple[np.ndarray, dict]:
     """Contact points under the feet of a rig whose foot ends at a joint (module docstring).
 
     A skeleton's ankle and toe are joint centres on the foot's bones, and its foot frame
     need not be anatomical (Bandai's X runs along the bone, pitched 40° down). The sole's
-    normal in the foot frame is the floor's normal seen from the foot in its stances
-    (orientation only, whatever the floor height); the contact points are laid out
+    normal in the foot frame is the floor's normal seen from the foot when it is flat
+    (:func:`_flat_foot_normal`: orientation only, whatever the floor's height); the
+    contact points are laid out
     across and along it (:func:`mocap.body.anthropometry.foot_points` with that ``up``)
     on the plane :data:`SOLE_BELOW_TOE` leg lengths below the toe point and at least
     :data:`SOLE_BELOW_ANKLE` below the ankle. :func:`calibrate_contacts` then fits the
@@ -236,8 +253,6 @@ def joint_soles(humanoid: Humanoid, feet: dict[str, str], world_r: np.ndarray,
         ``"toe joint"`` (the toes, :data:`TOE_LENGTH`, are added beyond it) or
         ``"end site"`` (the rig's toe tip); the others keep their points.
     world_r, world_p : segment poses, (frames, segments, 3, 3) and (frames, segments, 3)
-    rate : float, Hz
-    still_speed : float, m/s
 
     Returns
     -------
@@ -255,12 +270,8 @@ def joint_soles(humanoid: Humanoid, feet: dict[str, str], world_r: np.ndarray,
     for name, kind in feet.items():
         foot = skeleton.index(name)
         mine = np.flatnonzero(segments == foot)
-        runs = _stance_runs(points_in_world(points[mine], [foot] * mine.size, world_r,
-                                            world_p), rate, still_speed)
-        if not runs:
-            continue
-        normal = _stance_normal(world_r[:, foot], runs)
         toe = skeleton.end_sites[foot]
+        normal = _flat_foot_normal(world_r[:, foot], world_p[:, foot], toe)
         level = min(toe @ normal - SOLE_BELOW_TOE * leg, -SOLE_BELOW_ANKLE * leg)
         laid = foot_points(toe, up=normal)
         if kind == "toe joint":
