@@ -6,60 +6,41 @@ import numpy as np
 from scipy.sparse import diags
 from scipy.sparse.linalg import spsolve
 
-from mocap.body.anthropometry import segment_kind, segment_table
+from mocap.body.anthropometry import segment_inertias
+from mocap.body.retarget import Z_UP_TO_Y_UP, _default_end_sites
 from mocap.errors import MocapError
+from mocap.skeleton import Skeleton
 from mocap.synthetic.feet import _FootPath, _Gait, _gait, _loads
 from mocap.synthetic.legs import _leg_length, _leg_rotations
-from mocap.synthetic.people import ACTIONS, SEGMENT_NAMES, Person, _offsets, lab_frames
+from mocap.synthetic.people import (ACTIONS, PARENT_INDEX, SEGMENT_NAMES, Person, _offsets,
+                                    lab_frames)
 from mocap.synthetic.templates import _stance_knee, _template, _to_clinical, _to_rotations
 
-#: Centre of mass of each segment kind as a fraction of its length along the long axis
-#: from the proximal joint: the generator's own rounded values. Masses come from the one de
-#: Leva table (:func:`mocap.body.anthropometry.segment_table`); these positions differ from
-#: it for the head and thorax (0.5 here, 0.40 and 0.58 there), the hand (0.4 vs 0.79) and
-#: the pelvis (see below). Switching to the table's positions moves the generated corpus
-#: (a walking centre of mass bobs up to 0.123 m; cycle detection on 3-cycle runs changes),
-#: so it is left for a change that re-validates those figures.
-_COM_ALONG = {"thorax": 0.5, "head": 0.5, "upperarm": 0.577, "forearm": 0.457, "hand": 0.4,
-              "thigh": 0.41, "shank": 0.446, "foot": 0.44}
+def _mass_model(person: Person) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The body the dynamics check sees: mass fractions (segments,) summing to 1, centres
+    of mass in the segment frames (segments, 3) metres, and inertias about them per unit
+    body mass in the segment axes (segments, 3, 3) m².
 
-
-def _mass_model(person: Person) -> tuple[np.ndarray, np.ndarray]:
-    """Mass fractions (segments,) summing to 1 and centres of mass in the segment frames
-    (segments, 3), metres.
-
-    Masses are de Leva's (1996, male) from :func:`mocap.body.anthropometry.segment_table`
-    (the trunk split into the pelvis, de Leva's lower trunk, and the thorax, his middle and
-    upper trunk); centres of mass at ``_COM_ALONG`` along each segment (pelvis: 0.3 of the
-    hip drop below its origin).
+    de Leva (1996, male) by :func:`mocap.body.anthropometry.segment_inertias`, on the
+    person's skeleton as the check rebuilds it from the ``synthetic15`` markers (the same
+    offsets, turned to Y up, and the default end sites of
+    :func:`mocap.body.retarget.motion_from_trial` for head, hands and feet), so that the
+    motion's centre of mass and angular momentum are the ones the check computes.
     """
-    L = person.lengths
-    masses = segment_table("male")
-    down = {"upperarm": L["upperarm"], "forearm": L["forearm"], "hand": L["hand"],
-            "thigh": L["thigh"], "shank": L["shank"]}
-    fractions, centres = [], []
-    for name in SEGMENT_NAMES:
-        kind = segment_kind(name)
-        fraction, along = masses[kind][0], _COM_ALONG.get(kind, 0.0)
-        if kind == "thorax":
-            centre = (0.0, 0.0, along * L["neck"])
-        elif kind == "head":
-            centre = (0.0, 0.0, along * L["head"])
-        elif kind == "pelvis":
-            centre = (0.0, 0.0, -0.3 * L["hip_drop"])
-        elif kind == "foot":
-            centre = ((along - 0.25) * L["foot"], 0.0, -0.5 * L["ankle_height"])
-        else:
-            centre = (0.0, 0.0, -along * down[kind])
-        fractions.append(fraction)
-        centres.append(centre)
-    fractions = np.array(fractions)
-    return fractions / fractions.sum(), np.array(centres)
+    skeleton = Skeleton(list(SEGMENT_NAMES), list(PARENT_INDEX), _offsets(person) @ Z_UP_TO_Y_UP.T)
+    _default_end_sites(skeleton)
+    parts = segment_inertias(skeleton, 1.0, "male")
+    turn = Z_UP_TO_Y_UP                       # generator segment axes → the check's (Y up)
+    fractions = np.array([part.mass for part in parts])
+    centres = np.array([part.com for part in parts]) @ turn
+    inertias = np.einsum("ji,sjk,kl->sil", turn, np.array([part.inertia for part in parts]),
+                         turn)
+    return fractions / fractions.sum(), centres, inertias / fractions.sum()
 
 
 def _centre_of_mass(rotations: np.ndarray, origins: np.ndarray, person: Person) -> np.ndarray:
     """Whole-body centre of mass, (frames, 3) metres, from segment poses in the lab."""
-    fractions, centres = _mass_model(person)
+    fractions, centres, _ = _mass_model(person)
     points = origins + np.einsum("fsij,sj->fsi", rotations, centres)
     return np.einsum("s,fsi->fi", fractions, points)
 
@@ -67,22 +48,30 @@ def _centre_of_mass(rotations: np.ndarray, origins: np.ndarray, person: Person) 
 def _turning_rate(rotations: np.ndarray, origins: np.ndarray, person: Person,
                   period: float, advance: np.ndarray) -> np.ndarray:
     """Rate of change of the body's angular momentum about its centre of mass, per unit
-    body mass, (N, 3) m²/s², over one cycle sampled uniformly (segments as point masses;
-    positions advance by ``advance`` per cycle)."""
-    fractions, centres = _mass_model(person)
+    body mass, (N, 3) m²/s², over one cycle sampled uniformly (segment masses at their
+    centres of mass and their spin ``R I Rᵀ ω``; positions advance by ``advance`` per
+    cycle)."""
+    fractions, centres, inertias = _mass_model(person)
     n = len(origins)
     points = origins + np.einsum("fsij,sj->fsi", rotations, centres)
     trend = np.outer(np.arange(n) / n, advance)[:, None, :]
     omega = 2j * np.pi * np.fft.rfftfreq(n, d=period / n)
-    velocity = np.fft.irfft(omega[:, None, None] * np.fft.rfft(points - trend, axis=0), n,
-                            axis=0) + advance / period
+
+    def rate(values):
+        shape = values.shape
+        flat = values.reshape(n, -1)
+        return np.fft.irfft(omega[:, None] * np.fft.rfft(flat, axis=0), n, axis=0).reshape(shape)
+
+    velocity = rate(points - trend) + advance / period
     centre = np.einsum("s,fsi->fi", fractions, points)
     drift = np.einsum("s,fsi->fi", fractions, velocity)
     momentum = np.einsum("s,fsi->fi", fractions, np.cross(points - centre[:, None],
                                                           velocity - drift[:, None]))
-    return np.fft.irfft(omega[:, None] * np.fft.rfft(momentum, axis=0), n, axis=0)
-
-
+    spin = rate(rotations) @ np.swapaxes(rotations, 2, 3)          # ω̂ = Ṙ Rᵀ, (N, S, 3, 3)
+    angular = np.stack([spin[..., 2, 1], spin[..., 0, 2], spin[..., 1, 0]], axis=-1)
+    world_inertia = rotations @ inertias @ np.swapaxes(rotations, 2, 3)
+    momentum = momentum + np.einsum("fsij,fsj->fi", world_inertia, angular)
+    return rate(momentum)
 
 
 # --------------------------------------------------------------------------- body path
@@ -288,7 +277,12 @@ def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
                         + np.sqrt(np.maximum(length**2 - across**2, (0.5 * length) ** 2)))
 
             stance = foot["u"] < gait.toe_off
-            ceiling = np.where(stance, np.minimum(ceiling, root_height(
+            # Within reach of the supporting legs; running, of the swinging ones too (leaving
+            # the floor behind the body, reaching for the next landing in front of it in
+            # flight): else the leg's inverse kinematics would straighten short of its foot
+            # and the body would jerk in the air.  (A walk's swinging leg reaches its foot.)
+            reach = stance | (bounce is not None)
+            ceiling = np.where(reach, np.minimum(ceiling, root_height(
                 _leg_length(person, gait.knee_min))), ceiling)
             knee = np.clip(gait.knee_gain * _stance_knee(gait.action, foot["u"]),
                            gait.knee_min, 80.0)

@@ -30,7 +30,7 @@ _GAITS = {
                  off_pitch=-55.0, clearance=0.015, lift=0.06, width=0.10, toe_out=6.0,
                  knee_min=3.0),
     "run": dict(stride=2.45, landed=0.07, heel_rise=0.15, toe_off=0.36, land_pitch=8.0,
-                off_pitch=-38.0, clearance=0.05, lift=0.0, width=0.05, toe_out=5.0,
+                off_pitch=-38.0, clearance=0.05, lift=0.10, width=0.05, toe_out=5.0,
                 knee_min=16.0),
     "ascend": dict(stride=0.0, landed=0.05, heel_rise=0.42, toe_off=0.64, land_pitch=3.0,
                    off_pitch=-25.0, clearance=0.03, lift=0.0, width=0.12, toe_out=8.0,
@@ -243,10 +243,13 @@ class _FootPath:
                      for sign in (-1.0, 1.0)]
             solved = np.where(np.abs(roots[0] - pitch) < np.abs(roots[1] - pitch), *roots)
             # within about 30 degrees of the nominal profile (soft limit), never heel down
-            solved = pitch + 30.0 * np.tanh((solved - pitch) / 30.0)
+            # (a smooth corner: a kink in the pitch would jolt the whole leg, which the
+            # floor could not follow)
+            solved = _soft_nonpositive(pitch + 30.0 * np.tanh((solved - pitch) / 30.0), 10.0)
             # eased in after heel rise and out before toe-off (the swing starts nominally)
             blend = _smoothstep(3 * s) * (1 - _smoothstep((s - 0.6) / 0.4))
-            pitch = np.minimum((1 - blend) * pitch + blend * solved, 0.0)
+            blend = blend * (g.action != "run")
+            pitch = (1 - blend) * pitch + blend * solved
         return self._rocker(self.toe, pitch), pitch
 
     def _swing(self, u, lift):
@@ -326,6 +329,13 @@ class _FootPath:
                 (u - g.heel_rise) / (g.toe_off - g.heel_rise))
         return {"ankle": ankle, "rotation": rotation, "u": u, "heel": heel, "toe": toe,
                 "along": along, "cop": heel + along[:, None] ** pace * (toe - heel)}
+
+
+def _soft_nonpositive(x: np.ndarray, width: float) -> np.ndarray:
+    """``min(x, 0)`` with the corner rounded over ``±width``, twice continuously
+    differentiable: ``x − r(x)`` where r' is the quintic smoothstep across the corner."""
+    t = np.clip((x + width) / (2 * width), 0.0, 1.0)
+    return np.where(x >= width, 0.0, x - 2 * width * t**4 * (2.5 - 3 * t + t**2))
 
 
 def _smoothstep(s: np.ndarray) -> np.ndarray:
