@@ -21,12 +21,19 @@ within ``step`` of what the uncalibrated sole predicts for that floor.
 
 Floors that are not flat. A stance whose sole (with the calibrated offset) is more than
 ``step`` off the reference floor stands on its own level (a stair, a step, a platform):
-its floor height is the ankle height minus ``d``. Each frame's floor under a foot is that
-of the foot's stance during a stance, and the lower of the two stances around a swing (of the first or
-last stance and the reference floor before or after them). A stance below the floor counts
-as a level only where the foot's stances lie on several levels (stairs down); the
-skeleton's flat-floor sole calibration, which takes the median over the levels, is then
-undone for that foot (``prior_shift``).
+its floor height is where its lowest sole point stands (median over the stance; for a
+flat foot the ankle height minus ``d``, but also right for a foot still on its toes).
+Each frame's floor under a foot is that of the foot's stance during a stance, and the
+lower of the two stances around a swing (of the first or last stance and the reference
+floor before or after them). A stance below the floor counts as a level only where the
+stances, of one foot or of both, lie on several levels (stairs down; in a one-cycle stair
+trial each foot may stand on one step only); the skeleton's flat-floor sole calibration,
+which takes the median over a foot's stances, is then undone (``prior_shift``). On
+several levels, before a foot's first and after its last stance the floor follows the
+foot (:func:`_open_ends`): where its lowest point is nearly still it stands there (a
+foot rolling off its toe as the trial starts or ends), where it moves the floor is a
+``step`` below it (reaching for a step the trial does not show), so a stair trial's
+first and last steps neither penetrate nor carry weight they could not.
 
 Load preference. Among the contact forces that supply the same wrench the solve prefers
 points nearest their floor and slowest, like a compliant sole: each point's share of the
@@ -144,17 +151,22 @@ def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndar
     if frames < 3:
         return result
     world = points_in_world(points, list(segments), world_r, world_p)
-    found = []
+    stances = {}
     for foot in sorted(set(segments.tolist())):
         mine = np.flatnonzero(segments == foot)
         runs = _stance_runs(world[:, mine], rate, still_speed)
-        if not runs:
-            continue
+        if runs:
+            stances[foot] = (mine, runs, np.array([float(np.median(world_p[a:b, foot, 1]))
+                                                   for a, b in runs]))
+    # Several levels when the stances, of one foot or of both, lie more than two steps
+    # apart (stairs: in a one-cycle trial each foot may stand on one step only).
+    seen = np.concatenate([h for _, _, h in stances.values()]) if stances else np.zeros(1)
+    several = bool(seen.max() - seen.min() > 2 * step)
+    found = []
+    for foot, (mine, runs, heights) in stances.items():
         normal = _stance_normal(world_r[:, foot], runs,
                                 up=(sole_up or {}).get(int(foot), np.array([0.0, 1.0, 0.0])))
-        heights = np.array([float(np.median(world_p[a:b, foot, 1])) for a, b in runs])
         prior = (prior_shift or {}).get(int(foot), 0.0)
-        several = heights.max() - heights.min() > 2 * step
         if prior and several:
             # Several levels: an earlier flat-floor calibration took their median; undo it
             # and keep the sole the geometry gives (markers or the skeleton).
@@ -163,19 +175,25 @@ def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndar
         d0 = -float(np.median(points[mine] @ normal))
         ground = np.abs(heights - d0 - floor) < step
         d = float(np.median(heights[ground] - floor)) if ground.any() else d0
-        found.append((foot, mine, runs, heights, normal, d0, d, ground, several))
+        found.append((foot, mine, runs, heights, normal, d0, d, ground))
     # Stances on other levels, only when a foot stands on the floor in the trial (a body
     # that never touches it is held up, not on a stage): above the floor (a step, stairs, a
     # platform); below it only among several levels (stairs down from the floor), so feet
     # sunk into a flat floor still penetrate it.
     grounded = any(entry[7].any() for entry in found)
     default = np.array([0.0, 1.0, 0.0])
-    for foot, mine, runs, heights, normal, d0, d, ground, several in found:
-        off = heights - d - floor
-        other = ((off >= step) | (several & (off <= -step))) & grounded
-        run_floor = np.where(other, heights - d, floor)
+    for foot, mine, runs, heights, normal, d0, d, ground in found:
         calibrated[mine] = points[mine] - np.outer(points[mine] @ normal + d, normal)
-        floors[:, mine] = _floor_under(runs, run_floor, frames, floor)[:, None]
+        sole = points_in_world(calibrated[mine], [foot] * mine.size, world_r, world_p)
+        # A stance's level: where its lowest sole point stands (the ankle's height less d
+        # would put a foot still on its toes, heel up, above its step).
+        level = np.array([float(np.median(sole[a:b, :, 1].min(axis=1))) for a, b in runs])
+        off = level - floor
+        other = ((off >= step) | (several & (off <= -step))) & grounded
+        run_floor = np.where(other, level, floor)
+        ends = _open_ends(sole, runs, run_floor, rate, still_speed, step) \
+            if several and grounded else None
+        floors[:, mine] = _floor_under(runs, run_floor, frames, floor, ends)[:, None]
         reference = (sole_up or {}).get(int(foot), default)
         result.pitch_deg[int(foot)] = float(np.degrees(np.arccos(np.clip(normal @ reference,
                                                                           -1, 1))))
@@ -290,10 +308,12 @@ def joint_soles(humanoid: Humanoid, feet: dict[str, str], world_r: np.ndarray,
 
 
 def _floor_under(runs: list[tuple[int, int]], levels: np.ndarray, frames: int,
-                 floor: float) -> np.ndarray:
+                 floor: float, ends: tuple[np.ndarray, np.ndarray] | None = None
+                 ) -> np.ndarray:
     """Per frame, the floor under a foot: its stance's level during a stance; between
     two stances the lower of the two (a swinging foot is above both); before the first
-    and after the last, the lower of that stance's and the reference floor."""
+    and after the last, the lower of that stance's and the reference floor, or ``ends``
+    (the floor over the frames before the first and after the last, :func:`_open_ends`)."""
     out = np.empty(frames)
     starts = np.array([a for a, _ in runs])
     stops = np.array([b for _, b in runs])
@@ -307,7 +327,50 @@ def _floor_under(runs: list[tuple[int, int]], levels: np.ndarray, frames: int,
                       np.where(before + 1 >= len(runs), min(levels[-1], floor),
                                np.minimum(previous, following)))
     out[inside] = levels[after[inside]]
+    if ends is not None:
+        out[:starts[0]] = ends[0]
+        out[stops[-1]:] = ends[1]
     return out
+
+
+def _open_ends(world: np.ndarray, runs: list[tuple[int, int]], levels: np.ndarray,
+               rate: float, still_speed: float, step: float) -> tuple[np.ndarray, np.ndarray]:
+    """The floor under a foot before its first and after its last stance on a floor of
+    several levels, where the reference floor says nothing (stairs: the step a foot
+    pushes off from as the trial starts, the one it reaches for as it ends).
+
+    ``world`` (frames, points, 3) are the foot's calibrated contact points. Going away
+    from the stance (back in time before the first, forward after the last), where the
+    foot's lowest point is slower than twice ``still_speed`` it stands there (rolling off
+    the toe, a stance the trial's edge cut short): that is the floor; where it moves, the floor
+    is at least a ``step`` below where it has been since (on its way to a step further
+    down: not in contact, not in it). Starts from the stance's level.
+
+    Returns
+    -------
+    before, after : ndarray
+        The floor over the frames before the first stance and after the last, metres.
+    """
+    speed = np.linalg.norm(np.gradient(world, 1.0 / rate, axis=0), axis=2)
+    lowest = world[:, :, 1].argmin(axis=1)
+    index = np.arange(world.shape[0])
+    height = world[index, lowest, 1]
+    slow = speed[index, lowest] < 2.0 * still_speed        # a toe rolls off at up to ~0.3 m/s
+
+    def away(h: np.ndarray, standing: np.ndarray, level: float) -> np.ndarray:
+        out = np.empty(h.size)
+        group = np.cumsum(standing)                  # frames since the last standing one
+        start = np.r_[level, h[standing]][group]     # where the foot last stood
+        for g in np.unique(group):
+            mine = group == g
+            out[mine] = np.minimum(start[mine], np.minimum.accumulate(
+                np.where(standing[mine], np.inf, h[mine] - step)))
+        return out
+
+    first, last = runs[0][0], runs[-1][1]
+    before = away(height[:first][::-1], slow[:first][::-1], float(levels[0]))[::-1]
+    after = away(height[last:], slow[last:], float(levels[-1]))
+    return before, after
 
 
 def preference_weights(heights: np.ndarray, speeds: np.ndarray) -> np.ndarray:
