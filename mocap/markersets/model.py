@@ -74,7 +74,7 @@ class VirtualMarker:
     ----------
     name : str
     type : str
-        ``"midpoint"``, ``"offset"`` or ``"hip_joint_centre"``.
+        ``"midpoint"``, ``"offset"``, ``"hip_joint_centre"`` or ``"joint_centre"``.
     markers : tuple of str
         Inputs: two or more for a midpoint; frame markers (origin, axis point,
         plane point) for an offset; RASI, LASI and SACR (or a stand-in) for a
@@ -84,13 +84,16 @@ class VirtualMarker:
     offset : tuple of 3 float or None
         Offset in metres in the frame of ``markers`` (``"offset"`` only).
     method, side : str or None
-        Regression and hip (``"left"``/``"right"``) (``"hip_joint_centre"`` only).
+        Regression (``"hip_joint_centre"`` only) and side (``"left"``/``"right"``).
+    joint : str or None
+        ``"knee"`` or ``"ankle"`` (``"joint_centre"`` only).
     leg_length : float or None
         Metres (davis); when None it is estimated from ``ankle``.
     ankle : str or None
         Ankle marker of the same side, to estimate the leg length (davis).
     marker_diameter : float
-        Metres (davis), default 0.014.
+        Metres (davis; a joint centre when the trial stores no MarkerDiameter),
+        default 0.014.
     """
 
     name: str
@@ -100,6 +103,7 @@ class VirtualMarker:
     offset: tuple[float, float, float] | None = None
     method: str | None = None
     side: str | None = None
+    joint: str | None = None
     leg_length: float | None = None
     ankle: str | None = None
     marker_diameter: float = 0.014

@@ -41,6 +41,14 @@ A marker set is a TOML file (``docs/formats/markerset-toml.md``)::
     # leg_length = 0.87             # davis: or given, metres
     marker_diameter = 0.014         # davis: metres
 
+    [[virtual]]                     # Plug-in Gait's knee (or ankle) joint centre
+    name = "LKJC"
+    type = "joint_centre"
+    joint = "knee"                  # knee | ankle: the subject's width and rotation offset
+    side = "left"
+    markers = ["LTHI", "LHJC", "LKNE"]   # wand, proximal joint centre, marker on the joint
+    marker_diameter = 0.014         # when the trial stores no PROCESSING:MarkerDiameter
+
 ``markers`` of a segment are origin, axis point and plane point: per frame,
 ``e1 = unit(p2 - p1)``, ``e3 = unit(e1 x (p3 - p1))``, ``e2 = e3 x e1`` and the
 segment's rotation is ``[e1 e2 e3]`` (columns), its origin ``p1``.  The optional
@@ -74,7 +82,7 @@ import numpy as np
 from mocap.errors import MocapError, reading
 from mocap.markersets.axes import AXIS_NAMES, axes_matrix
 from mocap.markersets.model import MarkerSet, Segment, VirtualMarker
-from mocap.markersets.virtual import HJC_METHODS, VIRTUAL_TYPES
+from mocap.markersets.virtual import HJC_METHODS, JOINT_CENTRES, VIRTUAL_TYPES
 
 
 def preset_names() -> list[str]:
@@ -255,6 +263,7 @@ def _parse_virtual(i: int, raw: Any, path: str | None) -> VirtualMarker:
     allowed = {"name", "type", "markers", "fallback", "description"} | {
         "midpoint": set(), "offset": {"offset"},
         "hip_joint_centre": {"method", "side", "leg_length", "ankle", "marker_diameter"},
+        "joint_centre": {"joint", "side", "marker_diameter"},
     }[kind]
     unknown = set(raw) - allowed
     if unknown:
@@ -269,9 +278,11 @@ def _parse_virtual(i: int, raw: Any, path: str | None) -> VirtualMarker:
     fields: dict[str, Any] = {}
     if kind == "midpoint" and len(markers) < 2:
         raise _fail(f"virtual marker '{name}': a midpoint needs 2 or more markers", path)
-    if kind in ("offset", "hip_joint_centre") and len(markers) != 3:
-        what = ("origin, axis point and plane point" if kind == "offset"
-                else "RASI, LASI and SACR (or the PSIS midpoint)")
+    if kind in ("offset", "hip_joint_centre", "joint_centre") and len(markers) != 3:
+        what = {"offset": "origin, axis point and plane point",
+                "hip_joint_centre": "RASI, LASI and SACR (or the PSIS midpoint)",
+                "joint_centre": "wand, proximal joint centre and the marker on the joint",
+                }[kind]
         raise _fail(f"virtual marker '{name}' ({kind}) has {len(markers)} markers; "
                     f"exactly 3 are needed ({what})", path)
     if kind == "offset":
@@ -309,6 +320,21 @@ def _parse_virtual(i: int, raw: Any, path: str | None) -> VirtualMarker:
         if method == "davis" and "leg_length" not in fields and "ankle" not in fields:
             raise _fail(f"virtual marker '{name}': the davis regression needs "
                         f"'leg_length' (metres) or an 'ankle' marker to estimate it", path)
+    if kind == "joint_centre":
+        joint, side = raw.get("joint"), raw.get("side")
+        if joint not in JOINT_CENTRES:
+            raise _fail(f"virtual marker '{name}': 'joint' must be one of "
+                        f"{', '.join(JOINT_CENTRES)}, not {joint!r}", path)
+        if side not in ("left", "right"):
+            raise _fail(f"virtual marker '{name}': 'side' must be \"left\" or \"right\"", path)
+        fields.update(joint=joint, side=side)
+        if "marker_diameter" in raw:
+            value = raw["marker_diameter"]
+            if (not isinstance(value, (int, float)) or isinstance(value, bool)
+                    or not np.isfinite(value) or not 0 <= value < 0.1):
+                raise _fail(f"virtual marker '{name}': 'marker_diameter' must be a "
+                            f"number of metres below 0.1", path)
+            fields["marker_diameter"] = float(value)
     return VirtualMarker(name=name, type=kind, markers=markers, fallback=fallback, **fields)
 
 

@@ -1,4 +1,5 @@
-"""Virtual markers: midpoints, fixed offsets in a marker frame, hip joint centre regressions.
+"""Virtual markers: midpoints, fixed offsets in a marker frame, hip joint centre regressions,
+Plug-in Gait's knee and ankle joint centres.
 
 The ``[[virtual]]`` tables of a marker set (``docs/formats/markerset-toml.md``) become
 :class:`~mocap.markersets.model.VirtualMarker` objects; :func:`virtual_positions` computes
@@ -40,6 +41,20 @@ pyCGM's sample, within 1-6 % of the measured leg length; an error of 20 mm in
 *J Biomech* 40:595-602, the width-and-depth regression), in millimetres::
 
     X = -0.24 PD - 9.9,  Y = 0.33 PW + 7.3,  Z = -0.30 PW - 10.9
+
+Knee and ankle joint centres
+----------------------------
+``joint_centre`` is Plug-in Gait's chord (:func:`mocap.plugingait.chord`): from the wand
+(plane) marker, the proximal joint centre and the marker on the joint (THI, HJC, KNE for
+the knee; TIB, KJC, ANK for the ankle), the centre lies at half the joint's width plus the
+marker radius from the marker, at a right angle to the proximal joint centre, in the wand's
+plane turned about the segment axis by the subject's thigh (knee) or shank (ankle)
+rotation offset. Width, rotation offset and marker diameter are the subject values Vicon
+stores in the trial's PROCESSING group (``LKneeWidth``, ``LThighRotation``,
+``MarkerDiameter``, …). On the biomechzoo Plug-in Gait walks this gives Vicon's own knee
+joint centre (the femur origin ``LFEO``/``RFEO`` stored in the files) to a median 2 mm;
+the lateral knee marker is 50-70 mm away. A trial without the width keeps the marker on
+the joint (a width of 0): the centre then sits on the flexion axis's lateral end.
 """
 from __future__ import annotations
 
@@ -49,7 +64,10 @@ from mocap.markersets.axes import frame_from_markers
 from mocap.trial import Trial
 
 #: Kinds of virtual markers.
-VIRTUAL_TYPES = ("midpoint", "offset", "hip_joint_centre")
+VIRTUAL_TYPES = ("midpoint", "offset", "hip_joint_centre", "joint_centre")
+#: Joints whose centre ``joint_centre`` finds: the subject width and rotation offset used.
+JOINT_CENTRES = {"knee": ("knee_width", "thigh_rotation"),
+                 "ankle": ("ankle_width", "shank_rotation")}
 #: Hip joint centre regressions.
 HJC_METHODS = ("davis", "bell", "harrington")
 
@@ -87,6 +105,8 @@ def virtual_positions(v, get, trial: Trial, keep: list[np.ndarray] | None = None
     if v.type == "offset":
         rotation = frame_from_markers(*inputs)
         return inputs[0] + np.einsum("fij,j->fi", rotation, np.asarray(v.offset))
+    if v.type == "joint_centre":
+        return _chord_joint_centre(v, *inputs, trial=trial)
     return _hip_joint_centre(v, *inputs, ankle=get(v.ankle) if v.ankle else None,
                              trial=trial, keep=keep)
 
@@ -163,6 +183,30 @@ def hip_joint_centre_offset(method: str, side: str, pelvis_width: float,
     else:
         raise ValueError(f"unknown hip joint centre method {method!r}")
     return np.array([x, sign * y, z])
+
+
+def _chord_joint_centre(v, plane: np.ndarray, joint: np.ndarray, marker: np.ndarray,
+                        trial: Trial) -> np.ndarray:
+    """Plug-in Gait's knee or ankle joint centre (module docstring), metres."""
+    # deferred: mocap.plugingait imports the marker-set model, which imports this module
+    from mocap.plugingait import chord, subject_from_trial
+
+    subject = subject_from_trial(trial)
+    side = v.side[0]
+    width_key, rotation_key = JOINT_CENTRES[v.joint]
+    width = getattr(subject, width_key)[side]
+    parameters = (trial.metadata.get("parameters") or {}).get("PROCESSING") or {}
+    stored = {str(k).upper() for k in parameters}
+    radius = (subject.radius / 1000.0 if "MARKERDIAMETER" in stored
+              else v.marker_diameter / 2.0)
+    if width is None:
+        return np.array(marker, float)
+    # Vicon's rotation offsets turn the wand's plane the other way round from
+    # mocap.plugingait.rotate_about's sense on the left side (measured against the femur
+    # origins Vicon stores: 2 mm this way, 5-40 mm the other).
+    sign = -1.0 if side == "l" else 1.0
+    return chord(plane, joint, marker, width / 2000.0 + radius,
+                 sign * getattr(subject, rotation_key)[side])
 
 
 def _hip_joint_centre(v, rasi, lasi, sacr, ankle, trial: Trial,
