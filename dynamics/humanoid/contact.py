@@ -62,11 +62,12 @@ PREFERENCE_SPEED = 0.1
 MAX_PITCH_DEG = 30.0
 #: Ridge cost of a contact force along its preferred direction, relative to the edges.
 PREFERRED_COST = 0.1
-#: A rig's sole below its toe point, in leg lengths (hip to ankle): 3 cm for a 0.86 m leg,
-#: the middle of what a toe point can be — a toe-tip end site on the sole (0), the
-#: metatarsophalangeal joint centre barefoot (about 2 cm) or in shoes (4-6 cm) — so
-#: that :func:`calibrate_contacts`'s 3 cm step reaches all of them.
-SOLE_BELOW_TOE = 0.035
+#: A rig's sole below its toe point, in leg lengths, by what the point is: the middle of
+#: the range each can be, so that :func:`calibrate_contacts`'s 3 cm step reaches all of
+#: it. A toe joint (the metatarsophalangeal joint centre) stands about 2 cm above the
+#: sole barefoot and 4-6 cm in shoes: 4 cm for a 0.86 m leg (Bandai's stand 4.0-5.8 cm
+#: above the floor in stance). A toe-tip end site lies 0-2 cm above it: 1 cm.
+SOLE_BELOW_TOE = {"toe joint": 0.047, "end site": 0.012}
 #: A rig's sole at least this far below its ankle joint centre, in leg lengths: the
 #: lateral malleolus height 0.039 of the stature over the hip-to-ankle 0.491 (Winter
 #: 2009, Fig. 4.1), 6.8 cm for a 0.86 m leg.
@@ -290,7 +291,7 @@ def joint_soles(humanoid: Humanoid, feet: dict[str, str], world_r: np.ndarray,
         mine = np.flatnonzero(segments == foot)
         toe = skeleton.end_sites[foot]
         normal = _flat_foot_normal(world_r[:, foot], world_p[:, foot], toe)
-        level = min(toe @ normal - SOLE_BELOW_TOE * leg, -SOLE_BELOW_ANKLE * leg)
+        level = min(toe @ normal - SOLE_BELOW_TOE[kind] * leg, -SOLE_BELOW_ANKLE * leg)
         laid = foot_points(toe, up=normal)
         if kind == "toe joint":
             # The toes beyond the toe joint (phalanges), which push off after the heel
