@@ -315,12 +315,7 @@ def unwrap_columns(values: np.ndarray, period: float = 360.0) -> np.ndarray:
     values = np.array(values, dtype=float, order="C")
     valid = ~np.isnan(values)
     if valid.all():
-        # np.unwrap's result (whole turns removed where a step exceeds half a turn),
-        # in a third of its time: the turns are counted as integers
-        step = np.diff(values, axis=0)
-        turns = np.rint(step / period)
-        turns[np.abs(step) <= period / 2] = 0.0
-        values[1:] -= period * np.cumsum(turns, axis=0)
+        _remove_turns(values, period)
         return values
     flat, valid = values.reshape(values.shape[0], -1), valid.reshape(values.shape[0], -1)
     for column in np.flatnonzero(~valid.all(axis=0)):   # loop over columns with gaps only
@@ -329,6 +324,8 @@ def unwrap_columns(values: np.ndarray, period: float = 360.0) -> np.ndarray:
     complete = valid.all(axis=0)
     flat[:, complete] = np.unwrap(flat[:, complete], period=period, axis=0)
     return values
+
+
 def unwrap_turns(values: np.ndarray) -> np.ndarray:
     """The principal branch's continuity: whole turns of the first and third angles.
 
@@ -351,8 +348,32 @@ def unwrap_turns(values: np.ndarray) -> np.ndarray:
     array([170., 185.,  nan, 190.])
     """
     out = np.array(values, dtype=float, copy=True)
-    out[..., [0, 2]] = unwrap_columns(out[..., [0, 2]])
+    _unwrap_turns_in_place(out)
     return out
+
+
+def _remove_turns(values: np.ndarray, period: float) -> None:
+    """:func:`unwrap_columns` of columns without NaN, in place (``values`` may be a strided
+    view): np.unwrap's result (whole turns removed where a step exceeds half a turn) in a
+    third of its time, the turns being counted as integers."""
+    step = np.diff(values, axis=0)
+    turns = np.divide(step, period)
+    np.rint(turns, out=turns)
+    turns[np.abs(step) <= period / 2] = 0.0
+    np.cumsum(turns, axis=0, out=turns)
+    turns *= period
+    values[1:] -= turns
+
+
+def _unwrap_turns_in_place(values: np.ndarray) -> None:
+    """:func:`unwrap_turns` on ``values`` itself (frames, ..., 3): without a copy of the
+    first and third angles when they have no gap."""
+    first, third = values[..., 0], values[..., 2]
+    if np.isnan(first).any() or np.isnan(third).any():
+        values[..., [0, 2]] = unwrap_columns(values[..., [0, 2]])
+    else:
+        _remove_turns(first, 360.0)
+        _remove_turns(third, 360.0)
 
 
 
@@ -532,7 +553,7 @@ def joint_angles(trial: Trial, markerset: MarkerSet, sequence: str = DEFAULT_SEQ
         near[block] = near_gimbal_lock(principal, sequence, gimbal_tolerance)
         values[block] = unwrapper(principal) if continuous else principal
     if unwrap and not continuous:
-        values = unwrap_turns(values)
+        _unwrap_turns_in_place(values)          # values is ours: no copy
     _warn_gimbal(near, sequence, markerset.segment_names, trial, gimbal_tolerance)
     return JointAngles(times=trial.times, values=values, segments=markerset.segment_names,
                        sequence=sequence, parents=list(parents))

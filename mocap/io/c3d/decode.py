@@ -48,19 +48,29 @@ def decode_c3d_data(layout: C3DLayout) -> tuple[np.ndarray, np.ndarray, np.ndarr
             layout.frames, n_words)
     point_words = values[:, :4 * layout.point_count].reshape(layout.frames,
                                                             layout.point_count, 4)
+    dec_floats = layout.processor == "dec" and layout.is_float
     with np.errstate(invalid="ignore", over="ignore"):
         points = point_words[:, :, :3].astype(float)
-        fourth = point_words[:, :, 3].astype(float)
-        if layout.processor == "dec" and layout.is_float:
+        if dec_floats:
             points /= 4.0
-            fourth /= 4.0
     if not layout.is_float:
         points *= layout.scale
     # Fourth word: high byte camera mask, low byte residual; a negative word
-    # (a negative float in float files) marks an invalid point.
+    # (a negative float in float files) marks an invalid point. Worked on in the stored
+    # type (a quarter of float64's memory): the low byte of a word clipped to [0, 65535].
+    fourth = point_words[:, :, 3]
     invalid = ~(fourth >= 0)
-    word = np.clip(np.where(invalid, 0, fourth), 0, 65535).astype(np.int64)
-    residuals = np.where(invalid, -1.0, (word & 0xFF) * abs(layout.scale))
+    if layout.is_float:
+        word = fourth.astype(np.float32)        # native order; /4 is exact (a power of 2)
+        if dec_floats:
+            word /= 4.0
+        word[invalid] = 0.0
+        low = np.minimum(word, 65535.0, out=word).astype(np.int32)     # toward zero
+    else:
+        low = fourth.astype(np.int32)           # negative words are invalid, set below
+    low &= 0xFF
+    residuals = np.multiply(low, abs(layout.scale))
+    residuals[invalid] = -1.0
     analogs = values[:, 4 * layout.point_count:].reshape(
         layout.frames * max(layout.analog_samples_per_frame, 0), layout.analog_channels) \
         if layout.analog_channels else np.zeros((0, 0))
