@@ -14,7 +14,7 @@ import numpy as np
 from mocap.angles import CLINICAL_AXES, SEQUENCES, JointAngles, axis_names
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
-from mocap.io.text_table import format_fixed, read_text
+from mocap.io.text_table import read_text, write_table
 from mocap.markersets.model import MarkerSet
 
 
@@ -22,18 +22,15 @@ def write_angles_csv(angles: JointAngles, path: str | os.PathLike) -> None:
     """Write joint angles as CSV (docs/formats/angles-csv.md), all-or-nothing.
 
     Header ``time,<segment>.<axis>,…``; time in seconds, angles in degrees
-    with 6 decimals (``%.6f``, vectorised: :func:`mocap.io.text_table.format_fixed`); a
+    with 6 decimals (``%.6f``, vectorised: :func:`mocap.io.text_table.write_table`); a
     NaN angle is an empty cell.
     """
     frames, segments, _ = angles.values.shape
-    table = np.empty((frames, 1 + 3 * segments))
-    table[:, 0] = angles.times
-    table[:, 1:] = angles.values.reshape(frames, 3 * segments)
-    body = format_fixed(table, decimals=6, delimiter=",")
     with atomic_path(path) as tmp:
         with open(tmp, "wb") as handle:
             handle.write((",".join(angles.columns) + "\n").encode("utf-8"))
-            handle.write(body)
+            write_table(handle, [angles.times, angles.values.reshape(frames, 3 * segments)],
+                        6, ",", nan="")
 
 
 _EMPTY_CELL = re.compile(r"(?<=,)(?=,|$)|^(?=,)", re.MULTILINE)

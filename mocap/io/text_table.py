@@ -185,19 +185,68 @@ def format_table(table: np.ndarray, decimals, delimiter: str, nan: str = "NaN",
     return text.encode("ascii") if as_bytes else text
 
 
+#: Rows per call of the compiled loop in :func:`write_table`: a block's text is a few MB,
+#: not a second copy of the whole file in memory.
+WRITE_BLOCK_ROWS = 4096
+
+
+def write_table(handle, parts, decimals, delimiter: str, nan: str = "NaN") -> None:
+    """Write :func:`format_table`'s text of columns given side by side, block by block.
+
+    The same bytes as ``handle.write(format_table(np.column_stack(parts), decimals,
+    delimiter, nan, as_bytes=True))``, without building the whole table or its whole
+    text in memory (for 100 000 rows × 46 columns, 37 MB and 55 MB fewer fresh pages).
+
+    Parameters
+    ----------
+    handle : binary file
+        Open for writing.
+    parts : sequence of ndarray, each shape (rows,) or (rows, k), float
+        The table's columns in order; a 1-D part is one column.
+    decimals, delimiter, nan
+        As for :func:`format_table`.
+    """
+    parts = [np.asarray(part, dtype=float) for part in parts]
+    parts = [part[:, None] if part.ndim == 1 else part for part in parts]
+    rows = parts[0].shape[0] if parts else 0
+    width = sum(part.shape[1] for part in parts)
+    places = np.broadcast_to(np.asarray(decimals, dtype=np.int64), (width,)).copy()
+    if rows * width <= COMPILED_ABOVE or not _compiled_can_write(parts, places):
+        handle.write(format_table(np.column_stack(parts) if parts else np.zeros((0, 0)),
+                                  places, delimiter, nan, as_bytes=True))
+        return
+    from mocap.io.text_kernels import POW10, format_kernel
+
+    for start in range(0, rows, WRITE_BLOCK_ROWS):
+        block = np.hstack([part[start:start + WRITE_BLOCK_ROWS] for part in parts])
+        raw, ok = format_kernel(block, places, np.uint8(ord(delimiter)), POW10, nan == "NaN")
+        assert ok, "checked by _compiled_can_write"
+        handle.write(raw)
+
+
+def _compiled_can_write(parts: list[np.ndarray], places: np.ndarray) -> bool:
+    """Whether format_kernel accepts every cell: finite or NaN, and below its limit
+    (``9e15`` units of the last decimal place), as it checks cell by cell."""
+    if places.min() < 0 or places.max() > 15:
+        return True             # format_table raises the error
+    from mocap.io.text_kernels import POW10
+
+    limit = 9.0e15 / POW10[places]
+    first = 0
+    for part in parts:
+        if part.shape[0]:
+            with np.errstate(invalid="ignore"):
+                largest = np.fmax(np.fmax.reduce(part, axis=0), -np.fmin.reduce(part, axis=0))
+            if (largest >= limit[first:first + part.shape[1]]).any():  # inf too; NaN not
+                return False
+        first += part.shape[1]
+    return True
+
+
 def _fixed(value: float, places: int) -> str:
     """``value`` with ``places`` decimals; no sign on a value that rounds to zero."""
     text = f"{value:.{places}f}"
     return text[1:] if text[0] == "-" and not text.strip("-0.") else text
-
-
-def format_fixed(table: np.ndarray, decimals: int = 6, delimiter: str = ",") -> bytes:
-    """Rows of numbers as fixed-point text, NaN as an empty cell: ``-12.345679,,0.5\\n``.
-
-    :func:`format_table` with one number of decimals for every column (the angle CSV's
-    writer); ASCII bytes, ready to write.
-    """
-    return format_table(table, decimals, delimiter, nan="", as_bytes=True)
 
 
 def mark_missing(points: np.ndarray) -> np.ndarray:

@@ -130,3 +130,25 @@ def test_compiled_and_python_paths_agree(monkeypatch):
     # both are the value rounded to 6 decimals (they may differ in a last-digit tie)
     np.testing.assert_allclose(a, b, rtol=0, atol=1.0000001e-6)
     np.testing.assert_allclose(a, values, rtol=1e-15, atol=5.000001e-7)
+
+
+@pytest.mark.parametrize("huge", [False, True])
+def test_write_table_writes_format_tables_bytes_block_by_block(tmp_path, monkeypatch, huge):
+    """Streaming columns side by side gives the bytes of the whole table formatted at once,
+    through the compiled loop, or through Python when one cell is beyond the loop's limit."""
+    import io
+
+    from mocap.io import text_table
+
+    monkeypatch.setattr(text_table, "WRITE_BLOCK_ROWS", 700)
+    rng = np.random.default_rng(8)
+    times = np.arange(2000) / 100.0
+    values = rng.normal(0, 50, (2000, 60))
+    values[rng.random(values.shape) < 0.05] = np.nan
+    if huge:
+        values[1500, 7] = 2e10                  # >= 9e15 millionths: the Python path
+    handle = io.BytesIO()
+    text_table.write_table(handle, [times, values], 6, ",", nan="")
+    expected = format_table(np.column_stack([times, values]), 6, ",", nan="", as_bytes=True)
+    assert handle.getvalue() == expected
+    assert handle.getvalue().count(b"\n") == 2000 and (b"20000000000.000000" in expected) == huge

@@ -18,6 +18,12 @@ def _stored_floats(raw: bytes, processor: str) -> np.ndarray:
     return np.frombuffer(raw, dtype="<f4")
 
 
+#: Bytes of the data section decoded at a time: each block's words and temporaries stay
+#: small (a few MB), so only the outputs take fresh memory (a 100 000-frame trial is
+#: hundreds of MB as float64; reading it whole first would add the file's size again).
+BLOCK_BYTES = 1 << 22
+
+
 def decode_c3d_data(layout: C3DLayout) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Decode the data section of a checked file, vectorised over frames.
 
@@ -35,29 +41,46 @@ def decode_c3d_data(layout: C3DLayout) -> tuple[np.ndarray, np.ndarray, np.ndarr
     analogs : ndarray, shape (frames * samples_per_frame, channels), float
         Raw stored analog values (no scale or offset applied).
     """
+    frames, count = layout.frames, layout.point_count
+    channels, samples = layout.analog_channels, max(layout.analog_samples_per_frame, 0)
+    points = np.empty((frames, count, 3))
+    residuals = np.empty((frames, count))
+    analogs = np.empty((frames * samples, channels)) if channels else np.zeros((0, 0))
+    step = max(1, BLOCK_BYTES // max(layout.frame_bytes, 1))
     with open(layout.path, "rb") as handle:
         handle.seek(layout.data_offset)
-        raw = handle.read(layout.frames * layout.frame_bytes)
+        # a Python loop over blocks of frames (not over frames), see BLOCK_BYTES
+        for start in range(0, frames, step):
+            stop = min(start + step, frames)
+            raw = handle.read((stop - start) * layout.frame_bytes)
+            _decode_block(layout, raw, stop - start, points[start:stop],
+                          residuals[start:stop],
+                          analogs[start * samples:stop * samples] if channels else None)
+    return points, residuals, analogs
+
+
+def _decode_block(layout: C3DLayout, raw: bytes, frames: int, points: np.ndarray,
+                  residuals: np.ndarray, analogs: np.ndarray | None) -> None:
+    """Decode ``frames`` whole frames of stored words into the given output slices."""
     n_words = layout.frame_bytes // layout.word_bytes
     # Stored words as they are (float32 or int16, no copy); each part is converted to
-    # float64 once, by itself (a 100 000-frame trial is hundreds of MB as float64).
+    # float64 once, by itself.
     if layout.is_float:
-        values = _stored_floats(raw, layout.processor).reshape(layout.frames, n_words)
+        values = _stored_floats(raw, layout.processor).reshape(frames, n_words)
     else:
         values = np.frombuffer(raw, dtype=int_dtype(layout.processor, 2)).reshape(
-            layout.frames, n_words)
-    point_words = values[:, :4 * layout.point_count].reshape(layout.frames,
-                                                            layout.point_count, 4)
+            frames, n_words)
+    point_words = values[:, :4 * layout.point_count].reshape(frames, layout.point_count, 4)
     dec_floats = layout.processor == "dec" and layout.is_float
     with np.errstate(invalid="ignore", over="ignore"):
-        points = point_words[:, :, :3].astype(float)
+        points[...] = point_words[:, :, :3]
         if dec_floats:
             points /= 4.0
     if not layout.is_float:
         points *= layout.scale
     # Fourth word: high byte camera mask, low byte residual; a negative word
     # (a negative float in float files) marks an invalid point. Worked on in the stored
-    # type (a quarter of float64's memory): the low byte of a word clipped to [0, 65535].
+    # type: the low byte of a word clipped to [0, 65535].
     fourth = point_words[:, :, 3]
     invalid = ~(fourth >= 0)
     if layout.is_float:
@@ -69,13 +92,10 @@ def decode_c3d_data(layout: C3DLayout) -> tuple[np.ndarray, np.ndarray, np.ndarr
     else:
         low = fourth.astype(np.int32)           # negative words are invalid, set below
     low &= 0xFF
-    residuals = np.multiply(low, abs(layout.scale))
+    np.multiply(low, abs(layout.scale), out=residuals)
     residuals[invalid] = -1.0
-    analogs = values[:, 4 * layout.point_count:].reshape(
-        layout.frames * max(layout.analog_samples_per_frame, 0), layout.analog_channels) \
-        if layout.analog_channels else np.zeros((0, 0))
-    if layout.analog_channels:
+    if analogs is not None:
         with np.errstate(invalid="ignore", over="ignore"):
-            analogs = analogs.astype(float) / (4.0 if layout.is_float
-                                               and layout.processor == "dec" else 1.0)
-    return points, residuals, analogs
+            analogs[...] = values[:, 4 * layout.point_count:].reshape(analogs.shape)
+            if layout.is_float and layout.processor == "dec":
+                analogs /= 4.0

@@ -322,17 +322,25 @@ def read_c3d(path: str | os.PathLike, engine: str = "mocap") -> Trial:
     return _to_trial(layout, engine, points, residuals, analogs, notes)
 
 
+def _frame_blocks(frames: int, size: int = 4096):
+    """Slices of ``size`` frames: the per-point masks and sums of a block stay small
+    (a loop over blocks of frames, not over frames)."""
+    return (slice(start, start + size) for start in range(0, frames, size))
+
+
 def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.ndarray,
               analogs: np.ndarray, notes: list[str]) -> Trial:
     points = np.asarray(points, dtype=float)       # a fresh array of the reader's: no copy
     if not points.flags.writeable:
         points = points.copy()
-    # the sum of a point's coordinates is finite when all three are (no overflow: they
-    # come from 16-bit integers or 32-bit floats); three strided passes, not a reduction
-    # along the last axis, which numpy runs several times slower
-    invalid = ~(residuals >= 0)
-    invalid |= ~np.isfinite(points[..., 0] + points[..., 1] + points[..., 2])
-    points[invalid] = np.nan
+    for block in _frame_blocks(points.shape[0]):
+        chunk = points[block]
+        # the sum of a point's coordinates is finite when all three are (no overflow: they
+        # come from 16-bit integers or 32-bit floats); strided adds, not a reduction along
+        # the last axis, which numpy runs several times slower
+        invalid = ~(residuals[block] >= 0)
+        invalid |= ~np.isfinite(chunk[..., 0] + chunk[..., 1] + chunk[..., 2])
+        chunk[invalid] = np.nan
 
     raw_labels = _point_labels(layout)
     point_group = layout.parameters.get("POINT", {})
@@ -353,10 +361,12 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
     factor = unit_factor(units) if units else None
     # without modelled outputs the markers are all the points (no copy: ``points`` is ours)
     markers = points[:, marker_columns, :] if is_modelled.any() else points
-    origin = markers[..., 0] == 0                       # a gap coded as (0, 0, 0)
-    origin &= markers[..., 1] == 0
-    origin &= markers[..., 2] == 0
-    markers[origin] = np.nan
+    for block in _frame_blocks(markers.shape[0]):
+        chunk = markers[block]
+        origin = chunk[..., 0] == 0                     # a gap coded as (0, 0, 0)
+        origin &= chunk[..., 1] == 0
+        origin &= chunk[..., 2] == 0
+        chunk[origin] = np.nan
     if factor is None and not np.isfinite(markers).any():
         factor = 1.0            # nothing to convert: no valid coordinate
     elif factor is None:
