@@ -44,7 +44,7 @@ pyCGM's sample, within 1-6 % of the measured leg length; an error of 20 mm in
 
 Knee and ankle joint centres
 ----------------------------
-``joint_centre`` is Plug-in Gait's chord (:func:`mocap.plugingait.chord`): from the wand
+``joint_centre`` is Plug-in Gait's chord (:func:`mocap.markersets.chord.chord`): from the wand
 (plane) marker, the proximal joint centre and the marker on the joint (THI, HJC, KNE for
 the knee; TIB, KJC, ANK for the ankle), the centre lies at half the joint's width plus the
 marker radius from the marker, at a right angle to the proximal joint centre, in the wand's
@@ -61,13 +61,15 @@ from __future__ import annotations
 import numpy as np
 
 from mocap.markersets.axes import frame_from_markers
+from mocap.markersets.chord import chord, processing_number
 from mocap.trial import Trial
 
 #: Kinds of virtual markers.
 VIRTUAL_TYPES = ("midpoint", "offset", "hip_joint_centre", "joint_centre")
-#: Joints whose centre ``joint_centre`` finds: the subject width and rotation offset used.
-JOINT_CENTRES = {"knee": ("knee_width", "thigh_rotation"),
-                 "ankle": ("ankle_width", "shank_rotation")}
+#: Joints whose centre ``joint_centre`` finds: the PROCESSING names of the subject's width
+#: (mm) and rotation offset (radians), ``{S}`` the side's letter.
+JOINT_CENTRES = {"knee": ("{S}KneeWidth", "{S}ThighRotation"),
+                 "ankle": ("{S}AnkleWidth", "{S}ShankRotation")}
 #: Hip joint centre regressions.
 HJC_METHODS = ("davis", "bell", "harrington")
 
@@ -188,25 +190,19 @@ def hip_joint_centre_offset(method: str, side: str, pelvis_width: float,
 def _chord_joint_centre(v, plane: np.ndarray, joint: np.ndarray, marker: np.ndarray,
                         trial: Trial) -> np.ndarray:
     """Plug-in Gait's knee or ankle joint centre (module docstring), metres."""
-    # deferred: mocap.plugingait imports the marker-set model, which imports this module
-    from mocap.plugingait import chord, subject_from_trial
-
-    subject = subject_from_trial(trial)
-    side = v.side[0]
-    width_key, rotation_key = JOINT_CENTRES[v.joint]
-    width = getattr(subject, width_key)[side]
-    parameters = (trial.metadata.get("parameters") or {}).get("PROCESSING") or {}
-    stored = {str(k).upper() for k in parameters}
-    radius = (subject.radius / 1000.0 if "MARKERDIAMETER" in stored
-              else v.marker_diameter / 2.0)
+    letter = v.side[0].upper()
+    width_name, rotation_name = (n.format(S=letter) for n in JOINT_CENTRES[v.joint])
+    width = processing_number(trial, width_name)
     if width is None:
         return np.array(marker, float)
+    diameter = processing_number(trial, "MarkerDiameter")
+    radius = diameter / 2000.0 if diameter and diameter > 0 else v.marker_diameter / 2.0
     # Vicon's rotation offsets turn the wand's plane the other way round from
-    # mocap.plugingait.rotate_about's sense on the left side (measured against the femur
-    # origins Vicon stores: 2 mm this way, 5-40 mm the other).
-    sign = -1.0 if side == "l" else 1.0
+    # mocap.markersets.chord.rotate_about's sense on the left side (measured against the
+    # femur origins Vicon stores: 2 mm this way, 5-40 mm the other).
+    sign = -1.0 if letter == "L" else 1.0
     return chord(plane, joint, marker, width / 2000.0 + radius,
-                 sign * getattr(subject, rotation_key)[side])
+                 sign * (processing_number(trial, rotation_name) or 0.0))
 
 
 def _hip_joint_centre(v, rasi, lasi, sacr, ankle, trial: Trial,
