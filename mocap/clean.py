@@ -3,7 +3,10 @@
 Gaps are filled from *donors* when some are given and seen throughout the gap (the
 other markers of the same rigid segment: the filled marker keeps its distances to them,
 so a long gap in a fast-turning segment keeps the segment's shape), otherwise by a cubic
-spline through the marker's own samples.
+spline through the marker's own samples.  With two donors one coordinate is left free
+(the turn about the donors' axis); it is predicted from the other markers of the trial
+by a regression on its recorded frames, and only the prediction's residual is
+interpolated across the gap.
 Both never invent data where they cannot know it: gaps
 longer than the maximum, or at the start or end of a trajectory (which would
 need extrapolation), stay NaN and are reported; the filter runs separately on
@@ -108,7 +111,8 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
               max_gap_seconds: float | None = None,
               donors: dict[str, list[str]] | None = None,
               only: list[str] | None = None,
-              references: dict[str, np.ndarray] | None = None) -> tuple[Trial, GapReport]:
+              references: dict[str, np.ndarray] | None = None,
+              correlate: bool = True, rehearse: bool = True) -> tuple[Trial, GapReport]:
     """Fill short gaps of every marker from donor markers or with a cubic spline.
 
     Parameters
@@ -123,17 +127,28 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
     donors : dict of str to list of str, optional
         Markers on the same rigid body as each marker (``MarkerSet.donors``).
         A gap is filled from the donors seen throughout the gap and on both edges,
-        keeping the marker rigid with them (see :func:`_rigid_fill`), unless the
-        marker's own spline fills the same gap better where it can be rehearsed
-        on recorded data next to it (:func:`_rigid_rehearses_better`); otherwise
-        by the spline.
+        keeping the marker rigid with them (see :func:`_rigid_fill`), unless
+        (``rehearse``) the marker's own spline fills the same gap better where it
+        can be rehearsed on recorded data next to it; otherwise by the spline.
     only : list of str, optional
         Fill only these labels (the others are left as they are, not reported).
     references : dict of str to ndarray (frames, 3), optional
         For a marker filled from two donors: a direction that turns with its
         segment about the donors' axis (a joint axis, say), from which the
-        marker's angle about that axis is measured and interpolated; the lab
-        axis most orthogonal to the donors' axis otherwise.
+        marker's angle about that axis is measured; the lab axis most
+        orthogonal to the donors' axis otherwise.
+    correlate : bool
+        For a marker filled from two donors, predict its one free coordinate
+        (its angle about the donors' axis) from the other markers seen
+        throughout the gap, by a regression trained on the trial's recorded
+        frames, and interpolate only the prediction's residual across the gap
+        (:func:`_predicted_angle`); otherwise interpolate the angle itself.
+        The marker stays rigid with its own donors either way.
+    rehearse : bool
+        Let the marker's own spline replace the rigid fill when it fills the
+        same gap better on recorded data next to it
+        (:func:`_rigid_rehearses_better`); off, donors seen throughout the gap
+        always fill it.
 
     Returns
     -------
@@ -194,10 +209,15 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
                 guess = spline(all_frames[s:s + n])
                 reference = (references or {}).get(label)
                 columns = donor_columns.get(label, [])
-                if columns and not _rigid_rehearses_better(points, missing, s, n, m, columns,
-                                                           reference):
+                others = []
+                if correlate:
+                    span = missing[s - 1:s + n + 1]
+                    others = [k for k in range(len(trial.labels))
+                              if k != m and k not in columns and not span[:, k].any()]
+                if columns and rehearse and not _rigid_rehearses_better(
+                        points, missing, s, n, m, columns, reference, others):
                     columns = []
-                used = _rigid_fill(points, missing, s, n, m, columns, guess, reference)
+                used = _rigid_fill(points, missing, s, n, m, columns, guess, reference, others)
                 if used:
                     names = ",".join(trial.labels[d] for d in used)
                     report.filled.append(Gap(label, s, n, method=f"rigid {names}"))
@@ -236,15 +256,19 @@ def recorded_frames(trial: Trial, labels) -> np.ndarray:
 
 def _rigid_fill(points: np.ndarray, missing: np.ndarray, start: int, length: int,
                 marker: int, donors: list[int], guess: np.ndarray,
-                reference: np.ndarray | None = None) -> list[int]:
+                reference: np.ndarray | None = None,
+                predictors: list[int] | None = None) -> list[int]:
     """Fill ``points[start:start+length, marker]`` from donors on the same rigid body.
 
     Donors seen throughout the gap and on both edges keep their distances to the
     marker.  Three or more donors fix the marker's position (best-fit rigid
     transform, Kabsch, from each edge, blended across the gap).  Two leave it on
-    a circle about their axis: its angle on that circle (from a lab direction
-    orthogonal to the axis) is interpolated by a cubic through the valid frames
-    next to the gap.  One leaves it on a sphere about the donor: the direction
+    a circle about their axis: its angle on that circle (from ``reference`` or
+    a lab direction orthogonal to the axis) is predicted from ``predictors``
+    (other markers seen throughout the gap, :func:`_predicted_angle`) with the
+    prediction's residual interpolated by a cubic through the valid frames next
+    to the gap, or without predictors the angle itself is interpolated so.
+    One leaves it on a sphere about the donor: the direction
     from the donor is interpolated the same way.  Whatever the method, the fill
     is then corrected by the linear blend of its misfit at the two edge frames,
     so it meets the recorded trajectory at both ends of the gap.  ``guess`` (the
@@ -270,7 +294,8 @@ def _rigid_fill(points: np.ndarray, missing: np.ndarray, start: int, length: int
         if len(usable) == 1:
             placed = _sphere_place(points, marker, usable[0], window, frames)
         else:
-            placed = _circle_place(points, marker, usable, window, frames, reference)
+            placed = _circle_place(points, marker, usable, window, frames, reference,
+                                   missing, predictors)
     misfit = placed[[0, -1]] - marker_edges                                  # (2, 3)
     placed = placed - (misfit[0] * (1 - weight) + misfit[1] * weight)
     points[start:after, marker] = placed[1:-1]
@@ -279,7 +304,8 @@ def _rigid_fill(points: np.ndarray, missing: np.ndarray, start: int, length: int
 
 def _rigid_rehearses_better(points: np.ndarray, missing: np.ndarray, start: int,
                             length: int, marker: int, donors: list[int],
-                            reference: np.ndarray | None) -> bool:
+                            reference: np.ndarray | None,
+                            predictors: list[int] | None = None) -> bool:
     """Does the rigid fill beat the marker's spline on the same gap rehearsed nearby?
 
     The gap is replayed on recorded data just before and just after it (where
@@ -311,7 +337,7 @@ def _rigid_rehearses_better(points: np.ndarray, missing: np.ndarray, start: int,
         spline = CubicSpline(seen, window[seen, marker], axis=0)(
             np.arange(local, local + length))
         if not _rigid_fill(window, holes, local, length, marker, donors, spline,
-                           None if reference is None else reference[lo:hi]):
+                           None if reference is None else reference[lo:hi], predictors):
             continue
         rigid = window[local:local + length, marker]
         errors["rigid"] += float(np.mean(np.sum((rigid - truth) ** 2, axis=1)))
@@ -357,10 +383,18 @@ def _sphere_place(points: np.ndarray, marker: int, donor: int, window: np.ndarra
 
 
 def _circle_place(points: np.ndarray, marker: int, donors: list[int], window: np.ndarray,
-                  frames: np.ndarray, reference: np.ndarray | None = None) -> np.ndarray:
+                  frames: np.ndarray, reference: np.ndarray | None = None,
+                  missing: np.ndarray | None = None, predictors: list[int] | None = None
+                  ) -> np.ndarray:
     """Two donors: keep the position along their axis and the radius about it;
-    interpolate the angle about the axis (from ``reference`` (frames, 3), else a
-    lab direction) across the gap."""
+    fill the angle about the axis (from ``reference`` (frames, 3), else a lab
+    direction) across the gap.
+
+    With ``predictors`` (other markers seen throughout ``frames``) and the
+    trial's ``missing`` mask, the angle is predicted from them
+    (:func:`_predicted_angle`) and only its residual at the recorded frames of
+    ``window`` is interpolated across the gap; otherwise the angle itself is
+    interpolated by a cubic through ``window``."""
     def unit_axis(f):
         axis = points[f, donors[1]] - points[f, donors[0]]
         return axis / np.maximum(np.linalg.norm(axis, axis=1, keepdims=True), 1e-12)
@@ -378,16 +412,89 @@ def _circle_place(points: np.ndarray, marker: int, donors: list[int], window: np
         v = np.cross(axis, u)
         return first, axis, u, v
 
+    def angle_at(f):
+        first, axis, u, v = cylinder(f)
+        rel = points[f, marker] - first
+        radial = rel - np.sum(rel * axis, axis=1, keepdims=True) * axis
+        return np.arctan2(np.sum(radial * v, axis=1), np.sum(radial * u, axis=1))
+
     first, axis, u, v = cylinder(window)
     rel = points[window, marker] - first
     along = np.sum(rel * axis, axis=1)
     radial = rel - along[:, None] * axis
     radius = np.linalg.norm(radial, axis=1)
-    angle = np.unwrap(np.arctan2(np.sum(radial * v, axis=1), np.sum(radial * u, axis=1)))
-    phi = _interpolate(window, angle, frames)
+    angle = np.unwrap(angle_at(window))
+    predicted = None
+    if predictors and missing is not None:
+        predicted = _predicted_angle(points, missing, marker, donors, predictors, frames,
+                                     window, angle_at, cylinder, float(angle.mean()))
+    if predicted is None:
+        phi = _interpolate(window, angle, frames)
+    else:
+        on_window, in_gap = predicted
+        residual = np.unwrap(angle - on_window)
+        phi = in_gap + _interpolate(window, residual, frames)
     first, axis, u, v = cylinder(frames)
     return (first + along.mean() * axis
             + radius.mean() * (np.cos(phi)[:, None] * u + np.sin(phi)[:, None] * v))
+
+
+#: Frames on each side of a gap whose recorded data train the angle's prediction.
+TRAINING_REACH = 1000
+#: Ridge penalty of the prediction, per training frame (standardised features).
+RIDGE = 1e-3
+
+
+def _predicted_angle(points: np.ndarray, missing: np.ndarray, marker: int,
+                     donors: list[int], predictors: list[int], frames: np.ndarray,
+                     window: np.ndarray, angle_at, cylinder, centre: float
+                     ) -> tuple[np.ndarray, np.ndarray] | None:
+    """The marker's angle about its two donors' axis predicted from other markers.
+
+    Two donors leave one unknown: the marker's turn about their axis (an axial
+    rotation of its segment; a wand marker's wobble).  Other markers of the
+    trial (the neighbouring segments) say much about it: a linear (ridge)
+    regression of the angle on the directions from each donor to each predictor
+    marker, in the cylinder's own axes (so the lab orientation does not enter),
+    is fitted on the recorded frames within :data:`TRAINING_REACH` of the gap
+    (every other gait cycle of a walk) and evaluated on ``frames``.  Returns
+    the prediction at ``window`` and at ``frames``, or None when fewer than 30
+    frames can train it.
+    """
+    lo = max(int(frames[0]) - TRAINING_REACH, 0)
+    hi = min(int(frames[-1]) + TRAINING_REACH + 1, len(points))
+    used = [marker] + list(donors) + list(predictors)
+    train = lo + np.flatnonzero(~missing[lo:hi][:, used].any(axis=1))
+    if len(train) < 30:
+        return None
+
+    def features(f):
+        _, axis, u, v = cylinder(f)
+        out = []
+        for d in donors:
+            to = points[f][:, predictors] - points[f, d][:, None, :]          # (f, k, 3)
+            to /= np.maximum(np.linalg.norm(to, axis=2, keepdims=True), 1e-12)
+            out += [np.einsum("fkc,fc->fk", to, basis) for basis in (axis, u, v)]
+        return np.concatenate(out, axis=1)                                   # (f, 6k)
+
+    x = features(train)
+    # the angle on the branch nearest the window's mean (it spans far less than a turn)
+    y = centre + np.angle(np.exp(1j * (angle_at(train) - centre)))
+    coef, mean, scale, offset = _ridge(x, y)
+
+    def predict(f):
+        return ((features(f) - mean) / scale) @ coef + offset
+
+    return predict(window), predict(frames)
+
+
+def _ridge(x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """Ridge regression on standardised features: coefficients, mean, scale, offset."""
+    mean, scale = x.mean(axis=0), x.std(axis=0) + 1e-9
+    z = (x - mean) / scale
+    coef = np.linalg.solve(z.T @ z + RIDGE * len(z) * np.eye(z.shape[1]),
+                           z.T @ (y - y.mean()))
+    return coef, mean, scale, float(y.mean())
 
 
 def _kabsch_place(reference: np.ndarray, marker: np.ndarray, current: np.ndarray) -> np.ndarray:

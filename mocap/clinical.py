@@ -271,6 +271,7 @@ def fill_plugingait(trial: Trial, subject: Subject, max_gap_frames: int
         groups[f"{side}_shank"] = RIGID_SEGMENTS[k + 2]
         groups[f"{side}_foot"] = RIGID_SEGMENTS[k + 4]
     for segment, centre in stages:
+        is_pelvis = segment == "pelvis"
         names = [segment] if segment == "pelvis" else [f"{s}_{segment}" for s in SIDES]
         extra_labels, extra_points, stage_donors, references = [], [], {}, {}
         kin = None
@@ -308,7 +309,8 @@ def fill_plugingait(trial: Trial, subject: Subject, max_gap_frames: int
                          current.rate, current.units, current.path, current.format,
                          metadata=dict(current.metadata))
         filled, stage = fill_gaps(work, max_gap_frames=max_gap_frames, donors=stage_donors,
-                                  only=only, references=references)
+                                  only=only, references=references,
+                                  correlate=not is_pelvis, rehearse=is_pelvis)
         report.filled += stage.filled
         report.unfilled += stage.unfilled
         current = current.with_points(filled.points[:, :len(labels)])

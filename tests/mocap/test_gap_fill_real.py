@@ -39,6 +39,18 @@ def model_markers(trial: Trial) -> Trial:
                  trial.format, metadata=dict(trial.metadata))
 
 
+#: Markers that leave their segment with two points (a PiG thigh, shank or foot has
+#: two markers and its proximal joint centre; a pelvis of three markers): the
+#: marker's turn about the line through the other two is not fixed by its segment,
+#: so a fill can only predict it (from the other markers, fill_plugingait).  Issue
+#: 12 asks 1 degree for every marker; with two points left most fills reach it, but
+#: not all of the wand, knee, ankle and toe markers (worst 3.9 degrees here;
+#: docs/plugingait.md "Gap filling" has the table over 17 walks).  The pelvis
+#: markers are asserted at 1 degree, and the heels (the walk's angles do not read
+#: HEE, so any change would be a leak of its fill).
+ONE_DEGREE = PELVIS | {"LHEE", "RHEE"}
+
+
 @pytest.mark.parametrize("walk, static", WALKS, ids=[w[-1] for w, _ in WALKS])
 def test_twenty_frame_gaps_of_every_marker_stay_inside_the_gap(walk, static):
     trial = model_markers(read(realdata_path(*walk)))
@@ -52,8 +64,7 @@ def test_twenty_frame_gaps_of_every_marker_stay_inside_the_gap(walk, static):
     worst = {}
     for label in trial.labels:
         m = trial.labels.index(label)
-        if not np.isfinite(trial.points[start - 1:start + GAP + 1, m]).all():
-            continue
+        assert np.isfinite(trial.points[start - 1:start + GAP + 1, m]).all(), label
         points = trial.points.copy()
         points[inside, m] = np.nan
         filled, report = fill_plugingait(trial.with_points(points), subject, GAP)
@@ -68,14 +79,13 @@ def test_twenty_frame_gaps_of_every_marker_stay_inside_the_gap(walk, static):
         worst[label] = float(rms)
     print(f"\n{walk[-1]}: worst joint-plane RMS inside a {GAP}-frame gap, degrees")
     print("  " + "  ".join(f"{k} {v:.2f}" for k, v in worst.items()))
-    assert len(worst) >= 14
-    # pelvis markers: within 1 degree (three or more pelvis markers, rigid)
-    assert max(v for k, v in worst.items() if k in PELVIS) <= 1.0
-    # limb markers (two per segment plus a joint centre): issue 12 asks 1 degree,
-    # which wand, knee and toe markers in fast swing do not reach yet (worst 5.4
-    # degrees of knee rotation); keep what is reached
-    assert max(worst.values()) <= 6.0
-    assert np.median(list(worst.values())) <= 2.0
+    assert len(worst) == len(trial.labels) >= 15
+    # issue 12's target where the segment keeps enough points
+    assert max(v for k, v in worst.items() if k in ONE_DEGREE) <= 1.0
+    # the others (see ONE_DEGREE): what the prediction reaches, never a spline's
+    # 5-9 degrees; most within a degree
+    assert max(worst.values()) <= 4.0
+    assert np.median(list(worst.values())) <= 1.0
 
 
 def test_a_filled_asis_gap_moves_neither_leg_length_nor_hip_centre_elsewhere():
