@@ -160,8 +160,17 @@ def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndar
             stances[foot] = (mine, runs, np.array([float(np.median(world_p[a:b, foot, 1]))
                                                    for a, b in runs]))
     # Several levels when the stances, of one foot or of both, lie more than two steps
-    # apart (stairs: in a one-cycle trial each foot may stand on one step only).
-    seen = np.concatenate([h for _, _, h in stances.values()]) if stances else np.zeros(1)
+    # apart (stairs: in a one-cycle trial each foot may stand on one step only), judged
+    # at each stance's lowest sole point: a still foot on its toes (heel up) lifts the
+    # ankle, not the sole. The sole as the geometry gives it (a flat-floor calibration
+    # before this one, which would put every foot's stances at one level, undone).
+    geometric = points.copy()
+    for foot, shift in (prior_shift or {}).items():
+        geometric[segments == foot, 1] += shift
+    lowest = points_in_world(geometric, list(segments), world_r, world_p)[..., 1]
+    seen = np.concatenate([[np.median(lowest[a:b][:, mine].min(axis=1)) for a, b in runs]
+                           for mine, runs, _ in stances.values()]) \
+        if stances else np.zeros(1)
     several = bool(seen.max() - seen.min() > 2 * step)
     found = []
     for foot, (mine, runs, heights) in stances.items():

@@ -114,3 +114,11 @@ def test_running_flights_are_ballistic_not_floating():
         falls = [2.0 * np.polyfit(np.arange(b - a) / body.rate, com[a:b, 1], 2)[0]
                  for a, b in _runs(airborne, 4)]
         assert len(falls) >= 2 and np.all(np.abs(np.array(falls) + 9.81) < 0.25 * 9.81), style
+
+
+def test_a_still_foot_on_its_toes_is_not_a_step():
+    """The 'active' turns hold a foot still on its toes, heel up (ankle 4-7 cm above its
+    flat stances): one floor, no step up, plausible."""
+    report = check_motion(_body("walk-turn-left", "active", 2), lowpass=6.0)
+    assert report.calibration.levels == [0.0]
+    assert report.verdict == "plausible"
