@@ -3,7 +3,9 @@
 Imported only for tables large enough to be worth loading numba (~1.5 s per process).
 ``parse_kernel`` reads delimited numbers in one pass over the bytes (exact: an integer
 mantissa of at most 2**53 times or divided by an exact power of ten, else the cell is
-handed back for Python's ``float``); ``format_kernel`` writes fixed decimals.
+handed back for Python's ``float``); ``format_kernel`` writes fixed decimals: the value
+rounded to its column's places as an integer (``floor(|x| 10^p + 0.5)``), written two
+digits at a time, integer part then fraction.
 """
 from __future__ import annotations
 
@@ -12,6 +14,9 @@ import numpy as np
 
 #: Exact powers of ten as float64.
 POW10 = np.array([10.0 ** k for k in range(23)])
+#: "00" to "99" as ASCII digit pairs (``PAIRS[2k]``, ``PAIRS[2k + 1]``): the writer puts
+#: down two digits per division.
+PAIRS = np.array([list(f"{k:02d}".encode()) for k in range(100)], dtype=np.uint8).reshape(-1)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -137,7 +142,18 @@ def format_kernel(table, decimals, delimiter, pow10, nan_cells):   # pragma: no 
         if decimals[c] > max_decimals:
             max_decimals = decimals[c]
     out = np.empty(rows * cols * (23 + max_decimals) + 1, dtype=np.uint8)
-    digits = np.empty(40, dtype=np.uint8)
+    units = np.empty(16, dtype=np.int64)
+    u = 1
+    for k in range(16):
+        units[k] = u
+        u *= 10
+    limits = np.empty(cols)
+    scales = np.empty(cols)
+    column_units = np.empty(cols, dtype=np.int64)
+    for c in range(cols):
+        limits[c] = 9.0e15 / pow10[decimals[c]]
+        scales[c] = pow10[decimals[c]]
+        column_units[c] = units[decimals[c]]
     position = 0
     for r in range(rows):
         for c in range(cols):
@@ -152,25 +168,54 @@ def format_kernel(table, decimals, delimiter, pow10, nan_cells):   # pragma: no 
                 places = decimals[c]
                 negative = x < 0
                 magnitude = -x if negative else x
-                if magnitude >= 9.0e15 / pow10[places] or not magnitude < np.inf:
+                if magnitude >= limits[c] or not magnitude < np.inf:
                     return out[:0], False
-                scaled = np.int64(np.floor(magnitude * pow10[places] + 0.5))
+                scaled = np.int64(np.floor(magnitude * scales[c] + 0.5))
                 if scaled == 0:
                     negative = False
                 if negative:
                     out[position] = 45
                     position += 1
-                count = 0
-                while scaled > 0 or count <= places:
-                    digits[count] = 48 + scaled % 10
-                    scaled //= 10
+                unit = column_units[c]
+                whole = scaled // unit
+                fraction = scaled - whole * unit
+                count = 1
+                while count < 16 and whole >= units[count]:
                     count += 1
-                for k in range(count - 1, -1, -1):
-                    out[position] = digits[k]
+                # integer digits, from the last, two at a time
+                end = position + count
+                k = end
+                w = whole
+                while w >= 100:
+                    q = w // 100
+                    pair = 2 * (w - q * 100)
+                    out[k - 1] = PAIRS[pair + 1]
+                    out[k - 2] = PAIRS[pair]
+                    k -= 2
+                    w = q
+                if w >= 10:
+                    out[k - 1] = PAIRS[2 * w + 1]
+                    out[k - 2] = PAIRS[2 * w]
+                else:
+                    out[k - 1] = 48 + w
+                position = end
+                if places > 0:
+                    out[position] = 46
                     position += 1
-                    if k == places and places > 0:
-                        out[position] = 46
-                        position += 1
+                    k = position + places
+                    f = fraction
+                    left = places
+                    while left >= 2:
+                        q = f // 100
+                        pair = 2 * (f - q * 100)
+                        out[k - 1] = PAIRS[pair + 1]
+                        out[k - 2] = PAIRS[pair]
+                        k -= 2
+                        f = q
+                        left -= 2
+                    if left == 1:
+                        out[k - 1] = 48 + f
+                    position += places
             out[position] = delimiter if c < cols - 1 else 10
             position += 1
     return out[:position], True
