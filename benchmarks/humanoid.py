@@ -12,7 +12,8 @@ Prints, for the 15-segment body (free flyer + 14 spherical joints, nq 63, nv 48)
 * on a real trial (``--trial``, default the 556-frame Vicon Plug-in Gait walk HC030A22 of
   the corpus, full-body marker set): ``check_motion`` in process beside a plain Pinocchio
   reference (per-frame ``pin.rnea`` for the same q, v, a, no contacts), and the whole
-  ``mocap check`` process beside ``python -c "import pinocchio"`` + the C3D read.
+  ``mocap check`` process beside ``python -c "import pinocchio"`` + the C3D read, and that
+  floor plus ``import scipy.spatial.transform`` (what scipy's Rotation costs to import).
 
 Timings are noisy on a shared machine: compare ratios in the same run. Never asserts.
 
@@ -192,18 +193,33 @@ def real_trial(path: str | None) -> None:
           f"{body.frames / reference:10,.0f} frames/s ({reference * 1000:.1f} ms)")
     env = {"PYTHONPATH": str(here), "MPLBACKEND": "Agg", "PATH": "/usr/bin:/bin"}
 
-    def run(argv: list[str]) -> float:
-        start = time.perf_counter()
-        subprocess.run(argv, check=True, env=env, stdout=subprocess.DEVNULL)
-        return time.perf_counter() - start
+    def run(argv: list[str]) -> tuple[float, float]:
+        """Wall and CPU (user + system) seconds of one fresh process."""
+        import os
 
-    whole = min(run([sys.executable, "-m", "mocap", "check", path, "-m",
-                     "plugingait-full"]) for _ in range(3))
-    floor = min(run([sys.executable, "-c", "import pinocchio; from mocap.io import read; "
-                     f"read({path!r})"]) for _ in range(3))
-    print(f"  whole process `mocap check`:        {whole:6.2f} s")
-    print(f"  `import pinocchio` + C3D read:      {floor:6.2f} s  (check is "
-          f"{whole / floor:.1f}× that)")
+        start = time.perf_counter()
+        child = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL)
+        _, status, usage = os.wait4(child.pid, 0)
+        if status:
+            raise subprocess.CalledProcessError(status, argv)
+        return time.perf_counter() - start, usage.ru_utime + usage.ru_stime
+
+    def best(argv: list[str]) -> tuple[float, float]:
+        runs = [run(argv) for _ in range(3)]
+        return min(r[0] for r in runs), min(r[1] for r in runs)
+
+    read_it = f"from mocap.io import read; read({path!r})"
+    whole = best([sys.executable, "-m", "mocap", "check", path, "-m", "plugingait-full"])
+    floor = best([sys.executable, "-c", f"import pinocchio; {read_it}"])
+    rotation = best([sys.executable, "-c",
+                     f"import pinocchio; import scipy.spatial.transform; {read_it}"])
+    print(f"  whole process `mocap check`:        {whole[0]:6.2f} s (CPU {whole[1]:.2f} s)")
+    print(f"  `import pinocchio` + C3D read:      {floor[0]:6.2f} s (CPU {floor[1]:.2f} s; "
+          f"check is {whole[0] / floor[0]:.1f}× that, CPU {whole[1] / floor[1]:.1f}×)")
+    print(f"  the same + scipy.spatial.transform: {rotation[0]:6.2f} s (CPU {rotation[1]:.2f} s"
+          f"; {rotation[0] / floor[0]:.1f}× the floor: the import of scipy's Rotation alone)")
+    import os
+    print(f"  load average {os.getloadavg()[0]:.2f}")
 
 
 if __name__ == "__main__":

@@ -58,16 +58,26 @@ np.savetxt(target, table, fmt="%.6f", delimiter=",")
 '''
 
 
+#: CPU seconds (user + system) of the last median_wall's processes, median.
+LAST_CPU = [0.0]
+
+
 def median_wall(argv: list[str], runs: int, env: dict | None = None, fresh=None) -> float:
-    """Median wall time of ``runs`` fresh processes of ``argv`` (``fresh()`` before each)."""
-    times = []
+    """Median wall time of ``runs`` fresh processes of ``argv`` (``fresh()`` before each);
+    their median CPU time (user + system, less sensitive to other load) in LAST_CPU."""
+    times, cpu = [], []
     for _ in range(runs):
         if fresh is not None:
             fresh()
         start = time.perf_counter()
-        subprocess.run(argv, check=True, env=env, stdout=subprocess.DEVNULL,
-                       stderr=subprocess.DEVNULL)
+        child = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL,
+                                 stderr=subprocess.DEVNULL)
+        _, status, usage = os.wait4(child.pid, 0)
         times.append(time.perf_counter() - start)
+        if status:
+            raise subprocess.CalledProcessError(status, argv)
+        cpu.append(usage.ru_utime + usage.ru_stime)
+    LAST_CPU[0] = statistics.median(cpu)
     return statistics.median(times)
 
 
@@ -101,29 +111,41 @@ def main() -> None:
     mocap = [python, "-m", "mocap"]
     rows = []
 
-    def report(name: str, seconds: float, reference: float | None = None, label: str = ""):
-        ratio = f"  {seconds / reference:5.2f} x {label}" if reference else ""
-        rows.append(f"{name:<44} {seconds:7.3f} s{ratio}")
+    measured: dict[str, tuple[float, float]] = {}      # name: (wall, CPU)
+
+    def report(name: str, seconds: float, reference: str | None = None, label: str = ""):
+        """Print a row; ``reference`` names an earlier row to give the ratios against."""
+        measured[name] = (seconds, LAST_CPU[0])
+        ratio = ""
+        if reference:
+            wall, cpu = measured[reference]
+            ratio = f"  {seconds / wall:5.2f} x {label} (CPU {LAST_CPU[0] / cpu:4.2f} x)"
+        rows.append(f"{name:<44} {seconds:7.3f} s  CPU {LAST_CPU[0]:6.3f} s{ratio}")
         print(rows[-1], flush=True)
 
+    print(f"load average {os.getloadavg()[0]:.2f} ({os.cpu_count()} CPUs); medians of fresh "
+          "processes: wall, and CPU (user + system, less sensitive to other load)", flush=True)
     bare = median_wall([python, "-c", "pass"], args.runs, env)
     report("python -c pass", bare)
-    report("mocap --help", median_wall(mocap + ["--help"], args.runs, env), bare, "python -c pass")
+    report("mocap --help", median_wall(mocap + ["--help"], args.runs, env), "python -c pass",
+           "python -c pass")
     reference = median_wall([python, "-c", f"import ezc3d; ezc3d.c3d({args.file!r})"],
                             args.runs, env)
-    report("python -c 'import ezc3d; ezc3d.c3d(FILE)'", reference)
+    ezc3d_row = "python -c 'import ezc3d; ezc3d.c3d(FILE)'"
+    report(ezc3d_row, reference)
     report("mocap info FILE", median_wall(mocap + ["info", args.file], args.runs, env),
-           reference, "the ezc3d reference")
+           ezc3d_row, "the ezc3d reference")
 
     with tempfile.TemporaryDirectory() as folder:
         folder = Path(folder)
         source, spec = _long_trial(folder, args.frames)
         plain = median_wall([python, "-c", REFERENCE_ANGLES, str(source),
                              str(folder / "ref.csv"), spec], max(3, args.runs // 2), env)
-        report(f"plain ezc3d+numpy+scipy+savetxt ({args.frames} fr)", plain)
+        plain_row = f"plain ezc3d+numpy+scipy+savetxt ({args.frames} fr)"
+        report(plain_row, plain)
         ours = median_wall(mocap + ["angles", str(source), "-m", "synthetic15", "-o",
                                     str(folder / "ours.csv")], max(3, args.runs // 2), env)
-        report(f"mocap angles ({args.frames} frames x 15 segments)", ours, plain,
+        report(f"mocap angles ({args.frames} frames x 15 segments)", ours, plain_row,
                "the plain script")
 
         cache = folder / "numba"
@@ -136,6 +158,7 @@ def main() -> None:
         report("mocap check BVH, first run (empty cache)",
                median_wall(check, 1, numba_env, fresh=empty_cache))
         report("mocap check BVH, second run", median_wall(check, args.runs, numba_env))
+    print(f"load average at the end {os.getloadavg()[0]:.2f}")
 
 
 if __name__ == "__main__":
