@@ -12,7 +12,9 @@ import csv
 import io as _io
 import logging
 import os
+import shutil
 import signal
+import tempfile
 import threading
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
@@ -68,16 +70,22 @@ def _run_dask(row: Callable[..., dict], names: list[str], jobs: int, scheduler: 
     except ImportError:
         raise MocapError("Dask is not installed: pip install 'mocap-toolkit[distributed]'") from None
     cluster = None
+    scratch = None
     try:
         if scheduler:
             try:
                 client = Client(scheduler, timeout="10s")
-            except OSError as error:
-                raise MocapError(f"cannot reach the Dask scheduler at {scheduler}: {error}") from None
+            except (OSError, ValueError) as error:      # unreachable, or not an address
+                raise MocapError(f"cannot reach the Dask scheduler at {scheduler!r}: "
+                                 f"{error}") from None
         else:
-            with _workers_ignore_interrupts():
+            # the workers' scratch space in a folder of ours, removed afterwards (a
+            # LocalCluster leaves dask-scratch-space/ in the temporary folder otherwise)
+            import dask
+            scratch = tempfile.mkdtemp(prefix="mocap-dask-")
+            with _workers_ignore_interrupts(), dask.config.set({"temporary-directory": scratch}):
                 cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
-                                       dashboard_address=None)
+                                       dashboard_address=None, local_directory=scratch)
             client = Client(cluster)
         with client:
             futures = [client.submit(row, p, pure=False, **arguments) for p in names]
@@ -97,6 +105,8 @@ def _run_dask(row: Callable[..., dict], names: list[str], jobs: int, scheduler: 
     finally:
         if cluster is not None:
             cluster.close()
+        if scratch is not None:
+            shutil.rmtree(scratch, ignore_errors=True)
 
 
 def _ignore_interrupts() -> None:

@@ -205,9 +205,19 @@ def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
         return 1
     except (PermissionError, IsADirectoryError, NotADirectoryError, FileExistsError,
             FileNotFoundError) as error:
+        if interrupts.seen:
+            print(f"mocap {command}: interrupted", file=sys.stderr)
+            return 130
         # the system refused a path the user gave: one line, like any user mistake
         print(f"mocap {command}: error: {_os_error_line(error)}", file=sys.stderr)
         return 2
+    except BaseException:
+        # Ctrl-C inside an import or a C extension can surface as another exception
+        # (numpy's "PyCapsule_Import could not import module", an ImportError): still Ctrl-C
+        if interrupts.seen:
+            print(f"mocap {command}: interrupted", file=sys.stderr)
+            return 130
+        raise
     return int(status or 0)
 
 

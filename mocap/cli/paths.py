@@ -73,9 +73,12 @@ def refuse_overwrite(output: str | os.PathLike, inputs: Iterable[str | os.PathLi
 def check_paths(command: str, args: argparse.Namespace) -> None:
     """The checks above on the parsed ``args`` of ``command`` (see the module docstring)."""
     inputs = [p for name in INPUTS for p in _as_list(getattr(args, name, None))]
+    outputs = [(name, p) for name in OUTPUTS for p in _as_list(getattr(args, name, None))]
+    for path in inputs + [p for _, p in outputs]:
+        if not path.strip():
+            raise MocapError(f"an empty name {path!r} is not a file or folder; give a path")
     for path in inputs:
         check_input(path)
-    outputs = [(name, p) for name in OUTPUTS for p in _as_list(getattr(args, name, None))]
     files_only = [p for p in inputs if not Path(p).is_dir()]
     seen: list[str] = []
     for name, path in outputs:

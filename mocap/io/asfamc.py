@@ -13,6 +13,7 @@ The AMC format stores no frame rate: CMU and HDM05 capture at 120 Hz, the defaul
 """
 from __future__ import annotations
 
+import math
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -61,6 +62,9 @@ def _numbers(words: list[str], count: int, what: str, path: str) -> np.ndarray:
                          path) from None
     if values.size != count:
         raise MocapError(f"ASF {what}: expected {count} numbers, found {values.size}", path)
+    if not np.isfinite(values).all():
+        raise MocapError(f"ASF {what}: values must be finite numbers, found "
+                         f"{' '.join(words[:count])!r}", path)
     return values
 
 
@@ -206,6 +210,9 @@ def read_amc(path: str | os.PathLike, asf: AsfSkeleton) -> tuple[dict[str, np.nd
             values = [float(w) for w in words[1:]]
         except ValueError:
             raise MocapError(f"AMC line {number}: non-numeric value in {line!r}", path) from None
+        if not all(math.isfinite(v) for v in values):
+            raise MocapError(f"AMC line {number}: bone {bone!r} has a value that is not a "
+                             "finite number (NaN or infinity)", path)
         if len(values) != sizes[bone]:
             raise MocapError(f"AMC line {number}: bone {bone!r} has {len(values)} values, the "
                              f"ASF gives it {sizes[bone]} degrees of freedom", path)

@@ -349,3 +349,61 @@ def test_angles_with_a_marker_set_the_trial_lacks_is_one_line(walk, tmp_path, ca
     line = _one_error_line(capsys)
     assert str(walk) in line and "LASI" in line
     assert list(tmp_path.iterdir()) == []
+
+
+# ---------------------------------------------------------------- found by the hostile re-run
+
+def test_an_empty_path_is_one_line_not_the_current_folder(walk, tmp_path, capsys, monkeypatch):
+    """``--output ''`` named the current folder: demo tried to replace '.' (OSError
+    traceback, EBUSY) and left its staging folder."""
+    monkeypatch.chdir(tmp_path)
+    for argv in (["convert", str(walk), ""], ["generate", "--output", "", "--people", "1"],
+                 ["info", ""]):
+        assert main(argv) == 2
+        assert "empty name" in _one_error_line(capsys)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_amc_and_asf_values_must_be_finite(tmp_path, capsys):
+    """An AMC value of -inf reached the SVD of the body mapping (LinAlgError traceback)."""
+    asf = (DATA / "cmu_lambada.asf").read_text()
+    amc = (DATA / "cmu_lambada.amc").read_text()
+    lines = amc.splitlines()
+    row = next(i for i, line in enumerate(lines) if line.startswith("lfemur "))
+    words = lines[row].split()
+    words[1] = "-inf"
+    lines[row] = " ".join(words)
+    (tmp_path / "m.asf").write_text(asf)
+    (tmp_path / "m.amc").write_text("\n".join(lines) + "\n")
+    out = tmp_path / "m.bvh"
+    assert main(["export", str(tmp_path / "m.amc"), "--asf", str(tmp_path / "m.asf"),
+                 "-f", "bvh", "-o", str(out)]) == 2
+    line = _one_error_line(capsys)
+    assert "m.amc" in line and f"line {row + 1}" in line and "finite" in line
+    (tmp_path / "m.amc").write_text(amc)
+    (tmp_path / "m.asf").write_text(asf.replace("length ", "length nan #", 1))
+    assert main(["export", str(tmp_path / "m.amc"), "--asf", str(tmp_path / "m.asf"),
+                 "-f", "bvh", "-o", str(out)]) == 2
+    assert "finite" in _one_error_line(capsys)
+    assert not out.exists()
+
+
+def test_batch_with_a_scheduler_that_is_no_address_is_one_line(walk, capsys):
+    pytest.importorskip("dask.distributed")
+    assert main(["batch", str(walk), "--scheduler", "nosuch"]) == 2
+    line = _one_error_line(capsys)
+    assert "nosuch" in line and "Dask scheduler" in line
+
+
+def test_batch_on_dask_leaves_nothing_in_the_temporary_folder(walk, tmp_path):
+    """A LocalCluster left dask-scratch-space/ in TMPDIR after every run."""
+    pytest.importorskip("dask.distributed")
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "TMPDIR": str(scratch)}
+    done = subprocess.run([sys.executable, "-m", "mocap", "batch", str(walk), "--dask", "-j",
+                           "1", "-o", str(tmp_path / "t.csv")], env=env, capture_output=True,
+                          text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert (tmp_path / "t.csv").exists()
+    assert list(scratch.iterdir()) == []
