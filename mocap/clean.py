@@ -4,9 +4,9 @@ Gaps are filled from *donors* when some are given and seen throughout the gap (t
 other markers of the same rigid segment: the filled marker keeps its distances to them,
 so a long gap in a fast-turning segment keeps the segment's shape), otherwise by a cubic
 spline through the marker's own samples.  With two donors one coordinate is left free
-(the turn about the donors' axis); it is predicted from the other markers of the trial
-by a regression on its recorded frames, and only the prediction's residual is
-interpolated across the gap.
+(the turn about the donors' axis); on request (``correlate``) it is predicted from the
+other markers of the trial by a regression on its recorded frames, and only the
+prediction's residual is interpolated across the gap.
 Both never invent data where they cannot know it: gaps
 longer than the maximum, or at the start or end of a trajectory (which would
 need extrapolation), stay NaN and are reported; the filter runs separately on
@@ -112,7 +112,7 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
               donors: dict[str, list[str]] | None = None,
               only: list[str] | None = None,
               references: dict[str, np.ndarray] | None = None,
-              correlate: bool = True, rehearse: bool = True) -> tuple[Trial, GapReport]:
+              correlate: bool = False, rehearse: bool = True) -> tuple[Trial, GapReport]:
     """Fill short gaps of every marker from donor markers or with a cubic spline.
 
     Parameters
@@ -143,7 +143,9 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
         throughout the gap, by a regression trained on the trial's recorded
         frames, and interpolate only the prediction's residual across the gap
         (:func:`_predicted_angle`); otherwise interpolate the angle itself.
-        The marker stays rigid with its own donors either way.
+        The marker stays rigid with its own donors either way.  Off by default:
+        measured on Plug-in Gait walks only (:func:`mocap.clinical.fill_plugingait`
+        turns it on for the limbs; docs/plugingait.md).
     rehearse : bool
         Let the marker's own spline replace the rigid fill when it fills the
         same gap better on recorded data next to it
