@@ -60,6 +60,9 @@ PREFERENCE_HEIGHT = 0.010
 PREFERENCE_SPEED = 0.1
 #: A stance normal tilted more than this from the foot's Y axis is not taken as its sole.
 MAX_PITCH_DEG = 30.0
+#: Stances whose sole normal differs more than this from the longest stance's are not
+#: flat (a foot still on its toes) and do not set the sole's pitch.
+STANCE_AGREEMENT_DEG = 10.0
 #: Ridge cost of a contact force along its preferred direction, relative to the edges.
 PREFERRED_COST = 0.1
 #: A rig's sole below its toe point, in leg lengths, by what the point is: the middle of
@@ -217,11 +220,16 @@ def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndar
 def _stance_normal(rotations: np.ndarray, runs: list[tuple[int, int]],
                    up: np.ndarray | None = None) -> np.ndarray:
     """The floor's normal seen from a foot in its stances, ``Rᵀ e_y`` (median per stance,
-    mean over stances), unit, in the foot frame; with ``up`` (a direction in the foot
+    mean over the stances within :data:`STANCE_AGREEMENT_DEG` of the longest one's: a
+    foot resting on its toes with the heel up, as it lowers the body down a stair, is
+    still but not flat), unit, in the foot frame; with ``up`` (a direction in the foot
     frame) kept within :data:`MAX_PITCH_DEG` of it."""
     seen = np.swapaxes(rotations, 1, 2)[:, :, 1]                       # Rᵀ e_y, (F, 3)
-    normals = [np.median(seen[a:b], axis=0) for a, b in runs]
-    normal = np.mean([n / np.linalg.norm(n) for n in normals], axis=0)
+    normals = np.array([np.median(seen[a:b], axis=0) for a, b in runs])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    longest = normals[int(np.argmax([b - a for a, b in runs]))]
+    flat = normals @ longest >= np.cos(np.radians(STANCE_AGREEMENT_DEG))
+    normal = normals[flat].mean(axis=0)
     normal /= np.linalg.norm(normal)
     if up is None:
         return normal

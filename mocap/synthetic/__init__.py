@@ -22,7 +22,7 @@ The motion is built the way a body has to move, so that it is physically plausib
    its nominal knee flexion (walking, stairs: loading response, nearly straight in
    mid-stance), smoothed and kept within reach, or a spring-mass bounce with a
    ballistic flight phase (running).  The root follows from the centre of mass and the
-   posture (segment masses after de Leva).
+   posture (segment masses, centres of mass and inertias of de Leva, as the check has them).
 3. **Legs.**  Two-link inverse kinematics in 3-D gives hip flexion and abduction and
    the knee from the hip-to-ankle vector; the hip's axial rotation keeps the ankle's
    axial rotation at its template; the ankle takes the foot's orientation.  The heel
@@ -30,11 +30,12 @@ The motion is built the way a body has to move, so that it is physically plausib
 
 Stance feet are planted exactly (no skating, no penetration); the floor is flat for
 walk and run, a staircase of ``STEP_RISE`` × ``STEP_GOING`` steps for ascend and descend
-(two steps per cycle).  Measured with :func:`dynamics.humanoid.check_motion`, the default
-people's walks need a residual force of 0.2–0.6 % body weight RMS (captured walks:
-5–10 %; over 24 people of two seeds the median is 0.6 %, the worst, extreme styles, 8 %),
-their runs 6–10 %, nearly all of it around the short flight phases, which the check's
-0.1 s smoothing window blurs into the stance.
+(two steps per cycle).  In a run's flight the trunk (with head and arms) turns against
+the swinging legs so that the angular momentum about the centre of mass stays constant.
+Measured with :func:`dynamics.humanoid.check_motion` (6 Hz low-pass, the default people of
+seed 0, one cycle), walks need a residual force of 0.0–0.4 % body weight RMS, stairs
+0.1–1.1 % (with 0.5 mm marker noise 1.0–2.3 % and 0.6–2.5 %), all plausible; runs 6–9 %
+(noisy 6–11 %), most of it at landings and in the flights, which the low-pass smooths.
 
 Forward kinematics puts three markers on each of the 15 segments of the
 ``synthetic15`` marker set (origin at the proximal joint centre, one marker

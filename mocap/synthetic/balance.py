@@ -161,10 +161,13 @@ def _periodic_second_derivative(values: np.ndarray, period: float) -> np.ndarray
     return np.fft.irfft(-omega**2 * np.fft.rfft(values), n)
 
 
-def _low_pass(values: np.ndarray, harmonics: int) -> np.ndarray:
-    """Keep the first ``harmonics`` harmonics of samples over one period, (N,) → (N,)."""
+def _low_pass(values: np.ndarray, harmonics: int, taper: float = np.inf) -> np.ndarray:
+    """Keep the first ``harmonics`` harmonics of samples over one period, (N,) → (N,),
+    weighted by ``exp(−½ (k / taper)²)`` (the default keeps them whole)."""
     spectrum = np.fft.rfft(values)
     spectrum[harmonics + 1:] = 0.0
+    k = np.arange(harmonics + 1)
+    spectrum[:harmonics + 1] *= np.exp(-0.5 * (k / taper) ** 2)
     return np.fft.irfft(spectrum, len(values))
 
 
@@ -359,8 +362,16 @@ def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
         if bounce is not None:
             com_z = bounce + np.min(ceiling + offset[:, 2] - bounce)
         else:
-            com_z = trend[:, 2] + _low_pass(goal + offset[:, 2] - trend[:, 2], _HEIGHT_HARMONICS)
-            com_z = _below(com_z, ceiling + offset[:, 2])
+            # The floor can only push: where the smoothed height would fall faster than
+            # the floor lets it (its force below a quarter of the weight in support) the
+            # higher harmonics ring, and they are tapered until it does not.
+            for taper in (np.inf, 3.0, 2.0, 1.5, 1.0):
+                com_z = trend[:, 2] + _low_pass(goal + offset[:, 2] - trend[:, 2],
+                                                _HEIGHT_HARMONICS, taper)
+                com_z = _below(com_z, ceiling + offset[:, 2])
+                lift = GRAVITY + _periodic_second_derivative(com_z - trend[:, 2], period)
+                if lift.min() >= 0.25 * GRAVITY:
+                    break
         root = np.column_stack([root_xy, com_z - offset[:, 2]])
         _follow(paths, person, gait, root - trend, seed)
         feet = [path.in_lab(u) for path in paths]
