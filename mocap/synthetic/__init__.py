@@ -30,12 +30,12 @@ The motion is built the way a body has to move, so that it is physically plausib
 
 Stance feet are planted exactly (no skating, no penetration); the floor is flat for
 walk and run, a staircase of ``STEP_RISE`` × ``STEP_GOING`` steps for ascend and descend
-(two steps per cycle).  In a run's flight the trunk (with head and arms) turns against
-the swinging legs so that the angular momentum about the centre of mass stays constant.
-Measured with :func:`dynamics.humanoid.check_motion` (6 Hz low-pass, the default people of
-seed 0, one cycle), walks need a residual force of 0.0–0.4 % body weight RMS, stairs
-0.1–1.1 % (with 0.5 mm marker noise 1.0–2.3 % and 0.6–2.5 %), all plausible; runs 6–9 %
-(noisy 6–11 %), most of it at landings and in the flights, which the low-pass smooths.
+(two steps per cycle).  Measured with :func:`dynamics.humanoid.check_motion` (6 Hz
+low-pass, the default people of seed 0, one cycle), walks need a residual force of
+0.0–0.4 % body weight RMS, stairs 0.1–1.1 % (with 0.5 mm marker noise 1.0–2.3 % and
+0.6–2.5 %), all plausible; runs 6–9 % (noisy 6–10 %) and a residual torque of 59–89 N·m: in the
+flights the template's swinging legs and arms change the body's angular momentum, which
+nothing in the air can supply.
 
 Forward kinematics puts three markers on each of the 15 segments of the
 ``synthetic15`` marker set (origin at the proximal joint centre, one marker

@@ -10,7 +10,7 @@ from mocap.body.anthropometry import segment_inertias
 from mocap.body.retarget import Z_UP_TO_Y_UP, _default_end_sites
 from mocap.errors import MocapError
 from mocap.skeleton import Skeleton
-from mocap.synthetic.feet import _FootPath, _Gait, _gait, _loads, _smoothstep
+from mocap.synthetic.feet import _FootPath, _Gait, _gait, _loads
 from mocap.synthetic.legs import _leg_length, _leg_rotations
 from mocap.synthetic.people import (ACTIONS, PARENT_INDEX, SEGMENT_NAMES, Person, _offsets,
                                     lab_frames)
@@ -80,56 +80,6 @@ def _periodic_rate(values: np.ndarray, period: float) -> np.ndarray:
     flat = values.reshape(n, -1)
     return np.fft.irfft(omega[:, None] * np.fft.rfft(flat, axis=0), n, axis=0).reshape(
         values.shape)
-
-
-#: The segments that turn against the legs in flight: the trunk, with head and arms.
-_UPPER = ("thorax", "head", "l_upperarm", "l_forearm", "l_hand", "r_upperarm", "r_forearm",
-          "r_hand")
-#: Cycles either side of a flight over which the trunk's counter-turn fades in and out.
-_TAPER = 0.05
-
-
-def _flight_lean(momentum: np.ndarray, rotations: np.ndarray, origins: np.ndarray,
-                 person: Person, support: np.ndarray, period: float) -> np.ndarray:
-    """How much more the trunk turns (N, 3) radians about the lab's forward, left and up
-    axes (its abduction, flexion and rotation) to keep the body's angular momentum
-    constant in flight, as it must be with nothing to push on.
-
-    In the air the legs swing back and forth, and the trunk, with head and arms, turns the
-    other way about the lumbar joint, at ``(L̄ − L) / J`` rad/s per axis: ``L`` the
-    momentum (``momentum``, (N, 3) m²/s per unit body mass), ``J`` the trunk's moment of
-    inertia about the joint per unit body mass, ``L̄`` the flight's mean momentum. The
-    turn fades in and out over ``_TAPER`` cycles either side, in the stances (whose floor
-    supplies the turning), and the trunk ends each window where its template has it.
-    """
-    fractions, centres, inertias = _mass_model(person)
-    n = len(momentum)
-    upper = [SEGMENT_NAMES.index(name) for name in _UPPER]
-    joint = origins[:, SEGMENT_NAMES.index("thorax")]
-    arm = origins[:, upper] + np.einsum("fsij,sj->fsi", rotations[:, upper],
-                                        centres[upper]) - joint[:, None]
-    world = rotations[:, upper] @ inertias[upper] @ np.swapaxes(rotations[:, upper], 2, 3)
-    squared = (arm ** 2).sum(axis=2)[..., None] - arm ** 2        # distance² off each axis
-    inertia = np.einsum("s,fsk->fk", fractions[upper], squared) \
-        + np.diagonal(world, axis1=2, axis2=3).sum(axis=1)
-    lean = np.zeros((n, 3))
-    airborne = support <= 0
-    if not airborne.any() or airborne.all():
-        return lean
-    reach = max(1, int(round(_TAPER * n)))
-    k = np.arange(n)
-    for start in np.flatnonzero(airborne & ~np.roll(airborne, 1)):
-        length = int(np.argmin(np.roll(airborne, -start)))       # samples in the air
-        origin = (start - reach) % n
-        window = _smoothstep(np.clip(np.minimum((k + 1) / (reach + 1.0),
-                                                (2 * reach + length - k) / (reach + 1.0)),
-                                     0.0, 1.0))[:, None]           # from ``origin`` on
-        held = np.roll(momentum, -origin, axis=0)
-        weight = np.roll(inertia, -origin, axis=0)
-        mean = np.sum(window * held / weight, axis=0) / np.sum(window / weight, axis=0)
-        turned = np.cumsum(window * (mean - held) / weight, axis=0) * period / n
-        lean += np.roll(turned, origin, axis=0)
-    return lean
 
 
 # --------------------------------------------------------------------------- body path
@@ -239,20 +189,17 @@ def _follow(paths: list[_FootPath], person: Person, gait: _Gait, periodic: np.nd
 
 
 def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
-               ) -> tuple[np.ndarray, np.ndarray]:
+               ) -> np.ndarray:
     """Root (pelvis origin) positions over one cycle, (_GRID, 3) metres, at phases
-    ``arange(_GRID) / _GRID``, with the feet where ``paths`` put them, and the trunk's
-    turn added to its template (_GRID, 3) degrees (flexion, abduction, rotation; running
-    only, see :func:`_flight_lean`).
+    ``arange(_GRID) / _GRID``, with the feet where ``paths`` put them.
 
     The centre of mass moves like an inverted pendulum on the centre of pressure, which
     rolls from heel to toe under each foot and passes from foot to foot in double
     support, so the floor can supply the accelerations.  Its height: walking and stairs,
     what the leading supporting leg gives at its nominal knee flexion (smoothed, and never
     higher than the supporting legs reach); running, a spring-mass bounce with a
-    ballistic flight, in which the trunk turns against the legs so that the angular
-    momentum stays constant.  The root follows from the centre of mass and the posture; a
-    few fixed-point passes settle the coupling.
+    ballistic flight.  The root follows from the centre of mass and the posture; a few
+    fixed-point passes settle the coupling.
     """
     u = np.arange(_GRID) / _GRID
     period = gait.period
@@ -298,10 +245,7 @@ def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
         spectrum[0] = 0.0
         bounce = np.fft.irfft(spectrum, _GRID)
     turning = np.zeros((_GRID, 3))       # rate of angular momentum about the COM, per kg
-    lean = np.zeros((_GRID, 3))          # trunk turn in flight about X, Y, Z, radians
-    thorax = SEGMENT_NAMES.index("thorax")
-    passes = 8
-    for ordinal in range(passes):
+    for _ in range(8):
         height = com_z - pressure[:, 2]
         accel = _periodic_second_derivative(com_z - trend[:, 2], period)
         stiffness = np.where(support > 0, (GRAVITY + accel) / height, 0.0)
@@ -375,16 +319,11 @@ def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
         root = np.column_stack([root_xy, com_z - offset[:, 2]])
         _follow(paths, person, gait, root - trend, seed)
         feet = [path.in_lab(u) for path in paths]
-        leaning = clinical.copy()
-        leaning[:, thorax] += np.degrees(lean[:, [1, 0, 2]])   # (flex, abd, rot)
-        joints = _posture(person, leaning, root, feet)
+        joints = _posture(person, clinical, root, feet)
         rotations, origins = lab_frames(joints, offsets, root)
         offset = _centre_of_mass(rotations, origins, person) - root
-        momentum = _angular_momentum(rotations, origins, person, period, gait.advance)
-        if bounce is not None and ordinal < passes - 1:   # the last pass keeps the lean
-            lean = lean + _flight_lean(momentum, rotations, origins, person, support, period)
-        turning = _periodic_rate(momentum, period)
-    return root, np.degrees(lean[:, [1, 0, 2]])
+        turning = _turning_rate(rotations, origins, person, period, gait.advance)
+    return root
 
 
 def _motion(person: Person, action: str, phase: np.ndarray, seed: int = 0
@@ -397,12 +336,10 @@ def _motion(person: Person, action: str, phase: np.ndarray, seed: int = 0
     gait = _gait(person, action, seed)
     paths = [_FootPath(gait, person, side) for side in (0, 1)]
     grid = np.arange(_GRID) / _GRID
-    path, lean = _body_path(person, gait, paths, seed)
-    path = path - np.outer(grid, gait.advance)
+    path = _body_path(person, gait, paths, seed) - np.outer(grid, gait.advance)
     _follow(paths, person, gait, path, seed)
     root = _periodic_interpolate(path, phase % 1.0) + np.outer(phase, gait.advance)
     clinical = _template(person, action, phase, seed)
-    clinical[:, SEGMENT_NAMES.index("thorax")] += _periodic_interpolate(lean, phase % 1.0)
     joints = _posture(person, clinical, root, [p.in_lab(phase) for p in paths])
     for side in "rl":
         for name in ("thigh", "shank", "foot"):
