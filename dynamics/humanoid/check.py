@@ -30,8 +30,8 @@ from mocap.filtering import butterworth_lowpass
 from mocap.skeleton import Motion
 
 from dynamics.humanoid.contact import (ballistic_runs, calibrate_contacts, estimate_floor,
-                                       foot_skate, joint_soles, points_in_world,
-                                       preference_weights, solve_contact_forces)
+                                       foot_skate, points_in_world, preference_weights,
+                                       rig_soles, solve_contact_forces)
 from dynamics.humanoid.inverse import contact_joint_torques, rnea_batch
 from dynamics.humanoid.kinematics import centre_of_mass, motion_kinematics
 from dynamics.humanoid.model import GRAVITY, Humanoid, build_humanoid
@@ -209,11 +209,7 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
     if humanoid is None:
         humanoid = build_humanoid(body.skeleton, body_mass, sex)
     # A rig's feet end at joints: their soles lie below, under the stance normal.
-    joint_feet = {n: kind for n, kind in body.metadata.get("feet_at_joints", {}).items()
-                  if n in body.skeleton.names}
-    points, sole_up = humanoid.contact_points, {}
-    if joint_feet:
-        points, sole_up = joint_soles(humanoid, joint_feet, *body.forward_kinematics())
+    points, sole_up = rig_soles(body, humanoid)
     floor_height = estimate_floor(body, humanoid, points=points) if floor == "auto" \
         else float(floor)
     if floor_height:

@@ -325,6 +325,32 @@ def joint_soles(humanoid: Humanoid, feet: dict[str, str], world_r: np.ndarray,
     return points, normals
 
 
+def rig_soles(body: Motion, humanoid: Humanoid) -> tuple[np.ndarray, dict]:
+    """The contact points of a body: the humanoid's, with :func:`joint_soles` under the
+    feet its rig ends at joints (``body.metadata["feet_at_joints"]``, set by
+    :func:`mocap.body.retarget.reduce_to_segments`). The check and the physics replay
+    both stand on these.
+
+    Parameters
+    ----------
+    body : Motion
+        The reduced body motion the soles are seen in.
+    humanoid : Humanoid
+
+    Returns
+    -------
+    points : ndarray, shape (points, 3)
+        Contact points in their foot's frame (``humanoid.contact_points`` order).
+    normals : dict
+        Foot segment index → sole normal in its frame (empty without rig feet).
+    """
+    feet = {n: kind for n, kind in body.metadata.get("feet_at_joints", {}).items()
+            if n in body.skeleton.names}
+    if not feet:
+        return humanoid.contact_points, {}
+    return joint_soles(humanoid, feet, *body.forward_kinematics())
+
+
 def _floor_under(runs: list[tuple[int, int]], levels: np.ndarray, frames: int,
                  floor: float, ends: tuple[np.ndarray, np.ndarray] | None = None
                  ) -> np.ndarray:

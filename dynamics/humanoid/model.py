@@ -15,7 +15,7 @@ module-level cache.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -82,6 +82,34 @@ class Humanoid:
     @property
     def nv(self) -> int:
         return int(self.model.nv)
+
+    def with_contact_points(self, points: np.ndarray) -> "Humanoid":
+        """The same body with its contact points (and their Pinocchio frames) moved.
+
+        Parameters
+        ----------
+        points : ndarray, shape (points, 3), metres
+            New contact points in their segment's frame, in ``contact_points`` order (a
+            rig's soles, :func:`dynamics.humanoid.contact.rig_soles`).
+
+        Returns
+        -------
+        Humanoid
+            A copy (its own model); this one is unchanged.
+        """
+        # deferred: Pinocchio is imported only by the code that builds or runs a model
+        import pinocchio as pin
+
+        points = np.array(points, dtype=float)
+        if points.shape != self.contact_points.shape:
+            raise ValueError(f"expected contact points of shape {self.contact_points.shape}, "
+                             f"got {points.shape}")
+        model = pin.Model(self.model)
+        for frame_id, point in zip(self.contact_frames, points):
+            frame = model.frames[frame_id]
+            frame.placement = pin.SE3(np.eye(3), point.copy())
+            model.frames[frame_id] = frame
+        return replace(self, model=model, contact_points=points)
 
     def model_pool(self, size: int):
         """A Pinocchio ``ModelPool`` of ``size`` Data objects for this model.

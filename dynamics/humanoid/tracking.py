@@ -28,6 +28,7 @@ from mocap.body.retarget import reduce_to_segments
 from mocap.progress import progress
 from mocap.skeleton import Motion
 
+from dynamics.humanoid.contact import rig_soles
 from dynamics.humanoid.kinematics import motion_kinematics
 from dynamics.humanoid.model import Humanoid, build_humanoid
 
@@ -67,7 +68,9 @@ def simulate_tracking(motion: Motion, body_mass: float = 75.0, sex: str = "male"
     Parameters
     ----------
     motion : Motion
-        Any skeleton our body model can map; floor y = 0, Y up.
+        Any skeleton our body model can map; floor y = 0, Y up. A rig whose feet end at
+        joints (BVH, ASF) stands on the soles the check lays out below them
+        (:func:`dynamics.humanoid.contact.rig_soles`), not on the joints.
     body_mass : float, kg
     sex : {"male", "female"}
     dt : float, s
@@ -96,6 +99,9 @@ def simulate_tracking(motion: Motion, body_mass: float = 75.0, sex: str = "male"
     body = reduce_to_segments(motion, partial=True)
     if humanoid is None:
         humanoid = build_humanoid(body.skeleton, body_mass, sex)
+    if body.metadata.get("feet_at_joints"):
+        # A rig's feet end at joints: it stands on the soles the check finds below them.
+        humanoid = humanoid.with_contact_points(rig_soles(body, humanoid)[0])
     model = humanoid.model
     data = model.createData()
     kin = motion_kinematics(body)

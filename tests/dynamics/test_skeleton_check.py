@@ -6,9 +6,10 @@ import numpy as np
 import pytest
 
 from dynamics.humanoid.check import check_motion
-from dynamics.humanoid.contact import _runs
+from dynamics.humanoid.contact import _runs, points_in_world, rig_soles
 from dynamics.humanoid.kinematics import centre_of_mass
 from dynamics.humanoid.model import build_humanoid
+from dynamics.humanoid.tracking import simulate_tracking
 from mocap.body.retarget import reduce_to_segments
 from mocap.io.motion import read_motion
 from mocap.skeleton import Motion
@@ -122,3 +123,26 @@ def test_a_still_foot_on_its_toes_is_not_a_step():
     report = check_motion(_body("walk-turn-left", "active", 2), lowpass=6.0)
     assert report.calibration.levels == [0.0]
     assert report.verdict == "plausible"
+
+
+def test_physics_replay_stands_a_rig_on_the_check_soles():
+    """The physics replay stands a rig on the soles the check finds below its foot joints:
+    on the first 2 s of a real Bandai walk the replayed root keeps the captured height and
+    the soles carry the body at the floor. Standing on the joints (ankle 117 mm, toe joint
+    42 mm up), the body sank until the joints touched it: root 48 mm low, soles 43 mm deep
+    (now 10 mm and 5 mm: the captured soles stand 5 mm up, the springs give 4 mm)."""
+    motion = read_motion(realdata_path("bandai2/dataset-2_walk_normal_001.bvh")).slice(0, 60)
+    body = reduce_to_segments(motion, partial=True)
+    humanoid = build_humanoid(body.skeleton)
+    soles, _ = rig_soles(body, humanoid)
+    assert not np.allclose(soles, humanoid.contact_points)
+    moved = humanoid.with_contact_points(soles)
+    assert np.allclose(moved.contact_points, soles)
+    assert not np.allclose(humanoid.contact_points, soles)        # the original unchanged
+    result = simulate_tracking(motion)
+    sunk = body.root_translation[:, 1] - result.motion.root_translation[:, 1]
+    assert abs(np.median(sunk)) < 0.015
+    world_r, world_p = result.motion.forward_kinematics()
+    lowest = points_in_world(soles, humanoid.contact_segments, world_r, world_p)[..., 1]
+    # the replayed feet touch the floor through the penalty springs (a few mm deep)
+    assert -0.012 < np.median(lowest.min(axis=1)) < 0.005
