@@ -14,7 +14,7 @@ import numpy as np
 from mocap.angles import CLINICAL_AXES, SEQUENCES, JointAngles, axis_names
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
-from mocap.io.text_table import read_text, write_table
+from mocap.io.text_table import check_label, read_text, write_table
 from mocap.markersets.model import MarkerSet
 
 
@@ -26,6 +26,8 @@ def write_angles_csv(angles: JointAngles, path: str | os.PathLike) -> None:
     NaN angle is an empty cell.
     """
     frames, segments, _ = angles.values.shape
+    for segment in angles.segments:
+        check_label(segment, ',"', "segment", path)
     with atomic_path(path) as tmp:
         with open(tmp, "wb") as handle:
             handle.write((",".join(angles.columns) + "\n").encode("utf-8"))

@@ -161,8 +161,8 @@ def write_csv(trial: Trial, path: str | os.PathLike, precision: int | None = Non
     decimals = coordinate_decimals("m", precision, path)
     for label in trial.labels:
         check_label(label, ',"', "marker", path)
-    header = "time," + ",".join(f"{label}_{axis}" for label in trial.labels
-                                for axis in "xyz")
+    header = ",".join(["time"] + [f"{label}_{axis}" for label in trial.labels
+                                  for axis in "xyz"])
     table = np.empty((trial.frames, 1 + 3 * len(trial.labels)))
     table[:, 0] = trial.time_base()[1]
     table[:, 1:] = trial.points.reshape(trial.frames, -1)

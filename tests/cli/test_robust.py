@@ -407,3 +407,29 @@ def test_batch_on_dask_leaves_nothing_in_the_temporary_folder(walk, tmp_path):
     assert done.returncode == 0, done.stderr
     assert (tmp_path / "t.csv").exists()
     assert list(scratch.iterdir()) == []
+
+
+def test_segment_names_that_would_corrupt_the_angle_csv_are_refused(walk, tmp_path, capsys):
+    """A marker set whose segment is named 'pel,vis' (or holds a line break) wrote an angle
+    CSV whose header had more columns than its rows."""
+    from mocap.markersets import parse
+    text = (parse.PRESETS if hasattr(parse, "PRESETS") else
+            Path(parse.__file__).parent / "presets") / "synthetic15.toml"
+    for bad in ("pel,vis", "pel\\nvis"):
+        toml = tmp_path / "set.toml"
+        toml.write_text(Path(text).read_text().replace('"pelvis"', f'"{bad}"'))
+        out = tmp_path / "a.csv"
+        assert main(["angles", str(walk), "-m", str(toml), "-o", str(out)]) == 2
+        line = _one_error_line(capsys)
+        assert "segment label" in line and str(out) in line
+        assert not out.exists()
+
+
+def test_a_csv_of_a_trial_without_markers_has_one_column_per_cell(tmp_path):
+    from mocap.io import read
+    from mocap.trial import Trial
+    trial = Trial(labels=[], points=np.zeros((3, 0, 3)), rate=100.0)
+    write(trial, tmp_path / "none.csv")
+    lines = (tmp_path / "none.csv").read_text().splitlines()
+    assert lines[0] == "time" and all("," not in line for line in lines)
+    assert read(tmp_path / "none.csv").frames == 3
