@@ -356,13 +356,24 @@ def _remove_turns(values: np.ndarray, period: float) -> None:
     """:func:`unwrap_columns` of columns without NaN, in place (``values`` may be a strided
     view): np.unwrap's result (whole turns removed where a step exceeds half a turn) in a
     third of its time, the turns being counted as integers."""
-    step = np.diff(values, axis=0)
-    turns = np.divide(step, period)
-    np.rint(turns, out=turns)
-    turns[np.abs(step) <= period / 2] = 0.0
-    np.cumsum(turns, axis=0, out=turns)
-    turns *= period
-    values[1:] -= turns
+    # block by block of frames (small temporaries); the turns are whole numbers, so the
+    # running count carried from block to block is exact
+    if values.shape[0] < 2:
+        return
+    carry = np.zeros(values.shape[1:])
+    previous = values[0].copy()
+    for start in range(1, values.shape[0], UNWRAP_BLOCK):
+        chunk = values[start:start + UNWRAP_BLOCK]
+        step = np.diff(chunk, axis=0, prepend=previous[None])
+        previous = chunk[-1].copy()                 # before it is unwrapped
+        turns = np.divide(step, period)
+        np.rint(turns, out=turns)
+        turns[np.abs(step) <= period / 2] = 0.0
+        np.cumsum(turns, axis=0, out=turns)
+        turns += carry
+        carry = turns[-1].copy()
+        turns *= period
+        chunk -= turns
 
 
 def _unwrap_turns_in_place(values: np.ndarray) -> None:
