@@ -49,7 +49,7 @@ def _scipy_contact_reference(wrench: np.ndarray, levers: np.ndarray) -> np.ndarr
     ridge-augmented problem (the same objective as the batched solver)."""
     from scipy.optimize import nnls
 
-    from dynamics.humanoid.contact import pyramid_edges
+    from dynamics.humanoid.contact_forces import pyramid_edges
 
     edges = pyramid_edges(0.8)
     out = []
@@ -66,7 +66,7 @@ def main() -> None:
     import pinocchio as pin
 
     from dynamics.humanoid.check import check_motion
-    from dynamics.humanoid.contact import solve_contact_forces
+    from dynamics.humanoid.contact_forces import solve_contact_forces
     from dynamics.humanoid.inverse import rnea_batch
     from dynamics.humanoid.kinematics import motion_kinematics
     from dynamics.humanoid.model import build_humanoid

@@ -9,7 +9,7 @@ For a motion on the floor y = 0 (world Y up):
 3. Contact points calibrated onto the soles seen in the stance phases, with the floor level
    under each foot (:func:`dynamics.humanoid.contact.calibrate_contacts`).
 4. Ground reaction forces at the foot points in contact, each inside a friction pyramid
-   (:func:`dynamics.humanoid.contact.solve_contact_forces`), fitting the root wrench moved to
+   (:func:`dynamics.humanoid.contact_forces.solve_contact_forces`), fitting the root wrench moved to
    the centre of mass in the norm ``‖ΔF‖² + ‖ΔM / L‖²`` (L = :data:`TORQUE_LENGTH`): what
    they cannot supply is the residual — the non-physical "hand of God".
 5. Joint torques with those contact forces taken off, foot skating, penetration, floating
@@ -30,8 +30,8 @@ from mocap.filtering import butterworth_lowpass
 from mocap.skeleton import Motion
 
 from dynamics.humanoid.contact import (ballistic_runs, calibrate_contacts, estimate_floor,
-                                       foot_skate, points_in_world, preference_weights,
-                                       rig_soles, solve_contact_forces)
+                                       foot_skate, points_in_world, rig_soles)
+from dynamics.humanoid.contact_forces import preference_weights, solve_contact_forces
 from dynamics.humanoid.inverse import contact_joint_torques, rnea_batch
 from dynamics.humanoid.kinematics import centre_of_mass, motion_kinematics
 from dynamics.humanoid.model import GRAVITY, Humanoid, build_humanoid

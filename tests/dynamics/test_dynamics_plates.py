@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from dynamics.humanoid.check import check_motion
-from dynamics.humanoid.contact import ridge_nnls
+from dynamics.humanoid.contact_forces import ridge_nnls
 from dynamics.humanoid.kinematics import centre_of_mass
 from dynamics.humanoid.model import build_humanoid
 from dynamics.humanoid.plates import compare_with_plates, measured_plates, plate_joint_torques

@@ -11,7 +11,7 @@ from mocap.body.segments import BODY_SEGMENTS, default_skeleton
 from mocap.skeleton import Motion
 from mocap.body.anthropometry import segment_table
 from dynamics.humanoid.check import check_motion
-from dynamics.humanoid.contact import solve_contact_forces
+from dynamics.humanoid.contact_forces import solve_contact_forces
 from dynamics.humanoid.inverse import rnea_batch
 from dynamics.humanoid.kinematics import configurations, motion_kinematics
 from dynamics.humanoid.model import build_humanoid
