@@ -170,9 +170,10 @@ def _finish_body(system: System, body: builders.Body, table: Table, colour) -> n
 MAX_PARTICLES = 2_000_000
 
 
-def _check_count(t: Table, count: int, system: System, key: str) -> None:
-    if count + len(system.particles) > MAX_PARTICLES:
-        raise t.error(key, f"would make {count} particles; a scene may have at most "
+def _check_count(t: Table, count: float, system: System, key: str) -> None:
+    if not count + len(system.particles) <= MAX_PARTICLES:      # also NaN and inf
+        shown = f"{count:.0f}" if math.isfinite(count) else "infinitely many"
+        raise t.error(key, f"would make {shown} particles; a scene may have at most "
                            f"{MAX_PARTICLES}")
 
 
@@ -232,7 +233,10 @@ def _add_bodies(system: System, document: dict, path) -> tuple[list, list]:
     for t in tables_of(document, "fluid", path):
         spacing = t.number("spacing", above=0.0)
         size = t.vector("size", minimum=0.0)
-        count = int(np.prod(np.floor(size / spacing + 1e-9) + 1))
+        # in floats: a huge size over a small spacing is inf or beyond int64, and must
+        # reach the particle limit's message, not an OverflowError
+        with np.errstate(over="ignore"):
+            count = float(np.prod(np.floor(size / spacing + 1e-9) + 1))
         _check_count(t, count, system, "spacing")
         body = builders.particle_block(t.vector("origin"), size, spacing,
                                        t.number("mass", 1.0, above=0.0),
