@@ -14,7 +14,7 @@ from mocap.progress import progress
 
 from dynamics.scenes.build import Scene
 from dynamics.sim.collisions import Box, Plane, Sphere
-from dynamics.sim.integrators import advance
+from dynamics.sim.integrators import SimulationUnstable, advance
 from dynamics.sim.rigid import newton_euler_step
 
 #: Largest in-memory result (saved frames) a run may build, bytes.
@@ -147,8 +147,13 @@ def run_scene(scene: Scene, show_progress: bool | None = None) -> SimulationResu
             body = bodies[push.body]
             if push.start <= system.time - scene.dt < push.start + push.duration:
                 body.apply_force(push.force, body.position + body.rotation @ push.point)
-        for body in bodies:
-            newton_euler_step(body, scene.dt, scene.gravity)
+        for k, body in enumerate(bodies):
+            try:
+                newton_euler_step(body, scene.dt, scene.gravity, system.speed_limit)
+            except SimulationUnstable as error:
+                raise SimulationUnstable(
+                    f"rigid body {k + 1} at step {step} (t = {system.time:.4g} s): "
+                    f"{error.problem}", scene.path) from None
         if step % scene.save_every == 0:
             record(step // scene.save_every)
     broken_at = (system.heat.melted_at if system.heat is not None

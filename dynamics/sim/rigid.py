@@ -18,6 +18,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from dynamics.sim.integrators import SimulationUnstable
+
 
 def box_inertia(mass: float, size) -> np.ndarray:
     """(3, 3) inertia of a solid box about its centre, kg·m²: m/12 diag(b²+c², a²+c², a²+b²).
@@ -180,7 +182,8 @@ class RigidBody:
         return self.position + self.vertices @ self.rotation.T
 
 
-def newton_euler_step(body: RigidBody, dt: float, gravity=None) -> None:
+def newton_euler_step(body: RigidBody, dt: float, gravity=None,
+                      speed_limit: float = float("inf")) -> None:
     """Advance ``body`` by ``dt`` with its accumulated force and torque, then clear them.
 
     Translation by symplectic Euler; L += Δt τ; orientation by the exponential map of the
@@ -191,6 +194,11 @@ def newton_euler_step(body: RigidBody, dt: float, gravity=None) -> None:
     body : RigidBody (updated in place)
     dt : float, seconds
     gravity : (3,) float, m/s², optional, adds m g at the centre of mass
+    speed_limit : float, m/s
+        The particles' stability rule (:class:`dynamics.sim.system.System`): a non-finite
+        state, or a centre of mass or vertex faster than this, raises
+        :class:`dynamics.sim.integrators.SimulationUnstable` before the orientation update
+        (whose quaternion arithmetic would otherwise fail on it).
     """
     force = body.force + (body.mass * np.asarray(gravity, float) if gravity is not None else 0.0)
     body.velocity = body.velocity + dt * force / body.mass
@@ -198,6 +206,13 @@ def newton_euler_step(body: RigidBody, dt: float, gravity=None) -> None:
     body.angular_momentum = body.angular_momentum + dt * body.torque
     rotation = Rotation.from_quat(body.orientation)
     omega = body.angular_velocity(rotation.as_matrix())
+    reach = float(np.linalg.norm(body.vertices, axis=1).max()) if len(body.vertices) else 0.0
+    with np.errstate(over="ignore", invalid="ignore"):     # an absurd push: inf, said below
+        speed = float(np.linalg.norm(body.velocity) + np.linalg.norm(omega) * reach)
+    state = (body.position, body.velocity, body.angular_momentum, omega)
+    if not (all(np.isfinite(v).all() for v in state) and speed <= speed_limit):
+        raise SimulationUnstable(f"a rigid body went unstable: speed {speed:.3g} m/s, limit "
+                                 f"{speed_limit:g} m/s; use smaller push forces or a smaller dt")
     half = Rotation.from_rotvec(0.5 * dt * omega) * rotation
     omega_mid = body.angular_velocity(half.as_matrix())
     q = (Rotation.from_rotvec(dt * omega_mid) * rotation).as_quat()

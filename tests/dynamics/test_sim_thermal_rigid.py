@@ -128,3 +128,32 @@ def test_off_centre_force_gives_torque_and_linear_push():
     body.apply_force([0, 0, 10.0])                             # at the centre: no torque
     newton_euler_step(body, 0.01)
     np.testing.assert_allclose(body.angular_momentum, [0, -0.05, 0])
+
+
+def test_an_absurd_push_stops_the_run_with_one_line_not_a_quaternion_error(tmp_path):
+    """Found by the hostile re-run: a push of 1e300 N gave scipy's "zero norm quaternions"
+    traceback. The particles' rule (non-finite or faster than the speed limit) now applies
+    to rigid bodies too, before the orientation update."""
+    from mocap.cli import main
+    from mocap.errors import MocapError
+    from dynamics.sim.integrators import SimulationUnstable
+
+    body = RigidBody.box(1.0, [0.3, 0.1, 0.05])
+    body.apply_force(np.array([0.0, 0.0, 1e300]), body.position + np.array([0.15, 0.0, 0.0]))
+    with pytest.raises(SimulationUnstable, match="rigid body went unstable"):
+        newton_euler_step(body, 1e-3, speed_limit=1e3)
+    assert issubclass(SimulationUnstable, MocapError)
+    # a fast but finite spin above the limit stops too; below it the step runs
+    slow = RigidBody.box(1.0, [0.3, 0.1, 0.05], angular_momentum=[0.0, 0.01, 0.0])
+    newton_euler_step(slow, 1e-3, speed_limit=1e3)
+    fast = RigidBody.box(1.0, [0.3, 0.1, 0.05], angular_momentum=[0.0, 1e3, 0.0])
+    with pytest.raises(SimulationUnstable, match="limit 1000 m/s"):
+        newton_euler_step(fast, 1e-3, speed_limit=1e3)
+    scene = tmp_path / "push.toml"
+    scene.write_text('[simulation]\ndt = 0.001\nsteps = 3\n[[rigid]]\nshape = "box"\n'
+                     'size = [0.3, 0.12, 0.04]\nmass = 1.0\n[[rigid.push]]\n'
+                     'force = [0.0, 0.0, 1e300]\npoint = [0.15, 0.0, 0.0]\n'
+                     'start = 0.0\nduration = 0.02\n')
+    out = tmp_path / "s.npz"
+    assert main(["simulate", str(scene), "--no-progress", "-o", str(out)]) == 2
+    assert not out.exists()
