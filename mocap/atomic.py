@@ -33,9 +33,18 @@ class _Journal:
 
     def __init__(self) -> None:
         self.entries: list[tuple[Path, Path | None]] = []
+        #: Folders the block created for its outputs, outermost first.
+        self.folders: list[Path] = []
 
     def undo(self) -> None:
-        """Take back every output put in place so far (newest first)."""
+        """Take back every output put in place so far (newest first), then the folders
+        made for them (each only if nothing else was put in it meanwhile)."""
+        self._undo_outputs()
+        while self.folders:
+            with contextlib.suppress(OSError):
+                self.folders.pop().rmdir()
+
+    def _undo_outputs(self) -> None:
         while self.entries:
             target, backup = self.entries.pop()
             with contextlib.suppress(OSError):
@@ -51,6 +60,7 @@ class _Journal:
 
     def settle(self) -> None:
         """Keep the outputs: drop the backups of what they replaced."""
+        self.folders.clear()
         while self.entries:
             _, backup = self.entries.pop()
             if backup is not None:
@@ -158,10 +168,32 @@ def refuse_special(path: str | os.PathLike) -> None:
                          "name for the output", path)
 
 
+def make_folder(folder: str | os.PathLike) -> Path:
+    """Create ``folder`` and any missing parents; inside :func:`all_or_nothing` the ones
+    created here are removed again (when empty) if the block is undone.
+
+    Raises
+    ------
+    FileExistsError, PermissionError, OSError
+        As :meth:`pathlib.Path.mkdir`.
+    """
+    folder = Path(folder)
+    missing = []
+    for place in (folder, *folder.parents):
+        if place.exists() or place.is_symlink():
+            break
+        missing.append(place)
+    folder.mkdir(parents=True, exist_ok=True)
+    journal = _JOURNAL.get()
+    if journal is not None:
+        journal.folders.extend(reversed(missing))
+    return folder
+
+
 def _writable_parent(target: Path) -> Path:
     parent = target.parent
     try:
-        parent.mkdir(parents=True, exist_ok=True)
+        make_folder(parent)
     except FileExistsError:
         raise MocapError("cannot write here: a file is in the way of the folder "
                          f"{parent}", target) from None

@@ -275,13 +275,13 @@ def _clinical_angles(trial, args: argparse.Namespace):
 
 def _write_cycles(cycles, source: Path, args: argparse.Namespace) -> None:
     """The tidy cycles CSV and its mean ± SD plot beside it (.png)."""
-    from mocap.atomic import atomic_path
+    from mocap.atomic import atomic_path, make_folder
     from mocap.events import cycles_figure, write_cycles_csv
 
     where = Path(args.cycles)
     csv_path = where / f"{source.stem}.csv" if args.cycles_folder else where
     if args.cycles_folder:
-        where.mkdir(parents=True, exist_ok=True)
+        make_folder(where)
     write_cycles_csv(cycles, csv_path)
     figure = cycles_figure(cycles, title=f"{source.name}: mean ± SD of "
                                          f"{cycles.side.count('l')} left and "

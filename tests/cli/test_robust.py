@@ -166,6 +166,30 @@ def test_a_command_that_fails_after_writing_one_output_leaves_none(walk, tmp_pat
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.csv", "blocker"]
 
 
+def test_a_failed_command_takes_back_the_folders_it_made(walk, tmp_path, capsys):
+    """Found by the hostile re-run: angles -o new/deep/a.csv that then failed (or was
+    interrupted) left new/deep/ behind, empty. Folders the command made go with its
+    outputs; a folder that was there before, or that got other files meanwhile, stays."""
+    (tmp_path / "blocker").write_text("x")
+    argv = ["angles", str(walk), "-m", "synthetic15", "-o", str(tmp_path / "new" / "deep" /
+            "a.csv"), "--plot", str(tmp_path / "blocker" / "a.png")]
+    assert main(argv) == 2
+    assert "in the way" in _one_error_line(capsys)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["blocker"]
+    from mocap.atomic import all_or_nothing, atomic_path
+    (tmp_path / "kept").mkdir()
+    with pytest.raises(KeyboardInterrupt):
+        with all_or_nothing():
+            with atomic_path(tmp_path / "kept" / "made" / "a.csv") as tmp:
+                tmp.write_text("a")
+            with atomic_path(tmp_path / "other" / "b.csv") as tmp:
+                tmp.write_text("b")
+            (tmp_path / "other" / "the user's file").write_text("c")
+            raise KeyboardInterrupt
+    assert sorted(p.name for p in tmp_path.rglob("*")) == [
+        "blocker", "kept", "other", "the user's file"]
+
+
 def test_ctrl_c_after_some_outputs_takes_them_back(tmp_path):
     from mocap.atomic import all_or_nothing, atomic_folder, atomic_path
     (tmp_path / "old.csv").write_text("old")
