@@ -134,6 +134,24 @@ def parse_kernel(data, delimiter, width, pow10):         # pragma: no cover - co
     return table[:row], fallback
 
 
+@numba.njit(cache=True, nogil=True, inline="always")
+def _put_digits(out, end, value, digits):                 # pragma: no cover - compiled
+    """Write the last ``digits`` decimal digits of ``value`` (>= 0) into ``out`` ending
+    before ``end``, two at a time from the last, with leading zeros: the integer part
+    (``digits`` its digit count) and the fraction (``digits`` the places) alike."""
+    k = end
+    while digits >= 2:
+        q = value // 100
+        pair = 2 * (value - q * 100)
+        out[k - 1] = PAIRS[pair + 1]
+        out[k - 2] = PAIRS[pair]
+        k -= 2
+        value = q
+        digits -= 2
+    if digits == 1:
+        out[k - 1] = 48 + value
+
+
 @numba.njit(cache=True, nogil=True)
 def format_kernel(table, decimals, delimiter, pow10, nan_cells):   # pragma: no cover
     rows, cols = table.shape
@@ -182,39 +200,12 @@ def format_kernel(table, decimals, delimiter, pow10, nan_cells):   # pragma: no 
                 count = 1
                 while count < 16 and whole >= units[count]:
                     count += 1
-                # integer digits, from the last, two at a time
-                end = position + count
-                k = end
-                w = whole
-                while w >= 100:
-                    q = w // 100
-                    pair = 2 * (w - q * 100)
-                    out[k - 1] = PAIRS[pair + 1]
-                    out[k - 2] = PAIRS[pair]
-                    k -= 2
-                    w = q
-                if w >= 10:
-                    out[k - 1] = PAIRS[2 * w + 1]
-                    out[k - 2] = PAIRS[2 * w]
-                else:
-                    out[k - 1] = 48 + w
-                position = end
+                _put_digits(out, position + count, whole, count)
+                position += count
                 if places > 0:
                     out[position] = 46
                     position += 1
-                    k = position + places
-                    f = fraction
-                    left = places
-                    while left >= 2:
-                        q = f // 100
-                        pair = 2 * (f - q * 100)
-                        out[k - 1] = PAIRS[pair + 1]
-                        out[k - 2] = PAIRS[pair]
-                        k -= 2
-                        f = q
-                        left -= 2
-                    if left == 1:
-                        out[k - 1] = 48 + f
+                    _put_digits(out, position + places, fraction, places)
                     position += places
             out[position] = delimiter if c < cols - 1 else 10
             position += 1
