@@ -14,7 +14,6 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from mocap.errors import MocapError
 from mocap.frames import iter_frame_blocks
@@ -183,6 +182,7 @@ def matrices_to_angles(matrices: np.ndarray, sequence: str) -> np.ndarray:
         in [-90, 90] (Tait-Bryan) or [0, 180] (proper Euler); NaN rows for NaN
         matrices.
     """
+    from scipy.spatial.transform import Rotation   # deferred: 0.4 s to import
     check_sequence(sequence)
     shape = matrices.shape[:-2]
     flat = matrices.reshape(-1, 3, 3)
@@ -221,6 +221,7 @@ def angles_to_matrices(values_deg: np.ndarray, sequence: str) -> np.ndarray:
     ndarray, shape (..., 3, 3)
         NaN where an angle is NaN.
     """
+    from scipy.spatial.transform import Rotation   # deferred: 0.4 s to import
     check_sequence(sequence)
     values = np.asarray(values_deg, dtype=float)
     shape = values.shape[:-1]

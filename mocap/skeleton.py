@@ -27,7 +27,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy.spatial.transform import Rotation, Slerp
 
 from mocap.errors import MocapError
 
@@ -306,6 +305,7 @@ class Motion:
                            rotations=self.rotations[index],
                            translations=None if self.translations is None
                            else self.translations[index])
+        from scipy.spatial.transform import Rotation, Slerp   # deferred: 0.4 s to import
         rotations = np.stack([Slerp(self.times, Rotation.from_matrix(self.rotations[:, s]))(
             times).as_matrix() for s in range(self.skeleton.count)], axis=1)
 
@@ -322,6 +322,7 @@ class Motion:
 
     def rotation_vectors(self) -> np.ndarray:
         """Joint rotations as rotation vectors (axis × angle, radians), (frames, segments, 3)."""
+        from scipy.spatial.transform import Rotation   # deferred: 0.4 s to import
         flat = Rotation.from_matrix(self.rotations.reshape(-1, 3, 3)).as_rotvec()
         return flat.reshape(self.frames, self.skeleton.count, 3)
 

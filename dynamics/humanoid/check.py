@@ -22,11 +22,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from mocap.body.retarget import reduce_to_segments
 from mocap.errors import MocapError
 from mocap.filtering import butterworth_lowpass
+from mocap.quaternions import quaternions_to_matrices
 from mocap.skeleton import Motion
 
 from dynamics.humanoid.contact import (ballistic_runs, calibrate_contacts, estimate_floor,
@@ -220,7 +220,7 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
     tau = rnea_batch(humanoid, kin.q, kin.v, kin.a, threads)
 
     # Root wrench in world axes, moved to the centre of mass.
-    root_r = Rotation.from_quat(kin.q[:, 3:7]).as_matrix()
+    root_r = quaternions_to_matrices(kin.q[:, 3:7])
     force_w = np.einsum("fij,fj->fi", root_r, tau[:, :3])
     torque_w = np.einsum("fij,fj->fi", root_r, tau[:, 3:6])
     smoothed = Motion(body.skeleton, kin.root - body.skeleton.offsets[0], kin.rotations, rate)

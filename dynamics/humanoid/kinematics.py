@@ -13,10 +13,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from mocap.errors import MocapError
 from mocap.filtering import butterworth_lowpass, savgol
+from mocap.quaternions import matrices_to_quaternions, quaternions_to_matrices
 from mocap.skeleton import Motion
 
 from dynamics.humanoid.model import Humanoid
@@ -32,16 +32,10 @@ def _quat_conj_product_vector(q: np.ndarray, d: np.ndarray) -> np.ndarray:
                      w * c - e * z - (x * b - y * a)], axis=-1)
 
 
-def _quaternion_matrices(q: np.ndarray) -> np.ndarray:
-    """Rotation matrices (…, 3, 3) of unit quaternions (…, 4) stored x, y, z, w."""
-    flat = q.reshape(-1, 4)
-    return Rotation.from_quat(flat).as_matrix().reshape(q.shape[:-1] + (3, 3))
-
-
 def _continuous_quaternions(rotations: np.ndarray) -> np.ndarray:
     """Quaternions (frames, joints, 4) of rotation matrices, sign-continuous over frames."""
-    frames, joints = rotations.shape[:2]
-    quats = Rotation.from_matrix(rotations.reshape(-1, 3, 3)).as_quat().reshape(frames, joints, 4)
+    frames = rotations.shape[0]
+    quats = matrices_to_quaternions(rotations)
     if frames > 1:
         dots = np.einsum("fjk,fjk->fj", quats[1:], quats[:-1])
         flips = np.cumprod(np.where(dots < 0, -1.0, 1.0), axis=0)
@@ -128,7 +122,7 @@ def motion_kinematics(motion: Motion, smoothing: float = 0.1,
     omega = 2.0 * _quat_conj_product_vector(q0, q1) / norm2             # body frame
     alpha = 2.0 * _quat_conj_product_vector(q0, q2) / norm2
     q0 = q0 / np.sqrt(norm2)
-    rotations = _quaternion_matrices(q0)                                # (F, J, 3, 3)
+    rotations = quaternions_to_matrices(q0)                                # (F, J, 3, 3)
     root_r = rotations[:, 0]
     v_lin = np.einsum("fji,fj->fi", root_r, p1)                         # Rᵀ ṗ
     a_lin = np.einsum("fji,fj->fi", root_r, p2) - np.cross(omega[:, 0], v_lin)

@@ -9,7 +9,6 @@ angles (angle CSV, OpenSim ``.mot``) and every corpus reader goes through here.
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from mocap.angles import JointAngles, matrices_to_angles, unwrap_angles
 from mocap.body.retarget import motion_to_lab, reduce_to_segments, up_matrix
@@ -70,6 +69,7 @@ def motion_from_angles(angles, skeleton: Skeleton | None = None,
     times = np.asarray(getattr(angles, "times", np.arange(frames) / 100.0), float)
     rate = frame_rate(float(np.median(np.diff(times)))) if times.size > 1 else 100.0
     rotations = np.broadcast_to(np.eye(3), (frames, skeleton.count, 3, 3)).copy()
+    from scipy.spatial.transform import Rotation   # deferred: 0.4 s to import
     for k, name in enumerate(angles.segments):
         if name not in skeleton.names:
             raise MocapError(f"the joint angles have segment {name!r} that the skeleton "

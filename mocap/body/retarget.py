@@ -10,7 +10,6 @@ foreign skeletons (BVH, ASF) moved onto the 15-segment body; and back to a Z-up 
 from __future__ import annotations
 
 import numpy as np
-from scipy.spatial.transform import Rotation, Slerp
 
 from mocap.body.segments import (BODY_SEGMENTS, LOWER_BODY, body_parents, canonical_segment,
                                  describe_mapping, map_segments)
@@ -48,6 +47,7 @@ def _fill_rotations(rotations: np.ndarray) -> np.ndarray:
     times = np.flatnonzero(valid)
     if times.size == 1:
         return np.broadcast_to(rotations[times[0]], rotations.shape).copy()
+    from scipy.spatial.transform import Rotation, Slerp   # deferred: 0.4 s to import
     slerp = Slerp(times, Rotation.from_matrix(rotations[valid]))
     query = np.clip(np.arange(rotations.shape[0]), times[0], times[-1])
     return slerp(query).as_matrix()

@@ -32,7 +32,6 @@ import re
 from pathlib import Path
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from mocap.angles import unwrap_columns
 from mocap.atomic import atomic_path
@@ -304,6 +303,7 @@ def read_bvh(path: str | os.PathLike, units: str | None = None) -> Motion:
         Unreadable file, malformed hierarchy, motion lines that disagree with the channels,
         a truncated motion section, non-finite values, an unknown unit.
     """
+    from scipy.spatial.transform import Rotation   # deferred: 0.4 s to import
     path = os.fspath(path)
     with reading(path, "BVH file"):
         text = Path(path).read_text(encoding="utf-8", errors="replace")
@@ -437,6 +437,7 @@ _AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]),
 def _euler_columns(rotations: np.ndarray, axes: str) -> list[np.ndarray]:
     """Angles (degrees, unwrapped over frames) of rotations (frames, 3, 3) about ``axes``
     (1 to 3 of X, Y, Z, intrinsic: R = R_A(a) R_B(b) …)."""
+    from scipy.spatial.transform import Rotation   # deferred: 0.4 s to import
     if len(axes) == 3:
         euler = Rotation.from_matrix(rotations).as_euler(axes, degrees=True)
         result = [euler[:, k] for k in range(3)]
@@ -457,6 +458,7 @@ def _holds(rotations: np.ndarray, axes: str, tolerance: float = 1e-9) -> bool:
     """Whether rotations (frames, 3, 3) are rotations about ``axes`` only (in that order)."""
     if not axes:
         return bool(np.abs(rotations - np.eye(3)).max() <= tolerance)
+    from scipy.spatial.transform import Rotation   # deferred: 0.4 s to import
     rebuilt = np.broadcast_to(np.eye(3), rotations.shape).copy()
     for axis, angle in zip(axes, _euler_columns(rotations, axes)):
         rebuilt = rebuilt @ Rotation.from_rotvec(np.radians(angle)[:, None] * _AXES[axis]
