@@ -467,3 +467,53 @@ def foot_skate(contacts: np.ndarray, height: float, speed: float, rate: float
         return 0.0, 0.0
     moved = step[both]
     return 1000.0 * float(moved.mean()), float(np.mean(moved * rate > 0.5))
+
+
+def rollover_centres(calibration: ContactCalibration, names: list[str], segments: list[int],
+                     active: np.ndarray, world_r: np.ndarray, world_p: np.ndarray
+                     ) -> np.ndarray:
+    """A prior centre of pressure under each foot: heel-to-toe roll-over in time.
+
+    Over each of a foot's contacts (a run of frames with any of its points in contact,
+    at least 3 frames, not cut by the trial's first or last frame) the centre of pressure
+    moves along the sole from the heel point to the toe point in proportion to the time
+    since the contact began: at the heel when it lands, at the toe when it leaves. The
+    contact points' own in-contact test starts a contact a little before the heel
+    strikes and ends it a little after the toe leaves, so the prior spans the whole of
+    what a plate sees. On the floor under the foot; NaN outside such contacts.
+
+    Parameters
+    ----------
+    calibration : ContactCalibration
+        Calibrated contact points (``points``, foot frames) and the floor under them.
+    names : list of str
+        ``<foot>.<point>`` of each contact point (each foot has a ``.heel`` and a ``.toe``).
+    segments : list of int
+        Foot segment of each point.
+    active : ndarray, shape (frames, points), bool
+        Points in contact.
+    world_r, world_p : segment poses, (frames, segments, 3, 3) and (frames, segments, 3)
+
+    Returns
+    -------
+    ndarray, shape (frames, points, 3), metres
+        Per frame and point, the prior centre of pressure of the point's foot (world).
+    """
+    frames = active.shape[0]
+    segments = np.asarray(segments)
+    out = np.full((frames, segments.size, 3), np.nan)
+    for foot in sorted(set(segments.tolist())):
+        mine = np.flatnonzero(segments == foot)
+        ends = {names[k].rsplit(".", 1)[-1]: calibration.points[k] for k in mine}
+        if "heel" not in ends or "toe" not in ends:
+            continue
+        fraction = np.full(frames, np.nan)
+        for a, b in _runs(active[:, mine].any(axis=1), 3):
+            if a > 0 and b < frames:
+                fraction[a:b] = np.arange(b - a) / (b - 1 - a)
+        known = np.isfinite(fraction)
+        local = ends["heel"] + fraction[known, None] * (ends["toe"] - ends["heel"])
+        centre = world_p[known, foot] + np.einsum("fij,fj->fi", world_r[known, foot], local)
+        centre[:, 1] = calibration.floors[known, mine[0]]
+        out[np.flatnonzero(known)[:, None], mine[None, :]] = centre[:, None, :]
+    return out

@@ -10,6 +10,12 @@ ridge term is weighted by ``1 + (h / H)² + (v / V)²`` with H = 10 mm and V = 0
 (its height above its floor and speed). This decides how the load is shared between the
 heel of the leading foot and the toes of the trailing one in double support, which the
 wrench alone does not fix.
+
+A prior centre of pressure. ``centres`` adds, per group of points (a foot), two rows to
+the fit: the horizontal moment of the group's forces about a given point, fitted to zero
+— a linear way to say "this foot's centre of pressure is near there" (its misfit is the
+load times the distance, as a torque). :func:`dynamics.humanoid.check.check_motion` uses
+it with the heel-to-toe roll-over of :func:`dynamics.humanoid.contact.rollover_centres`.
 """
 from __future__ import annotations
 
@@ -109,7 +115,9 @@ def pyramid_edges(mu: float, edges: int = 4) -> np.ndarray:
 def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndarray,
                          mu: float = 0.8, edges: int = 4, regularisation: float = 1e-6,
                          torque_length: float = 1.0, weights: np.ndarray | None = None,
-                         preferred: np.ndarray | None = None
+                         preferred: np.ndarray | None = None,
+                         centres: np.ndarray | None = None, groups: np.ndarray | None = None,
+                         centre_length: float = 1.0
                          ) -> tuple[np.ndarray, np.ndarray]:
     """Contact forces inside friction pyramids that best supply a wrench, frame by frame.
 
@@ -146,6 +154,17 @@ def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndar
         added as a generator costing :data:`PREFERRED_COST` of the edges where it lies
         inside the pyramid.
 
+    centres : ndarray, shape (frames, points, 3), optional
+        A prior centre of pressure for each point's group (its foot), relative to the
+        same reference as ``levers`` (NaN: none in that frame): each group adds two rows,
+        the horizontal moment of its forces about its centre (``Σ (r_p − c) × f_p``, X
+        and Z), fitted to zero, divided by ``centre_length`` as the torque rows are by
+        ``torque_length``.
+    groups : ndarray, shape (points,), int, optional
+        The group (foot) of each point; required with ``centres``.
+    centre_length : float, m
+        The length the prior rows' moments are divided by.
+
     Returns
     -------
     forces : ndarray, shape (frames, points, 3), N
@@ -176,13 +195,23 @@ def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndar
     rows = np.array([1.0, 1.0, 1.0] + [1.0 / torque_length] * 3)
     matrix = physical * rows[None, :, None] * scale[:, None, :]
     target = wrench * rows
+    if centres is not None:
+        known = (active & np.isfinite(centres).all(axis=2))[:, :, None, None]
+        about = np.cross((levers - np.nan_to_num(centres))[:, :, None, :], d)[..., [0, 2]] \
+            * known / centre_length                                       # (F, P, K, 2)
+        member = np.asarray(groups)[:, None] == np.unique(groups)[None, :]  # (P, G)
+        prior = np.einsum("fpkc,pg->fgcpk", about, member.astype(float))
+        prior = prior.reshape(frames, -1, points * kinds)                  # (F, 2G, P·K)
+        matrix = np.concatenate([matrix, prior * scale[:, None, :]], axis=1)
+        target = np.concatenate([target, np.zeros((frames, prior.shape[1]))], axis=1)
+    m = matrix.shape[1]
     # A small ridge (min-norm among exact solutions) spreads the load over the points in
     # contact instead of a vertex solution where feet push against each other sideways.
     # Fast path, all frames at once: the unconstrained ridge solution
     # Aᵀ(AAᵀ + εI)⁻¹W (6 × 6 solves) is the answer wherever it is non-negative — the usual
     # case for a load well inside the pyramids; the other frames go to ridge_nnls.
     transposed = np.swapaxes(matrix, 1, 2)                              # (F, P·K, 6)
-    small = matrix @ transposed + regularisation * np.eye(6)
+    small = matrix @ transposed + regularisation * np.eye(m)
     dual = np.linalg.solve(small, target[..., None])[..., 0]
     amounts = (transposed @ dual[..., None])[..., 0]
     busy = active.any(axis=1) & (amounts.min(axis=1) < 0.0)
