@@ -1,22 +1,15 @@
-"""The compiled loops of :mod:`mocap.io.text_table` (numba, cached on disk).
+"""The compiled reading loop of :mod:`mocap.io.text_table` (numba, cached on disk).
 
 Imported only for tables large enough to be worth loading numba (~1.5 s per process).
 ``parse_kernel`` reads delimited numbers in one pass over the bytes (exact: an integer
 mantissa of at most 2**53 times or divided by an exact power of ten, else the cell is
-handed back for Python's ``float``); ``format_kernel`` writes fixed decimals: the value
-rounded to its column's places as an integer (``floor(|x| 10^p + 0.5)``), written two
-digits at a time, integer part then fraction.
+handed back for Python's ``float``). Writing needs no compiled loop
+(:func:`mocap.io.text_table._format_block`).
 """
 from __future__ import annotations
 
 import numba
 import numpy as np
-
-#: Exact powers of ten as float64.
-POW10 = np.array([10.0 ** k for k in range(23)])
-#: "00" to "99" as ASCII digit pairs (``PAIRS[2k]``, ``PAIRS[2k + 1]``): the writer puts
-#: down two digits per division.
-PAIRS = np.array([list(f"{k:02d}".encode()) for k in range(100)], dtype=np.uint8).reshape(-1)
 
 
 @numba.njit(cache=True, nogil=True)
@@ -132,81 +125,3 @@ def parse_kernel(data, delimiter, width, pow10):         # pragma: no cover - co
         fallback[m, 2] = slow_start[m + 1]
         fallback[m, 3] = slow_end[m + 1]
     return table[:row], fallback
-
-
-@numba.njit(cache=True, nogil=True, inline="always")
-def _put_digits(out, end, value, digits):                 # pragma: no cover - compiled
-    """Write the last ``digits`` decimal digits of ``value`` (>= 0) into ``out`` ending
-    before ``end``, two at a time from the last, with leading zeros: the integer part
-    (``digits`` its digit count) and the fraction (``digits`` the places) alike."""
-    k = end
-    while digits >= 2:
-        q = value // 100
-        pair = 2 * (value - q * 100)
-        out[k - 1] = PAIRS[pair + 1]
-        out[k - 2] = PAIRS[pair]
-        k -= 2
-        value = q
-        digits -= 2
-    if digits == 1:
-        out[k - 1] = 48 + value
-
-
-@numba.njit(cache=True, nogil=True)
-def format_kernel(table, decimals, delimiter, pow10, nan_cells):   # pragma: no cover
-    rows, cols = table.shape
-    max_decimals = 0
-    for c in range(cols):
-        if decimals[c] > max_decimals:
-            max_decimals = decimals[c]
-    out = np.empty(rows * cols * (23 + max_decimals) + 1, dtype=np.uint8)
-    units = np.empty(16, dtype=np.int64)
-    u = 1
-    for k in range(16):
-        units[k] = u
-        u *= 10
-    limits = np.empty(cols)
-    scales = np.empty(cols)
-    column_units = np.empty(cols, dtype=np.int64)
-    for c in range(cols):
-        limits[c] = 9.0e15 / pow10[decimals[c]]
-        scales[c] = pow10[decimals[c]]
-        column_units[c] = units[decimals[c]]
-    position = 0
-    for r in range(rows):
-        for c in range(cols):
-            x = table[r, c]
-            if x != x:
-                if nan_cells:
-                    out[position] = 78
-                    out[position + 1] = 97
-                    out[position + 2] = 78
-                    position += 3
-            else:
-                places = decimals[c]
-                negative = x < 0
-                magnitude = -x if negative else x
-                if magnitude >= limits[c] or not magnitude < np.inf:
-                    return out[:0], False
-                scaled = np.int64(np.floor(magnitude * scales[c] + 0.5))
-                if scaled == 0:
-                    negative = False
-                if negative:
-                    out[position] = 45
-                    position += 1
-                unit = column_units[c]
-                whole = scaled // unit
-                fraction = scaled - whole * unit
-                count = 1
-                while count < 16 and whole >= units[count]:
-                    count += 1
-                _put_digits(out, position + count, whole, count)
-                position += count
-                if places > 0:
-                    out[position] = 46
-                    position += 1
-                    _put_digits(out, position + places, fraction, places)
-                    position += places
-            out[position] = delimiter if c < cols - 1 else 10
-            position += 1
-    return out[:position], True

@@ -1,10 +1,12 @@
 """Helpers shared by the text formats (CSV, TRC, MOT): numeric tables as delimited text.
 
-Large tables are read and written by two compiled loops (numba, cached on disk,
-:mod:`mocap.io.text_kernels`), one pass over the bytes each: reading and writing a
-20 000 × 60 marker table takes tenths of a second where a Python loop per cell took
-seconds (``benchmarks/io.py``). Small ones (up to :data:`COMPILED_ABOVE` cells) are done
-in Python with the same results, so a small file does not pay for loading numba.
+Large tables are read by a compiled loop (numba, cached on disk,
+:mod:`mocap.io.text_kernels`), one pass over the bytes, and written by whole-array numpy
+(:func:`_format_block`: every cell's digits at once, eight per integer operation): reading
+and writing a 20 000 × 60 marker table takes tenths of a second where a Python loop per
+cell took seconds (``benchmarks/io.py``). Writing needs no numba, whose loading (~0.5 s
+per process) cost more than the whole 100 000 × 46 angle table takes to write. Small
+tables (up to :data:`COMPILED_ABOVE` cells) are done in Python with the same results.
 
 Reading is exact: a number with at most 15 significant digits and a decimal
 exponent within ±22 (every number a TRC or CSV file holds in practice) is an exact
@@ -13,8 +15,9 @@ operation, so it gives the same float64 as ``float(text)``; any other number is
 handed to ``float`` itself. Empty cells, ``NaN`` and words read as NaN.
 
 Writing uses a fixed number of decimal places per column; the written value is the
-number rounded to that many places, so reading it back is exact to half a unit of
-the last place. NaN is written as ``NaN``, which OpenSim, numpy and pandas read
+number rounded to that many places (``floor(|x| 10^p + 0.5)`` units of the last place
+for large tables; Python's exact rounding for small ones, which differs only in a tie),
+so reading it back is exact to half a unit of the last place. NaN is written as ``NaN``, which OpenSim, numpy and pandas read
 (OpenSim drops empty cells at the end of a row and then rejects the row).
 """
 from __future__ import annotations
@@ -27,9 +30,12 @@ from mocap.errors import MocapError, reading
 
 #: Bytes the parser treats as blank around a cell.
 _SPACE, _CR, _NL = 32, 13, 10
-#: Tables of more cells than this go to the compiled loops (:mod:`mocap.io.text_kernels`);
-#: smaller ones are done in Python, which spares a small file the ~1.5 s of loading numba.
+#: Tables of more cells than this are read by the compiled loop (:mod:`mocap.io.text_kernels`)
+#: and written by :func:`_format_block`; smaller ones are done in Python, which spares a
+#: small file the ~1.5 s of loading numba.
 COMPILED_ABOVE = 100_000
+#: Exact powers of ten as float64.
+POW10 = np.array([10.0 ** k for k in range(23)])
 
 
 def read_lines(path: str | os.PathLike, encoding: str = "utf-8") -> list[str]:
@@ -103,7 +109,7 @@ def parse_table(data: bytes | str, delimiter: str, width: int) -> np.ndarray:
         data = data.encode("utf-8")
     if len(data) < 12 * COMPILED_ABOVE:
         return _parse_python(data.decode("utf-8", errors="replace"), delimiter, width)
-    from mocap.io.text_kernels import POW10, parse_kernel
+    from mocap.io.text_kernels import parse_kernel
 
     buffer = np.frombuffer(data, dtype=np.uint8)
     table, fallback = parse_kernel(buffer, np.uint8(ord(delimiter)), int(width), POW10)
@@ -173,11 +179,12 @@ def format_table(table: np.ndarray, decimals, delimiter: str, nan: str = "NaN",
     if table.size == 0:
         return b"" if as_bytes else ""
     if table.size > COMPILED_ABOVE:
-        from mocap.io.text_kernels import POW10, format_kernel
-
-        raw, ok = format_kernel(table, places, np.uint8(ord(delimiter)), POW10, nan == "NaN")
-        if ok:
-            return raw.tobytes() if as_bytes else raw.tobytes().decode("ascii")
+        blocks = [_format_block(table[start:start + WRITE_BLOCK_ROWS], places, delimiter,
+                                nan == "NaN")
+                  for start in range(0, table.shape[0], WRITE_BLOCK_ROWS)]
+        if all(block is not None for block in blocks):
+            raw = b"".join(blocks)
+            return raw if as_bytes else raw.decode("ascii")
     # a small table, or a number too large for the compiled loop: Python's own formatting
     text = "".join(delimiter.join(nan if value != value else _fixed(value, p)
                                   for value, p in zip(row, places.tolist())) + "\n"
@@ -185,9 +192,10 @@ def format_table(table: np.ndarray, decimals, delimiter: str, nan: str = "NaN",
     return text.encode("ascii") if as_bytes else text
 
 
-#: Rows per call of the compiled loop in :func:`write_table`: a block's text is a few MB,
-#: not a second copy of the whole file in memory.
-WRITE_BLOCK_ROWS = 4096
+#: Rows per call of :func:`_format_block`: its temporaries stay in the CPU cache (1.5 to 2
+#: times faster than 4096 rows), and :func:`write_table` holds a block's text, not a second
+#: copy of the whole file.
+WRITE_BLOCK_ROWS = 1024
 
 
 def write_table(handle, parts, decimals, delimiter: str, nan: str = "NaN") -> None:
@@ -215,22 +223,149 @@ def write_table(handle, parts, decimals, delimiter: str, nan: str = "NaN") -> No
         handle.write(format_table(np.column_stack(parts) if parts else np.zeros((0, 0)),
                                   places, delimiter, nan, as_bytes=True))
         return
-    from mocap.io.text_kernels import POW10, format_kernel
-
     for start in range(0, rows, WRITE_BLOCK_ROWS):
         block = np.hstack([part[start:start + WRITE_BLOCK_ROWS] for part in parts])
-        raw, ok = format_kernel(block, places, np.uint8(ord(delimiter)), POW10, nan == "NaN")
-        assert ok, "checked by _compiled_can_write"
+        raw = _format_block(block, places, delimiter, nan == "NaN")
+        assert raw is not None, "checked by _compiled_can_write"
         handle.write(raw)
 
 
+#: Powers of ten as integers, and the bytes of eight ASCII zeros as one word.
+_UNITS = 10 ** np.arange(16, dtype=np.uint64)
+_ASCII_ZEROS = np.uint64(0x3030303030303030)
+_ALL_BITS = np.uint64(0xFFFFFFFFFFFFFFFF)
+
+
+def _format_block(table: np.ndarray, places: np.ndarray, delimiter: str,
+                  nan_cells: bool) -> bytes | None:
+    """Rows of :func:`format_table`'s large-table text, whole-array numpy.
+
+    Each cell is rounded to ``u = floor(|x| 10^p + 0.5)`` units of its last place and
+    written as ``[-]whole[.fraction]`` (no sign when ``u`` is 0); every cell gets a record
+    of the same width, right-aligned with NUL bytes in front, and one ``bytes.translate``
+    drops the NULs.
+
+    Parameters
+    ----------
+    table : ndarray, shape (rows, cols), float
+    places : ndarray of int, shape (cols,)
+        Decimal places, 0 to 15.
+    delimiter : str
+        One character, after every cell but the last of a row (which gets ``\n``).
+    nan_cells : bool
+        Write NaN as ``NaN`` (else as an empty cell).
+
+    Returns
+    -------
+    bytes, or None when a cell is infinite or ``|x| >= 9e15 / 10^p``.
+    """
+    rows, cols = table.shape
+    scale = POW10[places]
+    with np.errstate(invalid="ignore"):
+        magnitude = np.abs(table)
+        if (magnitude >= 9.0e15 / scale).any():           # inf too; NaN not
+            return None
+        missing = np.isnan(table)
+        magnitude *= scale
+        magnitude += 0.5
+        np.floor(magnitude, out=magnitude)
+    magnitude[missing] = 0.0
+    units = magnitude.astype(np.uint64)
+    negative = (table < 0) & (units != 0)
+    groups = [(int(p), np.flatnonzero(places == p)) for p in np.unique(places)]
+    parts = []
+    for p, columns in groups:           # columns of the same places together
+        value = units.ravel() if len(groups) == 1 else units[:, columns].ravel()
+        whole = value // _UNITS[p]
+        parts.append((p, columns, whole, value - whole * _UNITS[p]))
+    digits = max(len(str(int(whole.max()))) for _, _, whole, _ in parts)
+    most = int(places.max())
+    width = max(digits + 2 + (most + 1 if most else 0), 4)       # sign ... delimiter
+    record = np.zeros((rows, cols, width), dtype=np.uint8)
+    for p, columns, whole, fraction in parts:
+        alone = len(columns) == cols
+        field = record.reshape(-1, width) if alone else \
+            np.zeros((whole.size, width), dtype=np.uint8)
+        end = width - 1
+        if p:
+            _put_ascii(field[:, :end], fraction, p)
+            field[:, end - p - 1] = 46                         # "."
+            end -= p + 1
+        sign = negative.ravel() if alone else negative[:, columns].ravel()
+        _put_whole(field[:, end - digits - 1:end], whole, sign, digits)
+        if not alone:
+            record[:, columns] = field.reshape(rows, len(columns), width)
+    if missing.any():
+        cell = np.zeros(width, dtype=np.uint8)
+        if nan_cells:
+            cell[width - 4:width - 1] = (78, 97, 78)           # "NaN"
+        record[missing] = cell
+    record[..., width - 1] = ord(delimiter)
+    record[:, -1, width - 1] = 10
+    return record.tobytes().translate(None, b"\0")
+
+
+def _ascii8(value: np.ndarray) -> np.ndarray:
+    """Eight zero-padded ASCII digits of each ``value`` (uint64, < 10^8) as the bytes of
+    one uint64 (most significant first in memory, little-endian): the two halves of four
+    digits, then two digits, then one, split by multiply-and-shift in lanes of one word."""
+    high = value // np.uint64(10000)
+    x = value - high * np.uint64(10000)
+    x <<= np.uint64(32)
+    x |= high                                   # 32-bit lanes: digits 1-4, digits 5-8
+    q = x * np.uint64(10486)
+    q >>= np.uint64(20)
+    q &= np.uint64(0x0000007F0000007F)          # lane // 100 (exact below 10^4)
+    x -= q * np.uint64(100)
+    x <<= np.uint64(16)
+    x |= q                                      # 16-bit lanes of two digits
+    q = x * np.uint64(103)
+    q >>= np.uint64(10)
+    q &= np.uint64(0x000F000F000F000F)          # lane // 10 (exact below 100)
+    x -= q * np.uint64(10)
+    x <<= np.uint64(8)
+    x |= q                                      # one digit per byte
+    x += _ASCII_ZEROS
+    return x
+
+
+def _put_ascii(field: np.ndarray, value: np.ndarray, count: int) -> None:
+    """Write ``count`` (at most 16) zero-padded digits of ``value`` (uint64, shape (n,))
+    into the last ``count`` columns of ``field`` (n, >= count) uint8."""
+    if count > 8:
+        high = value // _UNITS[8]
+        field[:, -8:] = _ascii8(value - high * _UNITS[8]).view(np.uint8).reshape(-1, 8)
+        field[:, -count:-8] = _ascii8(high).view(np.uint8).reshape(-1, 8)[:, 16 - count:]
+    else:
+        field[:, -count:] = _ascii8(value).view(np.uint8).reshape(-1, 8)[:, 8 - count:]
+
+
+def _put_whole(field: np.ndarray, whole: np.ndarray, negative: np.ndarray,
+               digits: int) -> None:
+    """The integer parts right-aligned in ``field`` (n, digits + 1) uint8: significant
+    digits only (at least one), a ``-`` just before them where ``negative``."""
+    count = np.ones(whole.size, dtype=np.uint64)               # significant digits
+    for k in range(1, digits):
+        count += whole >= _UNITS[k]
+    if digits < 8:                      # one word: blank the leading zeros, add the sign
+        word = _ascii8(whole)
+        shift = (np.uint64(8) - count) * np.uint64(8)
+        word &= np.left_shift(_ALL_BITS, shift)
+        word |= np.left_shift(negative.astype(np.uint64) * np.uint64(45), shift - np.uint64(8))
+        field[:] = word.view(np.uint8).reshape(-1, 8)[:, 7 - digits:]
+        return
+    _put_ascii(field, whole, digits)
+    lead = np.arange(digits + 1)[None, :] < (digits + 1 - count.astype(np.int64))[:, None]
+    field[lead] = 0
+    where = np.flatnonzero(negative)
+    field[where, digits - count[where].astype(np.int64)] = 45
+
+
 def _compiled_can_write(parts: list[np.ndarray], places: np.ndarray) -> bool:
-    """Whether format_kernel accepts every cell: finite or NaN, and below its limit
-    (``9e15`` units of the last decimal place), as it checks cell by cell."""
+    """Whether :func:`_format_block` accepts every cell: finite or NaN, and below its limit
+    (``9e15`` units of the last decimal place), as it checks."""
     if places.min() < 0 or places.max() > 15:
         return True             # format_table raises the error
-    from mocap.io.text_kernels import POW10
-
     limit = 9.0e15 / POW10[places]
     first = 0
     for part in parts:

@@ -110,7 +110,8 @@ def test_c3d_rewrite_says_in_one_line_what_it_could_not_keep(tmp_path, capsys):
 
 
 def test_compiled_and_python_paths_agree(monkeypatch):
-    """Large tables go to the numba loops, small ones to Python: the same numbers."""
+    """Large tables go to the numba reader and the numpy writer, small ones to Python: the
+    same numbers."""
     from mocap.io import text_table
 
     rng = np.random.default_rng(5)
@@ -152,3 +153,42 @@ def test_write_table_writes_format_tables_bytes_block_by_block(tmp_path, monkeyp
     expected = format_table(np.column_stack([times, values]), 6, ",", nan="", as_bytes=True)
     assert handle.getvalue() == expected
     assert handle.getvalue().count(b"\n") == 2000 and (b"20000000000.000000" in expected) == huge
+
+
+def _hand_rule(value: float, places: int, nan: str) -> str:
+    """The large-table rule written out cell by cell: u = floor(|x| 10^p + 0.5) units of
+    the last place, ``[-]u // 10^p . u % 10^p`` (p digits), no sign when u is 0."""
+    if value != value:
+        return nan
+    units = int(np.floor(abs(value) * 10.0 ** places + 0.5))
+    sign = "-" if value < 0 and units else ""
+    whole, fraction = divmod(units, 10 ** places)
+    return f"{sign}{whole}" + (f".{fraction:0{places}d}" if places else "")
+
+
+@pytest.mark.parametrize("nan", ["", "NaN"])
+def test_large_tables_are_written_to_the_rounding_rule_cell_by_cell(nan):
+    """The whole-array writer (8 digits per integer operation, one record per cell) gives
+    the hand rule's text for every cell: ties, -0, NaN, 0-15 places, integer parts of 1 to
+    16 digits, columns of different places side by side."""
+    from mocap.io.text_table import WRITE_BLOCK_ROWS, _format_block
+
+    rng = np.random.default_rng(11)
+    for trial in range(60):
+        rows = int(rng.integers(1, 2 * WRITE_BLOCK_ROWS)) if trial < 4 else \
+            int(rng.integers(1, 40))
+        cols = int(rng.integers(1, 9))
+        places = rng.integers(0, 16, cols) if trial % 2 else np.full(cols, rng.integers(0, 16))
+        values = rng.normal(0, 1, (rows, cols)) * 10.0 ** rng.integers(-9, 16, (rows, cols))
+        values = values / 10.0 ** places                        # mostly below the limit
+        ties = rng.random(values.shape) < 0.15
+        values[ties] = (rng.integers(-10 ** 7, 10 ** 7, ties.sum()) + 0.5) \
+            / 10.0 ** rng.integers(0, 9, ties.sum())
+        values[rng.random(values.shape) < 0.05] = -0.0
+        values[rng.random(values.shape) < 0.05] = -1e-12
+        values[rng.random(values.shape) < 0.1] = np.nan
+        limit = 9.0e15 / 10.0 ** places
+        values[np.abs(values) >= limit] = np.nan                # else the Python path
+        expected = "".join(",".join(_hand_rule(v, int(p), nan) for v, p in zip(row, places))
+                           + "\n" for row in values.tolist())
+        assert _format_block(values, places, ",", nan == "NaN") == expected.encode(), trial
