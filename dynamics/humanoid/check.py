@@ -382,4 +382,3 @@ def _reasons(residual_pct: np.ndarray, penetration_mm: float, skate_speed: float
         reasons.append(f"floating: {floating_mm:.0f} mm above the floor without support in "
                        f"{100 * unsupported.mean():.0f} % of frames")
     return reasons
-
