@@ -9,7 +9,10 @@ work, exit), as a user meets it::
 - ``mocap info FILE`` beside ``python -c "import ezc3d; ezc3d.c3d(FILE)"``;
 - ``mocap angles`` on FRAMES frames x 15 segments (synthetic15, written once as C3D) beside
   a plain ezc3d + numpy + scipy + ``np.savetxt`` script computing the same angles;
-- ``mocap check`` on a BVH, first run (empty numba cache) and second run.
+- ``mocap check`` on a BVH, first run (empty numba cache) and second run;
+- ``mocap check`` of the real 556-frame Plug-in Gait trial HC030A22 (``--check-trial``)
+  beside the plain reference ``python -c "import pinocchio"`` + the C3D read, with ezc3d
+  and with the project's reader (issue 13's target: within 2x).
 
 FILE defaults to a real Vicon walk of the shared corpus when it is there.
 """
@@ -30,6 +33,8 @@ ROOT = Path(__file__).resolve().parents[1]
 REAL = ROOT.parent / "shared" / "realdata" / "biomechzoo_sample_study" / "HC002D" / "Straight" \
     / "HC002D06.c3d"
 BVH = ROOT / "tests" / "data" / "mocapbank_walk.bvh"
+CHECK_TRIAL = ROOT.parent / "shared" / "realdata" / "biomechzoo_sample_study" / "HC030A" \
+    / "Turn" / "HC030A22.c3d"
 
 #: The plain reference of ``mocap angles``: read with ezc3d, frames from three markers,
 #: child-in-parent rotations, scipy Euler angles, ``np.savetxt``.
@@ -105,6 +110,8 @@ def main() -> None:
     parser.add_argument("file", nargs="?", default=str(REAL), help="C3D file for info")
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--frames", type=int, default=100_000)
+    parser.add_argument("--check-trial", default=str(CHECK_TRIAL),
+                        help="real C3D trial with Plug-in Gait markers for the check row")
     args = parser.parse_args()
     python = sys.executable
     env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
@@ -158,6 +165,22 @@ def main() -> None:
         report("mocap check BVH, first run (empty cache)",
                median_wall(check, 1, numba_env, fresh=empty_cache))
         report("mocap check BVH, second run", median_wall(check, args.runs, numba_env))
+
+    if Path(args.check_trial).exists():
+        trial = args.check_trial
+        ezc3d_floor = "import pinocchio + ezc3d.c3d(TRIAL)"
+        report(ezc3d_floor, median_wall([python, "-c", f"import pinocchio, ezc3d; "
+                                         f"ezc3d.c3d({trial!r})"], args.runs, env))
+        own_floor = "import pinocchio + mocap.io.read(TRIAL)"
+        report(own_floor, median_wall([python, "-c", f"import pinocchio; from mocap.io import "
+                                       f"read; read({trial!r})"], args.runs, env))
+        check = mocap + ["check", trial, "-m", "plugingait-full", "--json"]
+        seconds = median_wall(check, args.runs, env)
+        name = f"mocap check {Path(trial).name} -m plugingait-full"
+        report(name, seconds, ezc3d_floor, "the ezc3d floor")
+        report(name, seconds, own_floor, "the mocap.io floor")
+    else:
+        print(f"check trial not found ({args.check_trial}): skipped")
     print(f"load average at the end {os.getloadavg()[0]:.2f}")
 
 

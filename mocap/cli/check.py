@@ -3,8 +3,9 @@
 MOTION may be a BVH file, an AMC file (its ASF found beside it or given with ``--asf``),
 a joint-angle CSV (DESIGN 3.2, played on the default body) or a marker trial
 (C3D/TRC/CSV) with ``--markerset``; with ``--forces plates`` a C3D file's force plates.
-This module imports only what the check needs (no simulator, no numba), so the command
-starts quickly.
+This module imports only what the check needs (no simulator, no numba, no scipy), so the
+command starts quickly; the readers of BVH, AMC and angle CSV motions and the force-plate
+comparison load when a file or ``--forces plates`` asks for them.
 """
 from __future__ import annotations
 
@@ -18,17 +19,13 @@ import numpy as np
 
 from dynamics.humanoid.check import Thresholds, check_motion
 from dynamics.humanoid.model import JOINT_OF_SEGMENT, build_humanoid
-from dynamics.humanoid.plates import (carried_frames, compare_with_plates, measured_plates,
-                                      plate_joint_torques, plate_stances)
 from mocap.body.anthropometry import segment_kind
 from mocap.body.retarget import motion_from_trial, reduce_to_segments
 from mocap.cli import options
 from mocap.cli.commands import summary
 from mocap.errors import MocapError
-from mocap.io import read
-from mocap.io.bvh import units_note
+from mocap.io import read, suffixes
 from mocap.io.discovery import is_angle_csv
-from mocap.io.motion import MARKER_SUFFIXES, read_motion
 from mocap.markersets import load_markerset
 
 
@@ -184,8 +181,8 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
         was read in, "" for others).
     """
     suffix = Path(path).suffix.lower()
-    trial = None
-    if suffix in MARKER_SUFFIXES and not (suffix == ".csv" and _is_angle_file(path)):
+    trial, note = None, ""
+    if suffix in suffixes("markers") and not (suffix == ".csv" and _is_angle_file(path)):
         if not Path(path).exists():
             raise MocapError("file not found", path)
         if not markerset:
@@ -198,7 +195,10 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
                              f"{trial.frames}", path)
         motion = motion_from_trial(trial, chosen)
     else:
+        from mocap.io.bvh import units_note      # deferred: the motion readers (scipy)
+        from mocap.io.motion import read_motion
         motion = read_motion(path, asf=asf, units=units, rate=rate, joint_map=joint_map)
+        note = (units_note(motion) or "").replace("units=", "--units")
     if lowpass is None:
         # The same band for every motion, whatever its frame rate: differentiated twice,
         # an unfiltered 30 Hz capture keeps everything up to 15 Hz (the Savitzky-Golay
@@ -238,6 +238,8 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
             "torque_Nm": np.round(report.joint_torques, 2).tolist()},
     }
     if plates:
+        from dynamics.humanoid.plates import (compare_with_plates, measured_plates,
+                                              plate_joint_torques)
         measured = measured_plates(trial, floor=report.floor_m, lowpass=lowpass or None)
         summary["plates"] = compare_with_plates(report, measured)
         torques, valid, loaded = plate_joint_torques(report, humanoid, measured)
@@ -249,7 +251,6 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
             "names": list(report.joint_names),
             "torque_Nm": np.round(np.where(valid[..., None], torques, np.nan), 2).tolist()}
         series = _nan_to_none(series)
-    note = (units_note(motion) or "").replace("units=", "--units")
     return {"report": report, "summary": summary, "series": series, "note": note}
 
 
@@ -286,6 +287,7 @@ def _weigh_on_plates(trial, report, lowpass) -> float | None:
     """Body mass (kg) from the plates: the measured vertical impulse over the frames they
     carry the whole body, divided by the check's (whose forces scale with the mass it was
     given: the dynamics are linear in it); None without such frames."""
+    from dynamics.humanoid.plates import carried_frames, measured_plates, plate_stances
     measured = measured_plates(trial, floor=report.floor_m, lowpass=lowpass or None)
     carried = carried_frames(report, plate_stances(report, measured)[0])
     if carried.sum() < 10:
