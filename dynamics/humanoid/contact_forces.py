@@ -66,17 +66,18 @@ def ridge_nnls(matrix: np.ndarray, target: np.ndarray, ridge: float,
     eye = np.eye(m)
     scale = 1.0 + np.linalg.norm(target, axis=1)
 
-    def objective(index: np.ndarray, res: np.ndarray) -> np.ndarray:
-        z = np.maximum((transposed[index] @ res[..., None])[..., 0], 0.0)
-        return 0.5 * (res * res).sum(axis=1) - (target[index] * res).sum(axis=1) \
+    def objective(at: np.ndarray, goal: np.ndarray, res: np.ndarray) -> np.ndarray:
+        z = np.maximum((at @ res[..., None])[..., 0], 0.0)
+        return 0.5 * (res * res).sum(axis=1) - (goal * res).sum(axis=1) \
             + 0.5 * (z * z).sum(axis=1) / ridge
 
     todo = np.arange(frames)
+    at = transposed                         # the unfinished frames' Aᵀ, gathered once a step
     previous = np.full((frames, n), 2, np.int8)            # 2: no set seen yet
     for _ in range(iterations):
         if not todo.size:
             break
-        a, at, res = matrix[todo], transposed[todo], r[todo]
+        a, res = np.swapaxes(at, 1, 2), r[todo]
         z = (at @ res[..., None])[..., 0]
         on = z > 0.0
         gradient = res - target[todo] + (a @ (np.where(on, z, 0.0) / ridge)[..., None])[..., 0]
@@ -86,17 +87,21 @@ def ridge_nnls(matrix: np.ndarray, target: np.ndarray, ridge: float,
             (on == previous[todo]).all(axis=1)
         previous[todo] = on
         keep = ~done
-        todo, a, on, res, gradient = todo[keep], a[keep], on[keep], res[keep], gradient[keep]
+        if not keep.all():
+            todo, at, on, res, gradient = (todo[keep], at[keep], on[keep], res[keep],
+                                           gradient[keep])
+            a = np.swapaxes(at, 1, 2)
         if not todo.size:
             break
-        hessian = eye + (a * on[:, None, :]) @ np.swapaxes(a, 1, 2) / ridge
+        goal = target[todo]
+        hessian = eye + (a * on[:, None, :]) @ at / ridge
         step = -np.linalg.solve(hessian, gradient[..., None])[..., 0]
         slope = (gradient * step).sum(axis=1)
-        before = objective(todo, res)
+        before = objective(at, goal, res)
         t = np.ones(todo.size)
         for _ in range(30):
             trial = res + t[:, None] * step
-            worse = objective(todo, trial) > before + 1e-4 * t * slope
+            worse = objective(at, goal, trial) > before + 1e-4 * t * slope
             if not worse.any():
                 break
             t = np.where(worse, 0.5 * t, t)
@@ -172,28 +177,39 @@ def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndar
         ``W − Σ (f, r × f)``: what the contacts cannot supply.
     """
     frames, points = active.shape
-    d = np.broadcast_to(pyramid_edges(mu, edges), (frames, points, edges, 3))
-    cost = np.ones((frames, points, edges)) if weights is None else \
-        np.repeat(weights[:, :, None], edges, axis=2)
+    kinds = edges + (preferred is not None)
+    # Columns [d; r × d] for every point and generator d, batched over frames: (F, P, K, 6),
+    # written in place (np.concatenate and np.cross on these small axes cost more than
+    # the solve); the same arithmetic as r × d by np.cross, so the same bits. The generators
+    # lie generator-major in memory, as np.concatenate left them: the forces' matmul below
+    # then sums in the same order as it always did.
+    d = np.empty((kinds, frames, points, 3)).transpose(1, 2, 0, 3)
+    d[:, :, :edges] = pyramid_edges(mu, edges)
+    cost = np.empty((frames, points, kinds))
+    cost[:, :, :edges] = 1.0 if weights is None else weights[:, :, None]
     if preferred is not None:
         # One more generator per point: the preferred direction, where inside the pyramid,
         # at a fraction of the ridge cost (so it carries the load unless the wrench needs
         # otherwise).
         unit = preferred / np.maximum(np.linalg.norm(preferred, axis=2, keepdims=True), 1e-12)
         inside = np.hypot(unit[..., 0], unit[..., 2]) <= mu * unit[..., 1]
-        d = np.concatenate([d, unit[:, :, None, :]], axis=2)
+        d[:, :, edges] = unit
         extra = (weights if weights is not None else np.ones((frames, points))) \
             * PREFERRED_COST
-        cost = np.concatenate([cost, np.where(inside, extra, np.inf)[:, :, None]], axis=2)
-    kinds = d.shape[2]
-    # Columns for every point and generator, batched over frames: (F, P, K, 6).
-    moments = np.cross(levers[:, :, None, :], d)
-    columns = np.concatenate([d, moments], axis=3) * active[:, :, None, None]
-    physical = columns.reshape(frames, points * kinds, 6).transpose(0, 2, 1)  # (F, 6, P·K)
+        cost[:, :, edges] = np.where(inside, extra, np.inf)
+    columns = np.empty((frames, points, kinds, 6))
+    columns[..., :3] = d
+    r = levers[:, :, None, :]
+    np.subtract(r[..., 1] * d[..., 2], r[..., 2] * d[..., 1], out=columns[..., 3])
+    np.subtract(r[..., 2] * d[..., 0], r[..., 0] * d[..., 2], out=columns[..., 4])
+    np.subtract(r[..., 0] * d[..., 1], r[..., 1] * d[..., 0], out=columns[..., 5])
+    columns *= active[:, :, None, None]
+    flat = columns.reshape(frames, points * kinds, 6)                  # (F, P·K, 6)
+    physical = flat.transpose(0, 2, 1)                                 # (F, 6, P·K)
     # Scaled problem: torque rows over L; columns over √cost (λ = μ / √cost keeps λ ≥ 0).
     scale = (1.0 / np.sqrt(cost)).reshape(frames, points * kinds)
     rows = np.array([1.0, 1.0, 1.0] + [1.0 / torque_length] * 3)
-    matrix = physical * rows[None, :, None] * scale[:, None, :]
+    matrix = (flat * rows * scale[:, :, None]).transpose(0, 2, 1)      # (F, 6, P·K)
     target = wrench * rows
     if centres is not None:
         known = (active & np.isfinite(centres).all(axis=2))[:, :, None, None]
