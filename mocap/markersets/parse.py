@@ -73,7 +73,6 @@ from __future__ import annotations
 
 import os
 import tomllib
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -84,11 +83,14 @@ from mocap.markersets.axes import AXIS_NAMES, axes_matrix
 from mocap.markersets.model import MarkerSet, Segment, VirtualMarker
 from mocap.markersets.virtual import HJC_METHODS, JOINT_CENTRES, VIRTUAL_TYPES
 
+#: The shipped presets: a folder beside this module (a plain path: importlib.resources and
+#: the zipfile and tempfile modules it loads cost ~20 ms of every command's start-up).
+PRESETS = Path(__file__).with_name("presets")
+
 
 def preset_names() -> list[str]:
     """Names of the marker sets shipped with the package."""
-    folder = resources.files("mocap.markersets") / "presets"
-    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml"))
+    return sorted(p.name[:-5] for p in PRESETS.iterdir() if p.name.endswith(".toml"))
 
 
 def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
@@ -106,8 +108,7 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
             and path.stem in preset_names():
         text_name, path = path.stem, Path(path.stem)          # "plugingait-lower.toml"
     if not path.suffix and not path.exists():
-        folder = resources.files("mocap.markersets") / "presets"
-        candidate = folder / f"{text_name}.toml"
+        candidate = PRESETS / f"{text_name}.toml"
         if not candidate.is_file():
             raise MocapError(f"no marker set preset '{text_name}' (presets: "
                              f"{', '.join(preset_names())}; or give a .toml file)")
