@@ -212,14 +212,22 @@ def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndar
     matrix = (flat * rows * scale[:, :, None]).transpose(0, 2, 1)      # (F, 6, P·K)
     target = wrench * rows
     if centres is not None:
-        known = (active & np.isfinite(centres).all(axis=2))[:, :, None, None]
-        about = np.cross((levers - np.nan_to_num(centres))[:, :, None, :], d)[..., [0, 2]] \
-            * known / centre_length                                       # (F, P, K, 2)
+        known = active & np.isfinite(centres).all(axis=2)
+        x = (levers - np.nan_to_num(centres))[:, :, None, :]
+        # X and Z of (r − c) × d, as np.cross computes them: (2, F, P, K)
+        about = np.stack([x[..., 1] * d[..., 2] - x[..., 2] * d[..., 1],
+                          x[..., 0] * d[..., 1] - x[..., 1] * d[..., 0]])
+        about = about * known[None, :, :, None] / centre_length
         member = np.asarray(groups)[:, None] == np.unique(groups)[None, :]  # (P, G)
-        prior = np.einsum("fpkc,pg->fgcpk", about, member.astype(float))
-        prior = prior.reshape(frames, -1, points * kinds)                  # (F, 2G, P·K)
-        matrix = np.concatenate([matrix, prior * scale[:, None, :]], axis=1)
-        target = np.concatenate([target, np.zeros((frames, prior.shape[1]))], axis=1)
+        full = np.empty((frames, 6 + 2 * member.shape[1], points * kinds))
+        full[:, :6] = matrix
+        # (F, G, 2, P, K): each group's two rows, the other groups' points at zero
+        prior = full[:, 6:].reshape(frames, member.shape[1], 2, points, kinds)
+        np.multiply(about.transpose(1, 0, 2, 3)[:, None],
+                    member.T.astype(float)[None, :, None, :, None], out=prior)
+        full[:, 6:] *= scale[:, None, :]
+        matrix = full
+        target = np.concatenate([target, np.zeros((frames, full.shape[1] - 6))], axis=1)
     m = matrix.shape[1]
     # A small ridge (min-norm among exact solutions) spreads the load over the points in
     # contact instead of a vertex solution where feet push against each other sideways.
