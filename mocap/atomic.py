@@ -19,12 +19,52 @@ import errno
 import glob
 import os
 import shutil
+import signal
 import stat
 import tempfile
+import threading
 from pathlib import Path
 from typing import Iterator
 
 from mocap.errors import MocapError
+
+
+@contextlib.contextmanager
+def interrupts_held(children: bool = False) -> Iterator[None]:
+    """Hold Ctrl-C (SIGINT) until the block ends, then let it act as it would have: for
+    clean-up that must finish (taking back outputs, closing workers, removing a scratch
+    folder) and for steps that must not be cut in two (creating a folder and remembering
+    its name).
+
+    Parameters
+    ----------
+    children : bool
+        Also block SIGINT in this thread while the block runs, so processes started inside
+        (directly or from threads started inside) inherit it blocked: a Ctrl-C typed at the
+        terminal, which reaches every process of the group, then stops only this process,
+        which closes its workers itself (their own KeyboardInterrupt tracebacks would
+        otherwise flood the terminal).
+
+    Only the main thread receives signals; elsewhere the block simply runs. The previous
+    handler is restored on the way out, so the process's signal state is as it was.
+    """
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGINT) is None):      # not Python's to handle
+        yield
+        return
+    held: list[int] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: held.append(signum))
+    mask = None
+    if children and hasattr(signal, "pthread_sigmask"):
+        mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        if mask is not None:     # a Ctrl-C pending while blocked arrives now, into ``held``
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+        signal.signal(signal.SIGINT, previous)
+        if held:         # act on it as the previous handler would (KeyboardInterrupt …)
+            signal.raise_signal(signal.SIGINT)
 
 
 class _Journal:
@@ -100,10 +140,12 @@ def all_or_nothing() -> Iterator[_Journal]:
     try:
         yield journal
     except BaseException:
-        journal.undo()
+        with interrupts_held():         # a second Ctrl-C must not cut the undo short
+            journal.undo()
         raise
     else:
-        journal.settle()
+        with interrupts_held():
+            journal.settle()
     finally:
         _JOURNAL.reset(token)
 
@@ -249,12 +291,13 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
     journal = _JOURNAL.get()
     try:
         yield tmp
-        backup = _backup_of(target, prefix) if journal is not None else None
-        os.replace(tmp, target)
-        if journal is not None:
-            journal.entries.append((target, backup))
+        with interrupts_held():         # in place and journaled, or neither
+            backup = _backup_of(target, prefix) if journal is not None else None
+            os.replace(tmp, target)
+            if journal is not None:
+                journal.entries.append((target, backup))
     except BaseException as error:
-        with contextlib.suppress(FileNotFoundError):
+        with interrupts_held(), contextlib.suppress(FileNotFoundError):
             tmp.unlink()
         if isinstance(error, (PermissionError, IsADirectoryError)) or (
                 isinstance(error, OSError) and error.errno == errno.ENOSPC):
@@ -305,22 +348,29 @@ def atomic_folder(path: str | os.PathLike, replace: bool = False) -> Iterator[Pa
     journal = _JOURNAL.get()
     try:
         yield tmp
-        if target.exists():
-            old = Path(tempfile.mkdtemp(prefix=f"{prefix}{os.getpid()}-old-", suffix=".part",
-                                        dir=parent))
-            os.replace(target, old / "x")
-            os.replace(tmp, target)
-            if journal is not None:
-                journal.entries.append((target, old / "x"))
-            else:
-                shutil.rmtree(old, ignore_errors=True)
-        else:
-            os.replace(tmp, target)
-            if journal is not None:
-                journal.entries.append((target, None))
+        with interrupts_held():         # in place and journaled, or neither
+            _folder_into_place(tmp, target, parent, prefix, journal)
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        with interrupts_held():
+            shutil.rmtree(tmp, ignore_errors=True)
         raise
+
+
+def _folder_into_place(tmp: Path, target: Path, parent: Path, prefix: str,
+                       journal: _Journal | None) -> None:
+    if target.exists():
+        old = Path(tempfile.mkdtemp(prefix=f"{prefix}{os.getpid()}-old-", suffix=".part",
+                                    dir=parent))
+        os.replace(target, old / "x")
+        os.replace(tmp, target)
+        if journal is not None:
+            journal.entries.append((target, old / "x"))
+        else:
+            shutil.rmtree(old, ignore_errors=True)
+    else:
+        os.replace(tmp, target)
+        if journal is not None:
+            journal.entries.append((target, None))
 
 
 def _umask() -> int:

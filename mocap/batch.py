@@ -15,11 +15,11 @@ import os
 import shutil
 import signal
 import tempfile
-import threading
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
 
+from mocap.atomic import interrupts_held
 from mocap.errors import MocapError
 from mocap.progress import progress
 
@@ -80,12 +80,21 @@ def _run_dask(row: Callable[..., dict], names: list[str], jobs: int, scheduler: 
                                  f"{error}") from None
         else:
             # the workers' scratch space in a folder of ours, removed afterwards (a
-            # LocalCluster leaves dask-scratch-space/ in the temporary folder otherwise)
+            # LocalCluster leaves dask-scratch-space/ in the temporary folder otherwise);
+            # a Ctrl-C meanwhile waits until the folder is known and the cluster can be
+            # closed, and the workers, started with SIGINT blocked, leave it to us.  The
+            # resource tracker is started first: starting it unblocks SIGINT in the
+            # thread that does so, which would be the one starting the workers.
             import dask
-            scratch = tempfile.mkdtemp(prefix="mocap-dask-")
-            with _workers_ignore_interrupts(), dask.config.set({"temporary-directory": scratch}):
-                cluster = LocalCluster(n_workers=jobs, threads_per_worker=1, processes=True,
-                                       dashboard_address=None, local_directory=scratch)
+            if os.name == "posix":
+                from multiprocessing import resource_tracker
+                resource_tracker.ensure_running()
+            with interrupts_held(children=True):
+                scratch = tempfile.mkdtemp(prefix="mocap-dask-")
+                with dask.config.set({"temporary-directory": scratch}):
+                    cluster = LocalCluster(n_workers=jobs, threads_per_worker=1,
+                                           processes=True, dashboard_address=None,
+                                           local_directory=scratch)
             client = Client(cluster)
         with client:
             futures = [client.submit(row, p, pure=False, **arguments) for p in names]
@@ -95,38 +104,20 @@ def _run_dask(row: Callable[..., dict], names: list[str], jobs: int, scheduler: 
                                    total=len(names), enabled=show_progress):
                 rows[index[future.key]] = future.result()
         return rows  # type: ignore[return-value]
-    except KeyboardInterrupt:
-        # Ctrl-C: close the cluster without its shutdown chatter, then let the caller say so
-        with _quiet_logger("distributed"):
+    finally:
+        # to the end even through Ctrl-C (held, then raised): the cluster closed without
+        # its shutdown chatter, the scratch folder removed
+        with interrupts_held(), _quiet_logger("distributed"):
             if cluster is not None:
                 cluster.close()
-            cluster = None
-        raise
-    finally:
-        if cluster is not None:
-            cluster.close()
-        if scratch is not None:
-            shutil.rmtree(scratch, ignore_errors=True)
+            if scratch is not None:
+                shutil.rmtree(scratch, ignore_errors=True)
 
 
 def _ignore_interrupts() -> None:
     """Worker initializer: Ctrl-C goes to the parent, which stops the pool (workers print
     no tracebacks of their own)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
-@contextlib.contextmanager
-def _workers_ignore_interrupts():
-    """Processes started inside inherit an ignored SIGINT (Python keeps an inherited
-    SIG_IGN), so Ctrl-C reaches only this process; its own handler is restored after."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGINT, previous)
 
 
 @contextlib.contextmanager

@@ -5,6 +5,7 @@ Each test is one class of problem, run through the real ``mocap`` command line.
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import stat
@@ -431,6 +432,36 @@ def test_batch_on_dask_leaves_nothing_in_the_temporary_folder(walk, tmp_path):
     assert done.returncode == 0, done.stderr
     assert (tmp_path / "t.csv").exists()
     assert list(scratch.iterdir()) == []
+
+
+def test_ctrl_c_on_dask_at_any_moment_leaves_nothing_and_is_one_line(walk, tmp_path):
+    """Ctrl-C typed at the terminal (SIGINT to the whole process group, workers included)
+    again and again from the moment the scratch folder exists: the cluster's start, the
+    run and the clean-up are all interrupted.  The clean-up used to be cut short, leaving
+    mocap-dask-*/dask-scratch-space/ behind, and a Ctrl-C while the cluster started was
+    ignored altogether."""
+    pytest.importorskip("dask.distributed")
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "TMPDIR": str(scratch)}
+    process = subprocess.Popen(
+        [sys.executable, "-m", "mocap", "batch", str(walk), "--dask", "-j", "1", "-o",
+         str(tmp_path / "t.csv")], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        text=True, start_new_session=True)
+    try:
+        while process.poll() is None and not any(scratch.iterdir()):
+            time.sleep(0.01)
+        while process.poll() is None:
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(process.pid, signal.SIGINT)
+            time.sleep(0.05)
+        _, err = process.communicate(timeout=120)
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGKILL)
+    assert process.returncode == 130, err
+    assert err.strip().splitlines() == ["mocap batch: interrupted"], err
+    assert list(scratch.iterdir()) == [] and not (tmp_path / "t.csv").exists()
 
 
 def test_segment_names_that_would_corrupt_the_angle_csv_are_refused(walk, tmp_path, capsys):
