@@ -7,12 +7,15 @@ angles in any Euler sequence.
 ``import mocap`` is light (numpy and the readers load on first use), so the ``mocap``
 command starts quickly and Ctrl-C at start-up is caught by it.
 """
-from mocap.errors import MocapError, MocapWarning
-
 __all__ = ["MocapError", "MocapWarning", "Trial"]
 
 
 def __getattr__(name: str):
+    if name in ("MocapError", "MocapWarning"):
+        # deferred too: ``import mocap`` imports nothing, so the ``mocap`` command's
+        # Ctrl-C handler (mocap/__main__.py) is in place before any import can be cut
+        import mocap.errors
+        return getattr(mocap.errors, name)
     if name == "Trial":
         from mocap.trial import Trial
         return Trial

@@ -42,7 +42,8 @@ def summarise(trial: Trial) -> dict:
         "format": trial.format,
         "rate": trial.rate,
         "frames": trial.frames,
-        "duration": trial.duration,
+        # None (null) when several frames have no rate to time them
+        "duration": trial.duration if trial.rate > 0 or trial.frames <= 1 else None,
         "markers": list(trial.labels),
         "units": trial.units,
         "missing": missing,
@@ -80,8 +81,10 @@ def format_summary(summary: dict, list_markers: bool = False) -> str:
     lines = [
         f"path:      {summary['path']}",
         f"format:    {summary['format']}{reader}",
-        f"rate:      {summary['rate']:g} Hz",
-        f"frames:    {summary['frames']} ({summary['duration']:.3f} s)",
+        f"rate:      {summary['rate']:g} Hz" + ("" if summary["rate"] else " (none)"),
+        f"frames:    {summary['frames']} ("
+        + (f"{summary['duration']:.3f} s)" if summary["duration"] is not None
+           else "duration unknown)"),
         f"markers:   {len(markers)}"
         + (f" ({', '.join(markers[:8])}{', …' if len(markers) > 8 else ''})" if markers
            else ""),
@@ -90,8 +93,9 @@ def format_summary(summary: dict, list_markers: bool = False) -> str:
         f"{len(with_gaps)} of {len(markers)} markers have gaps",
     ]
     if summary["analog_channels"]:
+        rate = summary["analog_rate"]
         lines.append(f"analogs:   {summary['analog_channels']} channels at "
-                     f"{summary['analog_rate']:g} Hz")
+                     + (f"{rate:g} Hz" if rate else "an unknown rate"))
     if summary.get("rotations"):
         names = summary["rotations"]
         lines.append(f"rotations: {len(names)} segment poses at {summary['rotation_rate']:g} "

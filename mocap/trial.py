@@ -5,6 +5,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mocap.errors import MocapError
+
 
 @dataclass
 class Trial:
@@ -67,7 +69,16 @@ class Trial:
 
     @property
     def times(self) -> np.ndarray:
-        """Time of each frame in seconds from the first frame, shape (frames,)."""
+        """Time of each frame in seconds from the first frame, shape (frames,).
+
+        A single frame is at 0 s whatever the rate; several frames without a rate (0, as a
+        reader leaves it when the file gives none) have no times: MocapError.
+        """
+        if self.frames <= 1:
+            return np.zeros(self.frames)
+        if not self.rate > 0:
+            raise MocapError(f"has no sampling rate ({self.rate:g} Hz), so the times of its "
+                             f"{self.frames} frames are unknown", self.path)
         return np.arange(self.frames) / self.rate
 
     @property

@@ -143,6 +143,14 @@ class _Interrupts:
             self.previous = signal.signal(signal.SIGINT, self._raise)
         return self
 
+    def arm(self) -> None:
+        """Take over from the console script's start-up handler (which leaves at once,
+        :func:`mocap.__main__.interrupted_at_start`) now that the command starts work."""
+        current = signal.getsignal(signal.SIGINT)
+        if (self.previous is None and getattr(current, "replaceable", False)
+                and threading.current_thread() is threading.main_thread()):
+            self.previous = signal.signal(signal.SIGINT, self._raise)
+
     def _raise(self, signum, frame):
         self.seen = True
         raise KeyboardInterrupt
@@ -175,6 +183,7 @@ def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
         except SystemExit as done:              # --help, --version, or a one-line mistake
             return done.code if isinstance(done.code, int) else (0 if done.code is None else 2)
         command = args.command
+        interrupts.arm()
         subparser = parser._subparsers._group_actions[0].choices.get(command)
         from mocap.cli.paths import check_paths
         check_paths(command, args)

@@ -74,7 +74,7 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
                                     if issubclass(w.category, MocapWarning))
         missing = np.isnan(trial.points).any(axis=2).mean() if trial.points.size else 0.0
         row.update(format=trial.format, rate_hz=round(trial.rate, 6), frames=trial.frames,
-                   duration_s=round(trial.duration, 6), markers=len(trial.labels),
+                   duration_s=round(trial.duration, 6) if trial.rate > 0 or trial.frames <= 1 else "", markers=len(trial.labels),
                    missing_pct=round(100.0 * float(missing), 3))
         if markerset:
             chosen = load_markerset(markerset)

@@ -191,6 +191,16 @@ def check_rate(rate: float, frames: int, markers: int, path: str | os.PathLike) 
                          f"{MIN_RATE_HZ:g} to {MAX_RATE_HZ:g} Hz)", path)
 
 
+def require_rate(trial: Any, path: str | os.PathLike, what: str) -> None:
+    """MocapError unless ``trial`` has a sampling rate, for a format that stores one (a
+    TRC's DataRate, a C3D's POINT:RATE): a trial read without one (a one-row CSV, a C3D
+    whose rates are 0) cannot be written as such a file without making one up."""
+    if not (math.isfinite(trial.rate) and trial.rate > 0):
+        source = f" ({trial.path})" if getattr(trial, "path", None) else ""
+        raise MocapError(f"a {what} needs a sampling rate, and the trial{source} has none",
+                         path)
+
+
 def write(obj: Any, path: str | os.PathLike, **options: Any) -> Any:
     """Write ``obj`` (a Trial for marker formats) to ``path`` by its suffix.
 
@@ -202,4 +212,4 @@ def write(obj: Any, path: str | os.PathLike, **options: Any) -> Any:
     return _resolve(file_format.writer)(obj, path, **options)
 
 
-__all__ = ["read", "write", "check_rate", "register_format", "formats", "format_of", "suffixes", "FileFormat"]
+__all__ = ["read", "write", "check_rate", "require_rate", "register_format", "formats", "format_of", "suffixes", "FileFormat"]

@@ -88,7 +88,7 @@ def read_asf(path: str | os.PathLike) -> AsfSkeleton:
     current: dict | None = None
     parent: dict[str, str] = {}
     children_of: dict[str, list[str]] = {}
-    for raw in lines:
+    for number, raw in enumerate(lines, 1):
         line = raw.split("#", 1)[0].strip()
         if not line:
             continue
@@ -106,9 +106,9 @@ def read_asf(path: str | os.PathLike) -> AsfSkeleton:
                 angle = words[1].lower()
         elif section == "root":
             if head == "order":
-                root["order"] = [w.upper() for w in words[1:]]
+                root["order"] = _names(words[1:], ROOT_CHANNELS, "root order", number, path)
             elif head == "axis":
-                root["axis"] = words[1].upper()
+                root["axis"] = _axis_order(words[1:2], number, path)
             elif head == "position":
                 root["position"] = _numbers(words[1:], 3, "root position", path)
             elif head == "orientation":
@@ -136,9 +136,10 @@ def read_asf(path: str | os.PathLike) -> AsfSkeleton:
                     current["length"] = float(_numbers(words[1:], 1, "bone length", path)[0])
                 elif head == "axis":
                     current["axis"] = _numbers(words[1:], 3, "bone axis", path)
-                    current["axis_order"] = words[4].upper() if len(words) > 4 else "XYZ"
+                    current["axis_order"] = _axis_order(words[4:5], number, path)
                 elif head == "dof":
-                    current["dof"] = [w.lower() for w in words[1:]]
+                    current["dof"] = [w.lower() for w in
+                                      _names(words[1:], BONE_DOFS, "dof", number, path)]
         elif section == "hierarchy":
             if head in ("begin", "end"):
                 continue
@@ -164,6 +165,35 @@ def read_asf(path: str | os.PathLike) -> AsfSkeleton:
         raise MocapError(f"ASF angle unit must be deg or rad, found {angle!r}", path)
     return AsfSkeleton(name, length, angle, root["order"], root["axis"], root["position"],
                        root["orientation"], bones, parent, order)
+
+
+#: Channels of the root's ``order`` line and of a bone's ``dof`` line (upper case here;
+#: ``l`` is a bone's change of length, which Acclaim allows).
+ROOT_CHANNELS = ("TX", "TY", "TZ", "RX", "RY", "RZ")
+BONE_DOFS = ("RX", "RY", "RZ", "TX", "TY", "TZ", "L")
+
+
+def _names(words: list[str], known: tuple[str, ...], what: str, line: int, path) -> list[str]:
+    """``words`` in upper case, each one of ``known`` and none twice (else MocapError
+    naming the line)."""
+    names = [w.upper() for w in words]
+    unknown = [w for w, n in zip(words, names) if n not in known]
+    if unknown:
+        raise MocapError(f"ASF line {line}: unknown {what} {unknown[0]!r} (known: "
+                         f"{' '.join(k.lower() if what == 'dof' else k for k in known)})", path)
+    twice = next((w for i, w in enumerate(names) if w in names[:i]), None)
+    if twice is not None:
+        raise MocapError(f"ASF line {line}: {what} {twice!r} given twice", path)
+    return names
+
+
+def _axis_order(words: list[str], line: int, path) -> str:
+    """An ``axis`` line's rotation order (default XYZ), checked to be a permutation of XYZ."""
+    order = words[0].upper() if words else "XYZ"
+    if sorted(order) != ["X", "Y", "Z"]:
+        raise MocapError(f"ASF line {line}: axis order {words[0]!r} is not an order of "
+                         f"X, Y and Z (such as XYZ)", path)
+    return order
 
 
 def read_amc(path: str | os.PathLike, asf: AsfSkeleton) -> tuple[dict[str, np.ndarray], str]:

@@ -6,8 +6,9 @@ This project's layout, one row per frame::
     0.0,0.1234,0.5,0.93,,,
     0.01,0.1236,0.5,0.93,0.12,-0.11,0.94
 
-- ``time`` in seconds; the rate is (rows − 1) / (last time − first time), so a
-  one-row file has no rate (read as 0 Hz, with a warning);
+- ``time`` in seconds, increasing from row to row (a missing time, or one not after the
+  previous row's, is refused, naming the line); the rate is (rows − 1) / (last time −
+  first time), so a one-row file has no rate (read as 0 Hz, with a warning);
 - coordinates in **metres**, three columns per marker named ``<label>_x``,
   ``_y``, ``_z`` (``.x``, ``:x`` or `` x`` and upper case are read too);
 - a missing sample is an empty cell (``NaN`` is read too); a marker at exactly
@@ -95,17 +96,17 @@ def _read_plain(first_line: str, body: bytes, path) -> Trial:
     labels, warnings = unique_labels(labels)
     table = parse_table(body, ",", 1 + len(columns))
     times = table[:, 0]
+    _check_times(times, body, path)
     points = mark_missing(table[:, 1:].reshape(table.shape[0], len(labels), 3))
     rate = 0.0
-    if len(times) > 1 and np.isfinite(times).all():
-        span = times[-1] - times[0]
-        if span > 0:
-            rate = (len(times) - 1) / span
-            steps = np.diff(times)
-            if np.abs(steps - 1.0 / rate).max() > 1e-3 / rate:
-                warnings.append("time column is not evenly spaced; the mean rate was used")
-    if rate == 0.0:
-        warnings.append("no rate: the time column needs two or more increasing times")
+    if len(times) > 1:
+        rate = (len(times) - 1) / (times[-1] - times[0])
+        steps = np.diff(times)
+        if np.abs(steps - 1.0 / rate).max() > 1e-3 / rate:
+            warnings.append("time column is not evenly spaced; the mean rate was used")
+    else:
+        rows = f"{len(times)} row" + ("" if len(times) == 1 else "s")
+        warnings.append(f"no rate: {rows}, and the rate is read from two or more times")
     # the unit check looks at up to ~100 000 coordinates spread over the trial
     sample = points[::max(1, points.shape[0] * max(points.shape[1], 1) // 33000)]
     if np.isfinite(sample).any() and infer_unit_factor(sample)[0] == "mm":
@@ -113,6 +114,32 @@ def _read_plain(first_line: str, body: bytes, path) -> Trial:
                         "metres: check the file")
     metadata = {"start_time": float(times[0]) if times.size else 0.0, "warnings": warnings}
     return Trial(labels, points, rate, "m", os.fspath(path), "csv", metadata=metadata)
+
+
+def _check_times(times: np.ndarray, body: bytes, path) -> None:
+    """MocapError naming the first row whose time is missing, not a number, or not after the
+    previous row's (a time column that stalls or runs backwards has no rate)."""
+    finite = np.isfinite(times)
+    later = np.concatenate([[True], np.diff(times) > 0])
+    bad = np.flatnonzero(~(finite & later))
+    if not bad.size:
+        return
+    row = int(bad[0])
+    line = _line_of_row(body, row)
+    if not finite[row]:
+        raise MocapError(f"line {line}: the time is missing or not a number", path)
+    raise MocapError(f"line {line}: time {times[row]:.9g} s does not come after the previous "
+                     f"row's {times[row - 1]:.9g} s (the time column must increase)", path)
+
+
+def _line_of_row(body: bytes, row: int) -> int:
+    """The file line (the header is line 1) of data row ``row`` (blank lines skipped)."""
+    for number, line in enumerate(body.split(b"\n"), start=2):
+        if line.strip(b" \t\r,"):
+            if row == 0:
+                return number
+            row -= 1
+    return number
 
 
 def _read_vicon(lines: list[str], path) -> Trial:

@@ -32,6 +32,7 @@ import numpy as np
 
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
+from mocap.io import require_rate
 from mocap.io.c3d.read import infer_unit_factor, unique_labels, unit_factor
 from mocap.io.text_table import (check_label, coordinate_decimals, format_table, mark_missing,
                                  parse_table, read_head)
@@ -206,6 +207,7 @@ def write_trc(trial: Trial, path: str | os.PathLike, units: str = "mm",
     if factor is None or units not in ("mm", "cm", "m"):
         raise MocapError(f"cannot write TRC in units {units!r} (use mm, cm or m)", path)
     decimals = coordinate_decimals(units, precision, path)
+    require_rate(trial, path, "TRC file (DataRate)")
     for label in trial.labels:
         check_label(label, "\t", "marker", path)
     frames, markers = trial.frames, len(trial.labels)

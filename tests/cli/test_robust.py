@@ -322,6 +322,44 @@ def test_ctrl_c_at_any_moment_is_one_line_and_130_and_leaves_nothing(delay, tmp_
     assert list(tmp_path.iterdir()) == []
 
 
+def _console_script() -> str:
+    """What pip writes for the ``mocap`` console script of pyproject.toml, as ``-c`` code."""
+    import tomllib
+    entry = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["scripts"]["mocap"]
+    module, function = entry.split(":")
+    return f"import sys\nfrom {module} import {function}\nsys.exit({function}())\n"
+
+
+@pytest.mark.parametrize("how", ["console script", "python -m mocap"])
+def test_ctrl_c_while_the_shell_is_imported_is_one_line(how, tmp_path):
+    """Ctrl-C while ``mocap`` imports its shell: the first module it imports (argparse) is
+    replaced, through PYTHONPATH, by one that says it is loading and then waits, so the
+    interrupt lands inside that import every time. The console script printed a
+    KeyboardInterrupt traceback (its import of the shell was outside every handler)."""
+    hooks = tmp_path / "hooks"
+    hooks.mkdir()
+    ready = tmp_path / "importing"
+    (hooks / "argparse.py").write_text(
+        f"import time\nopen({str(ready)!r}, 'w').close()\ntime.sleep(120)\n")
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(hooks), str(ROOT)])}
+    start = ([sys.executable, "-c", _console_script(), "info", str(DATA / "mocapbank_walk.bvh")]
+             if how == "console script" else
+             [sys.executable, "-m", "mocap", "info", str(DATA / "mocapbank_walk.bvh")])
+    process = subprocess.Popen(start, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                               text=True,
+                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        while process.poll() is None and not ready.exists():
+            time.sleep(0.01)
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=60)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert ready.exists(), err
+    assert (process.returncode, err) == (130, "mocap: interrupted\n")
+
+
 # ---------------------------------------------------------------- animations
 
 def _gif_delays(path: Path) -> list[int]:

@@ -432,9 +432,27 @@ def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
                         f"the file size say {layout.point_count} points, "
                         f"{layout.analog_per_frame} analog samples per frame and "
                         f"{layout.frames} frames, which were used")
+    if layout.rate == 0.0 and layout.frames > 1:
+        _rate_from_analogs(layout, warnings)
     layout.warnings = warnings
     layout.anomalies = anomalies
     return layout
+
+
+def _rate_from_analogs(layout: C3DLayout, warnings: list[str]) -> None:
+    """A file without markers whose POINT:RATE and header rate are 0: the frame rate is
+    ANALOG:RATE / analog samples per frame when those are stored, else there is none (the
+    trial reads, with a warning, and what needs times refuses it)."""
+    analog_rate = _scalar(layout.parameters, "ANALOG", "RATE")
+    if (layout.analog_samples_per_frame > 0 and analog_rate is not None
+            and math.isfinite(analog_rate) and analog_rate > 0):
+        layout.rate = float(analog_rate) / layout.analog_samples_per_frame
+        warnings.append(f"POINT:RATE is 0; the frame rate {layout.rate:g} Hz was taken from "
+                        f"ANALOG:RATE ({float(analog_rate):g} Hz) / "
+                        f"{layout.analog_samples_per_frame} analog samples per frame")
+    else:
+        warnings.append(f"no frame rate (POINT:RATE and the header's rate are 0): the "
+                        f"times of its {layout.frames} frames are unknown")
 
 
 def _frame_candidates(parameters: dict, first_frame: int, last_frame: int) -> list[int]:

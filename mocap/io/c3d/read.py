@@ -409,8 +409,8 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
         if isinstance(value, (str, list)) and value:
             metadata[f"{group.lower()}_{key.lower()}"] = value
     analog_labels = _analog_labels(layout) if layout.analog_channels else []
-    analog_rate = layout.rate * layout.analog_samples_per_frame if layout.analog_channels \
-        else None
+    analog_rate = layout.rate * layout.analog_samples_per_frame \
+        if layout.analog_channels and layout.rate > 0 else None
     if analogs.ndim != 2 or analogs.shape[1] != len(analog_labels):
         analogs = None
         analog_labels = []

@@ -13,6 +13,7 @@ import numpy as np
 
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
+from mocap.io import require_rate
 from mocap.io.c3d.parameters import carry_parameters, offsets_to_keep, patch_int_parameter
 from mocap.io.c3d.read import unit_factor
 from mocap.trial import Trial
@@ -67,8 +68,7 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> list[
     if too_long:
         raise MocapError(f"C3D labels hold at most 255 bytes; {too_long[0][:40]!r}… is "
                          f"longer", path)
-    if not (np.isfinite(trial.rate) and trial.rate > 0):
-        raise MocapError(f"cannot write C3D with rate {trial.rate} Hz", path)
+    require_rate(trial, path, "C3D file")
     frames, markers = trial.frames, len(labels)
     if frames == 0:
         raise MocapError("cannot write a C3D file without frames", path)
