@@ -485,7 +485,8 @@ def test_ctrl_c_on_dask_at_any_moment_leaves_nothing_and_is_one_line(walk, tmp_p
     process = subprocess.Popen(
         [sys.executable, "-m", "mocap", "batch", str(walk), "--dask", "-j", "1", "-o",
          str(tmp_path / "t.csv")], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-        text=True, start_new_session=True)
+        text=True, start_new_session=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))  # even if ignored here
     try:
         while process.poll() is None and not any(scratch.iterdir()):
             time.sleep(0.01)
