@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mocap.errors import MocapError
+from mocap.euler import euler_from_components
 from mocap.frames import iter_frame_blocks
 from mocap.markersets import MarkerSet
 from mocap.trial import Trial
@@ -181,30 +182,16 @@ def matrices_to_angles(matrices: np.ndarray, sequence: str) -> np.ndarray:
         scipy's principal values: first and third angle in (-180, 180], middle
         in [-90, 90] (Tait-Bryan) or [0, 180] (proper Euler); NaN rows for NaN
         matrices.
+
+    Examples
+    --------
+    >>> half = np.sqrt(0.5)                       # 45° about z, then nothing
+    >>> matrices_to_angles(np.array([[half, -half, 0], [half, half, 0], [0, 0, 1]]), "ZXY")
+    array([45.,  0.,  0.])
     """
-    from scipy.spatial.transform import Rotation   # deferred: 0.4 s to import
     check_sequence(sequence)
-    shape = matrices.shape[:-2]
-    flat = matrices.reshape(-1, 3, 3)
-    # a rotation is NaN as a whole (segment_frames), so one element tells
-    valid = np.isfinite(flat[:, :, 0]).all(axis=1) & np.isfinite(flat[:, 0, 1:]).all(axis=1)
-    out = np.full((flat.shape[0], 3), np.nan)
-    if valid.any():
-        chosen = flat if valid.all() else flat[valid]
-        try:
-            # our matrices are orthonormal by construction: skip re-orthogonalising
-            rotation = Rotation.from_matrix(chosen, assume_valid=True)
-        except TypeError:  # scipy < 1.15
-            rotation = Rotation.from_matrix(chosen)
-        with warnings.catch_warnings():
-            # scipy's gimbal warning names no frame; joint_angles gives a better one
-            warnings.filterwarnings("ignore", message=".*[Gg]imbal lock.*")
-            euler = rotation.as_euler(sequence, degrees=True)
-        if valid.all():
-            out = euler
-        else:
-            out[valid] = euler
-    return out.reshape(shape + (3,))
+    matrices = np.asarray(matrices, dtype=float)
+    return euler_from_components(np.moveaxis(matrices, (-2, -1), (0, 1)), sequence)
 
 
 def angles_to_matrices(values_deg: np.ndarray, sequence: str) -> np.ndarray:
@@ -559,9 +546,8 @@ def joint_angles(trial: Trial, markerset: MarkerSet, sequence: str = DEFAULT_SEQ
     # block by block of frames, so the intermediate matrices stay in the cache
     for block, components in iter_frame_blocks(full.points, columns,
                                                markerset.axes_matrices):
-        relative = _relative_components(components, parents)
-        matrices = np.ascontiguousarray(np.moveaxis(relative, (0, 1), (2, 3)))
-        principal = matrices_to_angles(matrices, sequence)
+        principal = euler_from_components(_relative_components(components, parents),
+                                          sequence)
         near[block] = near_gimbal_lock(principal, sequence, gimbal_tolerance)
         values[block] = unwrapper(principal) if continuous else principal
     if unwrap and not continuous:

@@ -103,6 +103,36 @@ def test_known_angles_recovered_for_every_sequence(sequence):
     np.testing.assert_allclose(angles.times, np.arange(FRAMES) / RATE)
 
 
+@pytest.mark.parametrize("sequence", SEQUENCES)
+def test_closed_form_euler_angles_are_scipys_principal_values(sequence):
+    """matrices_to_angles (closed forms, no scipy) gives scipy's as_euler: within 1e-12°
+    on uniform random rotations at least 0.5° from gimbal lock, and scipy's own lock
+    convention (third angle 0) at and within 1e-7 rad of it; NaN matrices give NaN rows."""
+    rotations = Rotation.random(20000, random_state=SEQUENCES.index(sequence) + 7)
+    reference = rotations.as_euler(sequence, degrees=True)
+    ours = matrices_to_angles(rotations.as_matrix(), sequence)
+    step = np.abs(ours - reference)
+    step = np.minimum(step, 360.0 - step)                   # ±180 is one angle
+    middle = reference[:, 1]
+    from_lock = np.minimum(middle, 180.0 - middle) if is_proper_euler(sequence) else \
+        90.0 - np.abs(middle)                               # degrees
+    far = from_lock >= 0.5
+    assert far.mean() > 0.98
+    assert step[far].max() <= 1e-12
+    middle = [0.0, 1e-6, 180.0, 180 - 1e-6] if is_proper_euler(sequence) else \
+        [90.0, 90 - 1e-6, -90.0, -90 + 1e-6]
+    locked = np.array([[a, b, c] for a in (-150.0, 20.0) for b in middle for c in (35.0, -170)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")                     # scipy's gimbal-lock warning
+        matrices = Rotation.from_euler(sequence, locked, degrees=True).as_matrix()
+        expected = Rotation.from_matrix(matrices).as_euler(sequence, degrees=True)
+    ours = matrices_to_angles(matrices, sequence)
+    assert (ours[:, 2] == 0).all()
+    np.testing.assert_allclose(ours, expected, atol=1e-9, rtol=0)
+    matrices[3] = np.nan
+    assert np.isnan(matrices_to_angles(matrices, sequence)[3]).all()
+
+
 @pytest.mark.parametrize("sequence", ["ZXY", "xyz", "ZYZ", "yxy"])
 def test_rotations_reproduced_from_angles(sequence):
     """angles_to_matrices inverts the angles whatever the branch or turn count."""
