@@ -23,7 +23,7 @@ from mocap.plugingait import (JOINTS, MARKERS, PLANES, SIDES, AnatomicalOffsetWa
 from mocap.trial import Trial
 
 if TYPE_CHECKING:
-    from mocap.clean import GapReport
+    from mocap.gapfill import GapReport
 
 
 def _merge(primary: Subject, secondary: Subject) -> Subject:
@@ -49,7 +49,7 @@ def estimate_missing(subject: Subject, markers: dict, path: str | None = None,
     ASIS distance and the 95th percentile ASIS–lateral malleolus distance plus
     the marker radius (the leg extended) stand in for the measurements.
     ``keep`` maps marker names to bool (frames,) of frames no gap fill wrote
-    (:func:`mocap.clean.recorded_frames`): only those count.
+    (:func:`mocap.gapfill.recorded_frames`): only those count.
     Raises MocapError when knee or ankle widths are unknown.
     """
     sub = replace(subject, leg_length=dict(subject.leg_length))
@@ -129,7 +129,7 @@ def prepare_subject(trial: Trial, subject: Subject | None = None, *,
                       AnatomicalOffsetWarning, stacklevel=3)
     keep = None
     if trial.metadata.get("filled"):
-        from mocap.clean import recorded_frames
+        from mocap.gapfill import recorded_frames
 
         index = _LabelIndex(trial.labels)
         keep = {name: recorded_frames(trial, [trial.labels[index.find(name)]])
@@ -242,7 +242,7 @@ def fill_plugingait(trial: Trial, subject: Subject, max_gap_frames: int
     knee centre for the shank, the ankle centre for the foot.  The segments are
     filled from the pelvis down, so each joint centre comes from an already
     filled segment; the joint centres are not kept in the result.  See
-    :func:`mocap.clean.fill_gaps` for the methods and what stays unfilled.
+    :func:`mocap.gapfill.fill_gaps` for the methods and what stays unfilled.
 
     Parameters
     ----------
@@ -257,7 +257,7 @@ def fill_plugingait(trial: Trial, subject: Subject, max_gap_frames: int
     Trial, GapReport
         Frames outside the gaps are bit-identical to the input's.
     """
-    from mocap.clean import GapReport, fill_gaps, filled_masks
+    from mocap.gapfill import GapReport, fill_gaps, filled_masks
 
     labels = list(trial.labels)
     donors = plugingait_donors(labels)

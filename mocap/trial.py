@@ -139,3 +139,15 @@ class Trial:
         """A copy of this trial with other marker positions (same labels and rate)."""
         return Trial(self.labels, points, self.rate, self.units, self.path, self.format,
                      self.analogs, self.analog_labels, self.analog_rate, dict(self.metadata))
+
+
+def runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Starts and lengths of the runs of True in a 1-D boolean array (frames,).
+
+    >>> runs(np.array([True, True, False, True]))
+    (array([0, 3]), array([2, 1]))
+    """
+    padded = np.concatenate([[False], mask, [False]])
+    edges = np.flatnonzero(np.diff(padded.astype(np.int8)))
+    starts, ends = edges[0::2], edges[1::2]
+    return starts, ends - starts

@@ -29,7 +29,6 @@ WALKS = [
     (("pycgm", "Test_Files", "Movement_trial.c3d"), ("pycgm", "Test_Files", "Static_trial.c3d")),
 ]
 GAP = 20
-PELVIS = {"LASI", "RASI", "SACR", "LPSI", "RPSI"}
 
 
 def model_markers(trial: Trial) -> Trial:
@@ -39,16 +38,25 @@ def model_markers(trial: Trial) -> Trial:
                  trial.format, metadata=dict(trial.metadata))
 
 
-#: Markers that leave their segment with two points (a PiG thigh, shank or foot has
-#: two markers and its proximal joint centre; a pelvis of three markers): the
-#: marker's turn about the line through the other two is not fixed by its segment,
-#: so a fill can only predict it (from the other markers, fill_plugingait).  Issue
-#: 12 asks 1 degree for every marker; with two points left most fills reach it, but
-#: not all of the wand, knee, ankle and toe markers (worst 3.9 degrees here;
-#: docs/plugingait.md "Gap filling" has the table over 17 walks).  The pelvis
-#: markers are asserted at 1 degree, and the heels (the walk's angles do not read
-#: HEE, so any change would be a leak of its fill).
-ONE_DEGREE = PELVIS | {"LHEE", "RHEE"}
+#: The bound asserted on the worst joint-plane RMS inside a gap of each marker
+#: (degrees), by marker name without its side.  Issue 12 asks 1 degree for every
+#: marker.  The pelvis (four or five markers; three leave two points), the heels (the
+#: walk's angles do not read HEE, so any change would be a leak of its fill), the
+#: ankle and the knee markers reach it on these walks.  The others leave their
+#: segment with two points whose axis the marker turns about freely (a thigh or tibia
+#: wand's turn, the toe about heel and ankle centre); the fill predicts that turn and
+#: its distances from the other markers (mocap.donorfill), but a wand's wobble over
+#: 0.2 s is not fully predictable: the bounds are what it measures here (worst THI
+#: 1.54, TIB 2.67, TOE 3.67 degrees) with a little room.  Over the 17 walks of
+#: benchmarks/gapfill.py the knee and ankle markers miss 1 degree in 45 and 5 of their 102
+#: gaps (docs/plugingait.md "Gap filling" has the table).
+BOUND = {"ASI": 1.0, "PSI": 1.0, "SACR": 1.0, "HEE": 1.0, "ANK": 1.0, "KNE": 1.0,
+         "THI": 2.0, "TIB": 3.0, "TOE": 4.0}
+
+
+def bound(label: str) -> float:
+    name = label.rpartition(":")[2]
+    return BOUND[name if name == "SACR" else name[1:]]
 
 
 @pytest.mark.parametrize("walk, static", WALKS, ids=[w[-1] for w, _ in WALKS])
@@ -80,12 +88,9 @@ def test_twenty_frame_gaps_of_every_marker_stay_inside_the_gap(walk, static):
     print(f"\n{walk[-1]}: worst joint-plane RMS inside a {GAP}-frame gap, degrees")
     print("  " + "  ".join(f"{k} {v:.2f}" for k, v in worst.items()))
     assert len(worst) == len(trial.labels) >= 15
-    # issue 12's target where the segment keeps enough points
-    assert max(v for k, v in worst.items() if k in ONE_DEGREE) <= 1.0
-    # the others (see ONE_DEGREE): what the prediction reaches, never a spline's
-    # 5-9 degrees; most within a degree
-    assert max(worst.values()) <= 4.0
-    assert np.median(list(worst.values())) <= 1.0
+    over = {k: round(v, 2) for k, v in worst.items() if v > bound(k)}
+    assert not over, f"over the bound (BOUND): {over}"
+    assert np.median(list(worst.values())) <= 0.6
 
 
 def test_a_filled_asis_gap_moves_neither_leg_length_nor_hip_centre_elsewhere():
