@@ -49,6 +49,25 @@ class MocapError(ValueError):
         super().__init__(f"{self.path}: {problem}" if self.path else problem)
 
 
+#: Characters that would break a message's one line, or the terminal, as their escapes
+#: (``\n``, ``\r``, ``\x1b`` …), the way ``repr`` writes them.
+_ESCAPES = {code: repr(chr(code))[1:-1]
+            for code in [*range(32), *range(127, 160), 0x2028, 0x2029]}
+
+
+def one_line(text: str) -> str:
+    """``text`` with line breaks and other control characters escaped, so a message that
+    echoes a user's value (a file name, a label) stays one line. The command line passes
+    every error and warning it prints through here.
+
+    Examples
+    --------
+    >>> one_line("bad\\nname.c3d: no such file")
+    'bad\\\\nname.c3d: no such file'
+    """
+    return text.translate(_ESCAPES)
+
+
 class MocapWarning(UserWarning):
     """Something about the user's input that did not stop the work but may matter (a file
     shorter than its header says, a unit that had to be guessed …).

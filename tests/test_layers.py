@@ -176,3 +176,18 @@ def test_a_planted_import_in_a_file_is_parsed(tmp_path):
     found = imports_of(source, "mocap.planted", known)
     assert any(_inside(t, "dynamics.humanoid") for t in found)
     assert layer_violations({"mocap.planted": found})
+
+
+def test_the_shell_uses_only_argparse_public_api():
+    """argparse's private attributes (``_actions``, ``_subparsers``, ``_SubParsersAction``)
+    change between Python versions; the shell keeps its own table of options and
+    sub-commands (``_Parser.flags``, ``_Parser.commands``)."""
+    import re
+    private = re.compile(r"\._(actions|subparsers|group_actions|option_string_actions|"
+                         r"SubParsersAction|registries|defaults)\b")
+    found = [f"{path.relative_to(ROOT)}:{number}"
+             for path in sorted((ROOT / "mocap" / "cli").glob("*.py"))
+             for number, line in enumerate(path.read_text().splitlines(), 1)
+             if private.search(line)]
+    assert found == []
+    assert private.search("parser._actions") and private.search("argparse._SubParsersAction")

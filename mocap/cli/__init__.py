@@ -19,7 +19,7 @@ import threading
 import warnings
 
 from mocap.cli.commands import COMMANDS
-from mocap.errors import MocapError, MocapWarning
+from mocap.errors import MocapError, MocapWarning, one_line
 
 _default_showwarning = warnings.showwarning
 
@@ -66,18 +66,15 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
-def as_flags(message: str, parser: argparse.ArgumentParser) -> str:
-    """A library message in the command line's words: each ``name=`` that is an option of
-    ``parser`` (``markerset=``) becomes the flag (``--markerset``).
+def as_flags(message: str, flags: dict[str, str]) -> str:
+    """A library message in the command line's words: each ``name=`` that is an option in
+    ``flags`` (destination -> flag, as :attr:`_Parser.flags` keeps them) becomes the flag.
 
     Examples
     --------
-    >>> p = argparse.ArgumentParser(); _ = p.add_argument("--max-gap")
-    >>> as_flags("give max_gap= or asf=", p)
+    >>> as_flags("give max_gap= or asf=", {"max_gap": "--max-gap"})
     'give --max-gap or asf='
     """
-    flags = {action.dest: max(action.option_strings, key=len)
-             for action in parser._actions if action.option_strings}
 
     def word(match: re.Match) -> str:
         return flags.get(match.group(1), match.group(0))
@@ -99,7 +96,7 @@ def _warning_printer(command: str):
         if issubclass(category, UserWarning):       # MocapWarning is one too
             if text not in seen:
                 seen.add(text)
-                print(f"mocap {command}: warning: {text}", file=sys.stderr)
+                print(f"mocap {command}: warning: {one_line(text)}", file=sys.stderr)
         else:
             _default_showwarning(message, category, filename, lineno, file, line)
 
@@ -107,15 +104,36 @@ def _warning_printer(command: str):
 
 
 class _Parser(argparse.ArgumentParser):
-    """An argument parser whose mistakes are one line: ``mocap CMD: error: … (see --help)``."""
+    """An argument parser whose mistakes are one line: ``mocap CMD: error: … (see --help)``.
+
+    It keeps its own table of its options and sub-commands (argparse offers no public one):
+    :attr:`flags` maps each option's destination to its longest flag (``max_gap`` ->
+    ``--max-gap``), :attr:`commands` each sub-command to its parser.
+    """
+
+    def __init__(self, *args, **kwargs):
+        self.flags: dict[str, str] = {}
+        self.commands: dict[str, argparse.ArgumentParser] = {}
+        super().__init__(*args, **kwargs)
+
+    def add_argument(self, *args, **kwargs):
+        action = super().add_argument(*args, **kwargs)
+        if action.option_strings:
+            self.flags[action.dest] = max(action.option_strings, key=len)
+        return action
+
+    def add_subparsers(self, **kwargs):
+        action = super().add_subparsers(**kwargs)
+        self.commands = action.choices
+        return action
 
     def error(self, message: str):  # type: ignore[override]
-        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+        self.exit(2, f"{self.prog}: error: {one_line(message)} (see '{self.prog} --help')\n")
 
 
 def _os_error_line(error: OSError) -> str:
     where = f"{error.filename}: " if getattr(error, "filename", None) else ""
-    return f"{where}{error.strerror or error}"
+    return one_line(f"{where}{error.strerror or error}")
 
 
 def _user_cache_folders() -> None:
@@ -136,12 +154,24 @@ class _Interrupts:
     def __init__(self):
         self.seen = False
         self.previous = None
+        self.hook = None
 
     def __enter__(self):
         if (threading.current_thread() is threading.main_thread()
                 and signal.getsignal(signal.SIGINT) is signal.default_int_handler):
             self.previous = signal.signal(signal.SIGINT, self._raise)
+        self.hook = sys.unraisablehook
+        sys.unraisablehook = self._unraisable
         return self
+
+    def _unraisable(self, unraisable) -> None:
+        """A Ctrl-C CPython could not raise (in a destructor, a weakref or GC callback)
+        would print "Exception ignored in …" and its traceback: it is remembered instead
+        (``seen``), and the command ends with its one line."""
+        if isinstance(unraisable.exc_value, KeyboardInterrupt):
+            self.seen = True
+            return
+        self.hook(unraisable)
 
     def arm(self) -> None:
         """Take over from the console script's start-up handler (which leaves at once,
@@ -158,6 +188,8 @@ class _Interrupts:
     def __exit__(self, *exc):
         if self.previous is not None:
             signal.signal(signal.SIGINT, self.previous)
+        if self.hook is not None:
+            sys.unraisablehook = self.hook
         return False
 
 
@@ -184,7 +216,7 @@ def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
             return done.code if isinstance(done.code, int) else (0 if done.code is None else 2)
         command = args.command
         interrupts.arm()
-        subparser = parser._subparsers._group_actions[0].choices.get(command)
+        subparser = parser.commands.get(command)
         from mocap.cli.paths import check_paths
         check_paths(command, args)
         from mocap.atomic import all_or_nothing
@@ -200,8 +232,8 @@ def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
         if interrupts.seen:                     # the mistake came after a swallowed Ctrl-C
             print(f"mocap {command}: interrupted", file=sys.stderr)
             return 130
-        words = as_flags(str(error), subparser) if subparser is not None else str(error)
-        print(f"mocap {command}: error: {words}", file=sys.stderr)
+        words = as_flags(str(error), subparser.flags) if subparser is not None else str(error)
+        print(f"mocap {command}: error: {one_line(words)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"mocap {command}: interrupted" if command != "mocap" else "mocap: interrupted",

@@ -10,7 +10,7 @@ from pathlib import Path
 from mocap.angles import GimbalLockWarning, check_sequence
 from mocap.cli import options
 from mocap.io.angles_csv import write_angles_csv
-from mocap.cli.commands import summary
+from mocap.cli.commands import Subparsers, summary
 from mocap.cli.paths import refuse_overwrite
 from mocap.errors import MocapError
 from mocap.io import suffixes
@@ -24,7 +24,7 @@ from mocap.progress import progress
 MARKER_SUFFIXES = suffixes("markers")
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add ``angles`` and ``generate`` to ``subparsers``."""
     parser = subparsers.add_parser(
         "angles", help=summary("angles"),

@@ -22,7 +22,7 @@ from dynamics.humanoid.model import JOINT_OF_SEGMENT, build_humanoid
 from mocap.body.anthropometry import segment_kind
 from mocap.body.retarget import motion_from_trial, reduce_to_segments
 from mocap.cli import options
-from mocap.cli.commands import summary
+from mocap.cli.commands import Subparsers, summary
 from mocap.errors import MocapError
 from mocap.io import read, suffixes
 from mocap.io.discovery import is_angle_csv
@@ -60,7 +60,7 @@ def _motion_options(parser: argparse.ArgumentParser) -> None:
                              "thigh, shank, foot)")
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add ``check`` to ``subparsers``."""
     check = subparsers.add_parser(
         "check", help=summary("check"),

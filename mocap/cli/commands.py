@@ -6,6 +6,18 @@ dynamics commands alone would pull in Pinocchio).
 """
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any, Protocol
+
+if TYPE_CHECKING:
+    import argparse
+
+
+class Subparsers(Protocol):
+    """What a command module's ``register(subparsers)`` is given: the object
+    ``ArgumentParser.add_subparsers()`` returns, of which only ``add_parser`` is used."""
+
+    def add_parser(self, name: str, **kwargs: Any) -> "argparse.ArgumentParser": ...
+
 #: Sub-command -> (module whose ``register(subparsers)`` adds it, one-line summary), in the
 #: order of ``mocap --help``.
 COMMANDS: dict[str, tuple[str, str]] = {

@@ -8,14 +8,15 @@ import numpy as np
 
 from mocap.atomic import atomic_path
 from mocap.cli import options
-from mocap.cli.commands import summary
+from mocap.cli.commands import Subparsers, summary
 from mocap.errors import MocapError
 from mocap.io import read
 from mocap.io.c3d.forceplates import plate_forces, total_forces
+from mocap.io.text_table import format_table
 from mocap.plot import save_figure
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add ``forces`` to the ``mocap`` command line."""
     forces = subparsers.add_parser(
         "forces", help=summary("forces"),
@@ -28,7 +29,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     forces.add_argument("trial", metavar="TRIAL.c3d", help="a C3D file with force plates")
     forces.add_argument("-o", "--output", metavar="GRF.csv",
                         help="write a CSV: time_s, then per plate and for the total "
-                             "Fx Fy Fz (N), COPx COPy COPz (m), Tx Ty Tz (N·m, free moment)")
+                             "Fx Fy Fz (N), COPx COPy COPz (m), Tx Ty Tz (N·m, free moment); "
+                             "an unloaded plate's COP is an empty cell")
     forces.add_argument("--rate", choices=("analog", "marker"), default="analog",
                         help="samples of the output: the analog rate (default) or the "
                              "marker frames")
@@ -89,16 +91,23 @@ def run_forces(args: argparse.Namespace) -> int:
 
 
 def write_forces_csv(parts: list, path: str | Path) -> None:
-    """Write (name, PlateForces) pairs side by side to a CSV (all-or-nothing)."""
+    """Write (name, PlateForces) pairs side by side to a CSV (all-or-nothing).
+
+    Like the project's other CSV files, a value that does not exist is an empty cell: the
+    centre of pressure (and free moment) of an unloaded plate. Time to 1 µs, forces to
+    1 mN, positions to 1 µm, moments to 0.1 mN·m.
+    """
     columns, header = [parts[0][1].times[:, None]], ["time_s"]
     for name, part in parts:
         columns += [part.force, part.cop, part.free_moment]
         header += [f"{name}_{q}" for q in ("Fx_N", "Fy_N", "Fz_N", "COPx_m", "COPy_m",
                                            "COPz_m", "Tx_Nm", "Ty_Nm", "Tz_Nm")]
     table = np.concatenate(columns, axis=1)
+    places = [6] + [3, 3, 3, 6, 6, 6, 4, 4, 4] * len(parts)
     with atomic_path(path) as tmp:
-        np.savetxt(tmp, table, delimiter=",", header=",".join(header), comments="",
-                   fmt="%.6g")
+        with open(tmp, "wb") as handle:
+            handle.write((",".join(header) + "\n").encode("ascii"))
+            handle.write(format_table(table, places, ",", nan="", as_bytes=True))
 
 
 def plot_forces(parts: list, figure=None):

@@ -5,12 +5,12 @@ import argparse
 
 from mocap.atomic import atomic_folder
 from mocap.cli import options
-from mocap.cli.commands import summary
+from mocap.cli.commands import Subparsers, summary
 from mocap.errors import MocapError
 from mocap.synthetic import ACTIONS, generate_corpus
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add ``generate`` to ``subparsers``."""
 
     parser = subparsers.add_parser(

@@ -17,18 +17,18 @@ from dynamics.viz.animate import animate_motion
 from mocap.body.retarget import reduce_to_segments
 from mocap.cli import options
 from mocap.cli.check import _motion_options
-from mocap.cli.commands import summary
+from mocap.cli.commands import Subparsers, summary
+from mocap.cli.paths import output_format
 from mocap.errors import MocapError
 from mocap.io.bvh import units_note
 from mocap.io.export import EXPORT_FORMATS, export_motion
 from mocap.io.motion import read_motion
 
-#: Formats of ``mocap export``.
+#: Output suffix -> format of ``mocap export`` (OpenSim reads its storage as .mot or .sto).
+EXPORT_SUFFIXES = {**{f".{name}": name for name in EXPORT_FORMATS}, ".sto": "mot"}
 
 
-
-
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add ``export`` and ``animate`` to ``subparsers`` (``check`` is :mod:`mocap.cli.check`)."""
     export = subparsers.add_parser(
         "export", help=summary("export"),
@@ -112,6 +112,7 @@ def _report_input(args: argparse.Namespace, motion) -> None:
 def run_export(args: argparse.Namespace) -> int:
     """Handler of ``mocap export``."""
 
+    output_format(args.output, EXPORT_SUFFIXES, args.format, "--format")
     if args.model and args.format != "mot":
         raise MocapError("--model goes with --format mot (OpenSim coordinates)")
     if args.precision is not None and args.format not in ("trc", "mot"):

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from mocap.cli import options
-from mocap.cli.commands import summary
+from mocap.cli.commands import Subparsers, summary
 from mocap.errors import MocapError, MocapWarning
 from mocap.io import format_of, read, suffixes, write
 from mocap.io.discovery import find_files
@@ -19,7 +19,7 @@ from mocap.summary import format_summary, summarise
 from mocap.trial import Trial
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add ``info`` and ``convert`` to the ``mocap`` command line."""
     info = subparsers.add_parser(
         "info", help=summary("info"),

@@ -70,6 +70,47 @@ def refuse_overwrite(output: str | os.PathLike, inputs: Iterable[str | os.PathLi
                              "another name", target)
 
 
+def output_format(path: str | os.PathLike, suffixes: dict[str, str],
+                  asked: str | None = None, flag: str = "") -> str:
+    """The format an output is written in, by the one rule of every command: the output's
+    suffix names its format, and a flag that asks for another is refused (so ``batch --json
+    -o table.csv`` or ``export --format bvh -o walk.csv`` never writes one format under
+    another's name). An output without a suffix takes the format asked for.
+
+    Parameters
+    ----------
+    path : path-like
+        The output.
+    suffixes : dict
+        Suffix (lower case, with the dot) -> format, of every format the command writes.
+    asked : str, optional
+        The format a flag asks for (None: the suffix decides).
+    flag : str
+        That flag, for the message.
+
+    Examples
+    --------
+    >>> output_format("rows.JSON", {".csv": "csv", ".json": "json"})
+    'json'
+    >>> output_format("rows.csv", {".csv": "csv", ".json": "json"}, "json", "--json")
+    Traceback (most recent call last):
+    ...
+    mocap.errors.MocapError: rows.csv: --json writes json, but the name says .csv; name it .json (or leave --json out)
+    """
+    suffix = Path(path).suffix.lower()
+    if not suffix and asked is not None:
+        return asked
+    named = suffixes.get(suffix)
+    if named is None:
+        raise MocapError(f"the output must be a {' or '.join(dict.fromkeys(suffixes))} file",
+                         path)
+    if asked is not None and named != asked:
+        wanted = next(s for s, f in suffixes.items() if f == asked)
+        raise MocapError(f"{flag} writes {asked}, but the name says {suffix}; name it "
+                         f"{wanted} (or leave {flag} out)", path)
+    return named
+
+
 def check_paths(command: str, args: argparse.Namespace) -> None:
     """The checks above on the parsed ``args`` of ``command`` (see the module docstring)."""
     inputs = [p for name in INPUTS for p in _as_list(getattr(args, name, None))]

@@ -12,14 +12,14 @@ from mocap.atomic import atomic_path
 from mocap.batch import rows_to_csv, run_batch
 from mocap.cli.batch_rows import BASE_COLUMNS, CHECK_COLUMNS, analyse_trial, find_trials
 from mocap.cli import options
-from mocap.cli.commands import summary
+from mocap.cli.commands import Subparsers, summary
 from mocap.cli.demo import run_demo as demo
-from mocap.cli.paths import refuse_overwrite
-from mocap.errors import MocapError, MocapWarning
+from mocap.cli.paths import output_format, refuse_overwrite
+from mocap.errors import MocapError, MocapWarning, one_line
 from mocap.markersets import load_markerset
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add ``demo`` and ``batch`` to ``subparsers``."""
     demo = subparsers.add_parser(
         "demo", help=summary("demo"),
@@ -53,11 +53,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "(rate, frames, missing data), extract joint-angle ranges of motion with "
                     "--markerset and run the dynamics check with --check, in parallel worker "
                     "processes or on a Dask cluster. Failed trials are listed with their "
-                    "errors; the others still finish. Exit status 1 when any trial failed.")
+                    "errors; the others still finish. Exit status 1 when any trial failed; "
+                    "a single trial that fails is an error (status 2).")
     batch.add_argument("corpus", nargs="+", metavar="CORPUS",
                        help="folder of marker files (.c3d/.trc/.csv) or individual files")
     batch.add_argument("-o", "--output", metavar="TABLE.csv",
-                       help="write the table here (default: print it)")
+                       help="write the table here (default: print it): .csv, or .json for "
+                            "the rows as JSON")
     batch.add_argument("--jobs", "-j", type=options.JOBS, default=1,
                        help="worker processes, or LocalCluster workers with --dask (default 1)")
     batch.add_argument("--markerset", "-m", help="marker set preset or TOML file for joint angles")
@@ -91,13 +93,19 @@ def run_batch_command(args: argparse.Namespace) -> int:
         # heartbeats) are not the user's business: every trial's error is in its row.
         # Process state, so set here in the shell, and only if the user has not chosen.
         os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "critical")
+    as_json = args.json
     if args.output:
         refuse_overwrite(args.output, paths)
+        as_json = output_format(args.output, {".csv": "csv", ".json": "json"},
+                                "json" if args.json else None, "--json") == "json"
     rows = run_batch(analyse_trial, paths, jobs=args.jobs, markerset=args.markerset, sequence=args.sequence,
                      check=args.check, mass_kg=args.mass, lowpass=args.lowpass,
                      dask=args.dask,
                      scheduler=args.scheduler)
-    text = json.dumps(rows, indent=1) + "\n" if args.json else rows_to_csv(
+    if len(rows) == 1 and rows[0]["status"] != "ok":
+        # one trial, and it failed: the user's mistake, told as any command tells it
+        raise MocapError(rows[0]["error"])
+    text = json.dumps(rows, indent=1) + "\n" if as_json else rows_to_csv(
         rows, BASE_COLUMNS + (CHECK_COLUMNS if any(c in r for r in rows for c in CHECK_COLUMNS) else []))
     if args.output:
         with atomic_path(args.output) as tmp:
@@ -109,7 +117,7 @@ def run_batch_command(args: argparse.Namespace) -> int:
             warnings.warn(row["warnings"], MocapWarning)
     failed = [row for row in rows if row["status"] != "ok"]
     for row in failed:
-        print(f"failed: {row['error']}", file=sys.stderr)
+        print(f"failed: {one_line(row['error'])}", file=sys.stderr)
     print(f"{len(rows) - len(failed)} of {len(rows)} trials analysed"
           + (f", {len(failed)} failed" if failed else "")
           + (f"; table in {args.output}" if args.output else ""), file=sys.stderr)

@@ -11,11 +11,11 @@ from dynamics.scenes.run import run_scene
 from dynamics.scenes.schema import SCENES_DIR, example_scene_path
 from dynamics.viz.render import render_animation
 from mocap.cli import options
-from mocap.cli.commands import summary
+from mocap.cli.commands import Subparsers, summary
 from mocap.errors import MocapError
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add this package's sub-commands to ``subparsers``."""
     parser = subparsers.add_parser(
         "simulate", help=summary("simulate"),

@@ -20,7 +20,7 @@ from dynamics.humanoid.plant import motion_from_cycle
 from mocap.angles import JointAngles
 from mocap.cli import options
 from mocap.io.angles_csv import write_angles_csv
-from mocap.cli.commands import summary
+from mocap.cli.commands import Subparsers, summary
 from mocap.errors import MocapError
 from mocap.io.bvh import write_bvh
 from mocap.io.motion import read_motion
@@ -395,7 +395,7 @@ def evaluate(args: argparse.Namespace) -> int:
 
 # --------------------------------------------------------------------------- registration
 
-def register(subparsers: argparse._SubParsersAction) -> None:
+def register(subparsers: Subparsers) -> None:
     """Add this package's sub-commands to ``subparsers``."""
     parser = subparsers.add_parser(
         "decompose", help=summary("decompose"),

@@ -527,3 +527,90 @@ def test_a_csv_of_a_trial_without_markers_has_one_column_per_cell(tmp_path):
     lines = (tmp_path / "none.csv").read_text().splitlines()
     assert lines[0] == "time" and all("," not in line for line in lines)
     assert read(tmp_path / "none.csv").frames == 3
+
+
+# ---------------------------------------------------------------- one rule per idea (issue 11)
+
+def test_ctrl_c_that_python_cannot_raise_is_still_one_line(tmp_path):
+    """A Ctrl-C that lands where CPython cannot raise it (a garbage-collection or weakref
+    callback, a destructor) printed "Exception ignored in …" and a KeyboardInterrupt
+    traceback before the one line. Here the interrupt is sent from inside the first garbage
+    collection of the command, so it lands there every time."""
+    code = (
+        "import gc, os, signal, sys, time\n"
+        "from mocap.cli import main\n"
+        "sent = []\n"
+        "def interrupt(phase, info):\n"
+        "    handler = signal.getsignal(signal.SIGINT)\n"
+        "    if phase == 'start' and not sent and getattr(handler, '__name__', '') == '_raise':\n"
+        "        sent.append(1)\n"
+        "        os.kill(os.getpid(), signal.SIGINT)\n"
+        "        for _ in range(100):\n"
+        "            time.sleep(0.001)\n"
+        "gc.callbacks.append(interrupt)\n"
+        f"sys.exit(main(['info', {str(DATA / 'mocapbank_walk.bvh')!r}]))\n")
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    done = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                          text=True, timeout=120,
+                          preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    assert (done.returncode, done.stderr) == (130, "mocap info: interrupted\n")
+
+
+def test_an_error_echoing_a_line_break_stays_one_line(tmp_path, capsys):
+    """A file name holding a line break made a two-line error (and a warning likewise)."""
+    name = tmp_path / "walk\nrun.c3d"
+    assert main(["info", str(name)]) == 2
+    line = _one_error_line(capsys)
+    assert "walk\\nrun.c3d" in line and "no such file" in line
+    assert main(["batch", str(DATA / "mocapbank_walk.bvh"), "-m", "no\r\nsuch"]) == 2
+    assert "no\\r\\nsuch" in _one_error_line(capsys)
+
+
+def test_batch_of_one_unreadable_file_is_an_error(walk, tmp_path, capsys):
+    """One trial that fails is the user's mistake, told in one line with status 2 (it was a
+    table of one failure and status 1); a corpus with some failures keeps its table."""
+    broken = tmp_path / "zed_walk.c3d"
+    broken.write_bytes(walk.read_bytes()[:1500])
+    assert main(["batch", str(broken), "-o", str(tmp_path / "t.csv")]) == 2
+    line = _one_error_line(capsys)
+    assert line.startswith("mocap batch: error: ") and str(broken) in line
+    assert not (tmp_path / "t.csv").exists()
+    assert main(["batch", str(walk), str(broken)]) == 1
+
+
+def test_an_output_suffix_must_agree_with_the_format_asked_for(walk, tmp_path, capsys):
+    """One rule for every command: the suffix names the format, a flag asking for another is
+    refused (``batch --json -o t.csv`` wrote JSON into t.csv, ``export --format bvh -o
+    m.csv`` a BVH)."""
+    import json
+    assert main(["batch", str(walk), "--json", "-o", str(tmp_path / "t.csv")]) == 2
+    line = _one_error_line(capsys)
+    assert "--json" in line and ".json" in line and "t.csv" in line
+    assert main(["batch", str(walk), "-o", str(tmp_path / "t.json")]) == 0
+    assert json.loads((tmp_path / "t.json").read_text())[0]["status"] == "ok"
+    capsys.readouterr()
+    assert main(["batch", str(walk), "-o", str(tmp_path / "t.txt")]) == 2
+    assert ".csv or .json" in _one_error_line(capsys)
+    bvh = str(DATA / "mocapbank_walk.bvh")
+    assert main(["export", bvh, "--format", "bvh", "-o", str(tmp_path / "m.csv")]) == 2
+    assert "--format" in _one_error_line(capsys)
+    assert main(["export", bvh, "--format", "mot", "-o", str(tmp_path / "m.sto")]) == 0
+    assert not (tmp_path / "t.csv").exists() and not (tmp_path / "m.csv").exists()
+
+
+def test_an_unloaded_plate_has_an_empty_centre_of_pressure_cell(tmp_path, capsys):
+    """Like every CSV of the project (angles, markers), a value that does not exist is an
+    empty cell, which Excel and pandas read as missing; it was the text 'nan'."""
+    import csv as csv_module
+    from tests.conftest import realdata_path
+    trial = str(realdata_path("biomechzoo_sample_study/HC030A/Turn/HC030A22.c3d"))
+    out = tmp_path / "grf.csv"
+    assert main(["forces", trial, "-o", str(out), "--rate", "marker"]) == 0
+    text = out.read_text()
+    assert "nan" not in text.lower()
+    rows = list(csv_module.DictReader(text.splitlines()))
+    unloaded = [r for r in rows if abs(float(r["plate1_Fz_N"])) < 20]
+    loaded = [r for r in rows if abs(float(r["plate1_Fz_N"])) > 100]
+    assert unloaded and loaded
+    assert all(r["plate1_COPx_m"] == "" for r in unloaded)
+    assert all(-5 < float(r["plate1_COPx_m"]) < 5 for r in loaded)
