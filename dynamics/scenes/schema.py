@@ -10,13 +10,12 @@ from __future__ import annotations
 
 import math
 import os
-import tomllib
 from pathlib import Path
 
 import numpy as np
 
 from mocap.errors import MocapError
-from mocap.io.text_table import read_text
+from mocap.io.text_table import parse_toml, read_text
 
 #: Folder of the example scenes shipped with the package.
 SCENES_DIR = Path(__file__).resolve().parent / "examples"
@@ -165,9 +164,4 @@ def read_scene_document(path: str | os.PathLike) -> dict:
     :class:`~mocap.errors.MocapError` naming the file. :func:`dynamics.scenes.build.load_scene`
     builds the scene from it."""
     path = Path(path)
-    text = read_text(path, "scene file")
-    try:
-        document = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        raise MocapError(f"not valid TOML: {error}", path) from None
-    return document
+    return parse_toml(read_text(path, "scene file"), path, "scene file")

@@ -23,12 +23,12 @@ from __future__ import annotations
 
 import os
 import re
-import tomllib
 from pathlib import Path
 
 import numpy as np
 
 from mocap.errors import MocapError
+from mocap.io.text_table import parse_toml
 from mocap.skeleton import Skeleton
 
 #: The 15 segments of the project's body model, in model order (parents first).
@@ -332,11 +332,12 @@ def read_joint_map(path: str | os.PathLike) -> dict[str, str]:
         Unreadable or invalid TOML, an unknown segment, a value that is not a joint name.
     """
     try:
-        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
+        text = Path(path).read_text(encoding="utf-8")
     except OSError as error:
         raise MocapError(f"cannot read the joint map: {error.strerror or error}", path) from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as error:
+    except UnicodeDecodeError as error:
         raise MocapError(f"the joint map is not valid TOML: {error}", path) from None
+    data = parse_toml(text, path, "joint map")
     table = data.get("joints", data)
     if not isinstance(table, dict) or not table:
         raise MocapError("the joint map holds no 'segment = \"joint\"' lines", path)

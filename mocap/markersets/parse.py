@@ -72,13 +72,13 @@ exactly one label has it.
 from __future__ import annotations
 
 import os
-import tomllib
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from mocap.errors import MocapError, reading
+from mocap.io.text_table import parse_toml
 from mocap.markersets.axes import AXIS_NAMES, axes_matrix
 from mocap.markersets.model import MarkerSet, Segment, VirtualMarker
 from mocap.markersets.virtual import HJC_METHODS, JOINT_CENTRES, VIRTUAL_TYPES
@@ -122,11 +122,7 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
 
 def parse_markerset(text: str, path: str | None = None) -> MarkerSet:
     """A MarkerSet from TOML text, validated (``path`` names it in errors)."""
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as error:
-        raise MocapError(f"not valid TOML: {error}", path) from None
-    return markerset_from_dict(data, path)
+    return markerset_from_dict(parse_toml(text, path, "marker set"), path)
 
 
 def _fail(problem: str, path: str | None) -> MocapError:

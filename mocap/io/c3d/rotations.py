@@ -26,7 +26,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mocap.errors import MocapError, reading
+from mocap.errors import MocapError
+from mocap.io.text_table import parse_toml, read_text
 
 BLOCK = 512
 
@@ -245,13 +246,7 @@ def segment_parents(labels: list[str], path=None) -> dict[str, str | None]:
 
 def load_parents(path: str | os.PathLike) -> dict[str, str | None]:
     """A ``[parents]`` table from a TOML file: ``child = "parent"`` (``""`` for the root)."""
-    import tomllib   # deferred: only a given hierarchy file needs it
-
-    try:
-        with reading(path, "hierarchy file"), open(path, "rb") as handle:
-            document = tomllib.load(handle)
-    except tomllib.TOMLDecodeError as error:
-        raise MocapError(f"not valid TOML: {error}", path) from None
+    document = parse_toml(read_text(path, "hierarchy file"), path, "hierarchy file")
     table = document.get("parents")
     if not isinstance(table, dict) or not table or \
             not all(isinstance(v, str) for v in table.values()):
