@@ -153,10 +153,15 @@ def check_animation_path(path: str | os.PathLike) -> Path:
     return path
 
 
+#: Longest frame delay a GIF can store (a 16-bit count of centiseconds: 655.35 s).
+GIF_MAX_DELAY = 65535
+
+
 def gif_delay(fps: float) -> int:
     """The GIF frame delay, whole centiseconds (the format's unit), closest to ``1/fps``:
-    at least 2, because browsers replay shorter delays at 10 cs (several times slower)."""
-    return max(2, int(round(100.0 / fps)))
+    at least 2, because browsers replay shorter delays at 10 cs (several times slower), and
+    at most :data:`GIF_MAX_DELAY` (a longer one cannot be written)."""
+    return min(GIF_MAX_DELAY, max(2, int(round(100.0 / fps))))
 
 
 def real_time_stride(rate: float, frames: int, max_frames: int) -> tuple[int, int]:
@@ -174,7 +179,7 @@ def real_time_stride(rate: float, frames: int, max_frames: int) -> tuple[int, in
     best = next((s for s in candidates if error(s) <= 0.05 + 1e-9), None)
     if best is None:
         best = min(candidates, key=error)
-    return best, max(2, int(round(100.0 * best / rate)))
+    return best, min(GIF_MAX_DELAY, max(2, int(round(100.0 * best / rate))))
 
 
 def save_animation(figure, draw, frames, path: Path, fps: float, dpi: int,

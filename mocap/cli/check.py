@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from pathlib import Path
 
@@ -92,7 +91,8 @@ def register(subparsers: Subparsers) -> None:
     check.add_argument("--max-penetration", type=options.real(0, 10000), metavar="MM",
                        help="deepest floor penetration allowed, mm (default: the calibrated "
                             "threshold)")
-    check.add_argument("--floor", default="0", metavar="Y|auto",
+    check.add_argument("--floor", type=options.real_or("auto", -1000, 1000), default=0.0,
+                       metavar="Y|auto",
                        help="height of the floor in the motion file, metres along the up "
                             "axis (default 0), or 'auto': where the feet stand still")
     check.add_argument("--lowpass", type=options.real(minimum=0, maximum=1e6), metavar="HZ",
@@ -122,16 +122,7 @@ def run_check(args: argparse.Namespace) -> int:
         raise MocapError("the plot must be a .png, .pdf or .svg file", args.plot)
     if args.forces == "plates" and Path(args.motion).suffix.lower() != ".c3d":
         raise MocapError("--forces plates reads force plates from a C3D file", args.motion)
-    if args.floor == "auto":
-        floor: float | str = "auto"
-    else:
-        try:
-            floor = float(args.floor)
-        except ValueError:
-            raise MocapError(f"--floor must be a height in metres or 'auto', got "
-                             f"{args.floor!r}") from None
-        if not math.isfinite(floor):
-            raise MocapError(f"--floor must be finite, got {args.floor!r}")
+    floor: float | str = args.floor
     limits = Thresholds()
     if args.max_residual is not None:
         limits.residual_rms_pct_bw = args.max_residual

@@ -66,6 +66,31 @@ def real(minimum: float | None = None, maximum: float | None = None, *,
     return parse
 
 
+def real_or(word: str, minimum: float | None = None, maximum: float | None = None, *,
+            above: float | None = None, below: float | None = None) -> Callable[[str], float | str]:
+    """A ``type=`` for ``word`` (any case; returned as given in lower case) or a finite float
+    within the bounds, as :func:`real` checks it (``--floor auto``, ``--ridge auto``).
+
+    >>> real_or("auto", -1000, 1000)("1e23")
+    Traceback (most recent call last):
+    ...
+    argparse.ArgumentTypeError: must be 'auto' or a finite number >= -1000 and <= 1000, not '1e23'
+    """
+    number = real(minimum, maximum, above=above, below=below)
+    rule = f"'{word}' or a finite number {_limits(minimum, maximum, above, below)}".rstrip()
+
+    def parse(text: str) -> float | str:
+        if text.strip().lower() == word:
+            return word
+        try:
+            return number(text)
+        except argparse.ArgumentTypeError:
+            raise argparse.ArgumentTypeError(f"must be {rule}, not {text!r}") from None
+
+    parse.__name__ = f"number or {word}"
+    return parse
+
+
 def whole(minimum: int | None = None, maximum: int | None = None) -> Callable[[str], int]:
     """A ``type=`` for a whole number within ``[minimum, maximum]`` (either may be open)."""
     if minimum is not None and maximum is not None:
@@ -91,8 +116,9 @@ def whole(minimum: int | None = None, maximum: int | None = None) -> Callable[[s
 
 
 # The options several commands share, checked the same way everywhere.
-#: A sampling or frame rate, Hz.
-RATE = real(above=0, maximum=1e6)
+#: A sampling or frame rate, Hz. The floor keeps what follows from a rate finite: frame
+#: times, finite-difference weights (1/rate to the power of the derivative), GIF delays.
+RATE = real(minimum=1e-3, maximum=1e6)
 #: A random seed.
 SEED = whole(0, MAX_SEED)
 #: A body mass, kg.
@@ -106,6 +132,6 @@ FILTER_ORDER = whole(1, 20)
 #: People in a generated corpus.
 PEOPLE = whole(1, 200)
 #: Frames per second of an animation.
-FPS = real(above=0, maximum=100)
+FPS = real(minimum=0.01, maximum=100)
 #: Worker processes.
 JOBS = whole(1, 256)

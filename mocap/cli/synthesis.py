@@ -56,17 +56,8 @@ def _rank(text: str):
     return value
 
 
-def _ridge(text: str):
-    if text.lower() == "auto":
-        return "auto"
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"ridge must be 'auto' or a number ≥ 0, got {text!r}") \
-            from None
-    if not value >= 0:
-        raise argparse.ArgumentTypeError(f"ridge must be ≥ 0, got {text}")
-    return value
+#: A relative ridge: 'auto' (chosen by leave-one-out) or a finite value from 0 to 1e6.
+_ridge = options.real_or("auto", 0, 1e6)
 
 
 def _names(text: str) -> list[str]:
