@@ -128,13 +128,58 @@ def read_trc(path: str | os.PathLike) -> Trial:
     points = mark_missing(np.multiply(table[:, 2:], factor).reshape(table.shape[0], count, 3))
     frames, times = table[:, 0], table[:, 1]
     metadata: dict = {"header": header, "warnings": warnings}
-    if times.size and np.isfinite(times).all():
+    problem = _time_column_problem(times, rate)
+    if problem:
+        warnings.append(problem)
+    elif times.size:
         metadata["frame_times"] = times.copy()
         metadata["start_time"] = float(times[0])
     if frames.size and np.isfinite(frames).all() and (frames == np.round(frames)).all():
         metadata["frame_numbers"] = frames.astype(np.int64)
         metadata["first_frame"] = int(frames[0])
     return Trial(labels, points, rate, units, os.fspath(path), "trc", metadata=metadata)
+
+
+def _time_column_problem(times: np.ndarray, rate: float) -> str | None:
+    """Why the Time column cannot be the frames' times, or None when it can.
+
+    Parameters
+    ----------
+    times : ndarray, shape (frames,)
+        The Time column as read, seconds.
+    rate : float
+        DataRate, Hz.
+
+    A column with missing cells, one that stands still or runs backwards, or one whose
+    span is not ``(frames - 1) / rate`` (within 1 % and 1 ms, as times are often
+    written to the millisecond) is not kept: the frames are then
+    timed by DataRate, and the returned message (a warning) says so.
+
+    >>> _time_column_problem(np.array([0.0, 0.01, 0.02]), 100.0) is None
+    True
+    >>> _time_column_problem(np.array([0.0, 0.02, 0.01]), 100.0)
+    'the Time column runs backwards or stands still at row 3 (0.01 s after 0.02 s); the frames are timed by DataRate (100 Hz) instead'
+    """
+    if times.size == 0:
+        return None
+    instead = f"the frames are timed by DataRate ({rate:g} Hz) instead"
+    bad = np.flatnonzero(~np.isfinite(times))
+    if bad.size:
+        return f"the Time column has {bad.size} empty or non-numeric cell(s) (first at row " \
+               f"{bad[0] + 1}); {instead}"
+    if times.size < 2:
+        return None
+    steps = np.diff(times)
+    back = np.flatnonzero(steps <= 0)
+    if back.size:
+        row = back[0] + 2
+        return (f"the Time column runs backwards or stands still at row {row} "
+                f"({times[row - 1]:g} s after {times[row - 2]:g} s); {instead}")
+    span, expected = float(times[-1] - times[0]), (times.size - 1) / rate
+    if abs(span - expected) > 0.01 * expected + 0.001:       # 1 %, and times rounded to ms
+        return (f"the Time column spans {span:g} s but DataRate ({rate:g} Hz) gives "
+                f"{expected:g} s for {times.size} frames; {instead}")
+    return None
 
 
 def _marker_labels(cells: list[str]) -> list[str]:
