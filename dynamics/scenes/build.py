@@ -200,6 +200,8 @@ def _add_bodies(system: System, document: dict, path) -> tuple[list, list]:
                                  t.number("stiffness", 500.0, minimum=0.0),
                                  t.number("damping", 0.5, minimum=0.0),
                                  t.number("bend_stiffness", 0.0, minimum=0.0), _pin_list(t))
+        except MocapError:                       # a value the table refused: said already
+            raise
         except (ValueError, IndexError) as error:
             raise MocapError(f"{t.where}: {error}", path) from None
         _finish_body(system, body, t, [0.6, 0.4, 0.2])
@@ -212,6 +214,8 @@ def _add_bodies(system: System, document: dict, path) -> tuple[list, list]:
                 t.number("mass", 0.5, above=0.0), t.per_kind("stiffness", 500.0),
                 t.per_kind("damping", 0.0), _pin_list(t),
                 t.vector("u_axis", [1, 0, 0]), t.vector("v_axis", [0, 0, 1]))
+        except MocapError:                       # a value the table refused: said already
+            raise
         except (ValueError, IndexError) as error:
             raise MocapError(f"{t.where}: {error}", path) from None
         _finish_body(system, body, t, [0.2, 0.4, 0.8])
@@ -223,6 +227,8 @@ def _add_bodies(system: System, document: dict, path) -> tuple[list, list]:
             body = builders.lattice_block(
                 t.vector("origin"), size, resolution, t.number("mass", 1.0, above=0.0),
                 t.per_kind("stiffness", 2000.0), t.per_kind("damping", 1.0), _pin_list(t))
+        except MocapError:                       # a value the table refused: said already
+            raise
         except (ValueError, IndexError) as error:
             raise MocapError(f"{t.where}: {error}", path) from None
         fluid = t.raw("molten_fluid")

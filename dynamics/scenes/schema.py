@@ -110,7 +110,7 @@ class Table:
         return value
 
     def per_kind(self, key: str, default) -> dict | float:
-        """A number or a {structural, shear, bend} table of numbers >= 0."""
+        """A finite number >= 0 or a {structural, shear, bend} table of them."""
         self.used.add(key)
         value = self.data.get(key, default)
         if isinstance(value, dict):
@@ -119,12 +119,13 @@ class Table:
                 raise self.error(key, f"has unknown spring kind(s) {sorted(unknown)}; "
                                       "use structural, shear, bend")
             for kind, v in value.items():
-                if isinstance(v, bool) or not isinstance(v, (int, float)) or not v >= 0:
-                    raise self.error(key, f"{kind} must be a number >= 0, not {v!r}")
+                if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 <= v < math.inf:
+                    raise self.error(key, f"{kind} must be a finite number >= 0, not {v!r}")
             return {k: float(v) for k, v in value.items()}
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not value >= 0:
-            raise self.error(key, f"must be a number >= 0 or a table of structural/shear/bend, "
-                                  f"not {value!r}")
+        if isinstance(value, bool) or not isinstance(value, (int, float)) \
+                or not 0 <= value < math.inf:
+            raise self.error(key, f"must be a finite number >= 0 or a table of "
+                                  f"structural/shear/bend, not {value!r}")
         return float(value)
 
     def finish(self) -> None:

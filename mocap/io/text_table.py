@@ -64,9 +64,9 @@ def parse_toml(text: str, path: str | os.PathLike | None = None, what: str = "fi
     --------
     >>> parse_toml('dt = 0.01')
     {'dt': 0.01}
-    >>> parse_toml('x = ' + '[' * 500 + ']' * 500, 'deep.toml', 'scene file')
+    >>> parse_toml('x = ' + '[' * 500 + ']' * 500, 'deep.toml', 'scene')  # doctest: +ELLIPSIS
     Traceback (most recent call last):
-    mocap.errors.MocapError: deep.toml: not a valid scene file: arrays or inline tables nested more than 100 deep
+    mocap.errors.MocapError: deep.toml: not a valid scene: arrays or inline tables nested more ...
     """
     import tomllib   # deferred: only the commands reading TOML need it
 
