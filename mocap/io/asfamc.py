@@ -13,16 +13,21 @@ The AMC format stores no frame rate: CMU and HDM05 capture at 120 Hz, the defaul
 """
 from __future__ import annotations
 
-import math
 import os
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from mocap.errors import MocapError, reading
+from mocap.errors import MocapError, MocapWarning, reading
 from mocap.io.bvh import UNIT_SCALES, detect_units
 from mocap.skeleton import Motion, Skeleton
+
+
+#: Largest magnitude of an AMC value (degrees, radians or file lengths): beyond it a value is
+#: corrupt, and a rotation of 1e300 degrees has no meaningful remainder.
+AMC_MAX_VALUE = 1e6
 
 
 @dataclass
@@ -67,6 +72,16 @@ def _numbers(words: list[str], count: int, what: str, path: str) -> np.ndarray:
     return values
 
 
+def _check_bone(bone: dict, path: str) -> None:
+    """A bone's length must be >= 0 and, when it is not 0, its direction a non-zero vector
+    (the rest pose places the bone's end at ``direction / |direction| * length``)."""
+    if bone["length"] < 0:
+        raise MocapError(f"ASF bone {bone['name']!r}: length must be >= 0, found "
+                         f"{bone['length']:g}", path)
+    if bone["length"] > 0 and not np.linalg.norm(bone["direction"]) > 0:
+        raise MocapError(f"ASF bone {bone['name']!r}: direction 0 0 0 points nowhere", path)
+
+
 def read_asf(path: str | os.PathLike) -> AsfSkeleton:
     """Parse an ASF skeleton file.
 
@@ -102,6 +117,9 @@ def read_asf(path: str | os.PathLike) -> AsfSkeleton:
         if section == "units" and len(words) >= 2:
             if head == "length":
                 length = float(_numbers(words[1:], 1, "length unit", path)[0])
+                if not length > 0:
+                    raise MocapError(f"ASF :units length must be > 0 (file lengths are inches "
+                                     f"times it), found {words[1]!r}", path)
             elif head == "angle":
                 angle = words[1].lower()
         elif section == "root":
@@ -122,6 +140,7 @@ def read_asf(path: str | os.PathLike) -> AsfSkeleton:
                 for key in ("direction", "length"):
                     if key not in current:
                         raise MocapError(f"ASF bone {current['name']!r} has no {key}", path)
+                _check_bone(current, path)
                 bones[current["name"]] = AsfBone(
                     current["name"], current["direction"], current["length"],
                     current.get("axis", np.zeros(3)), current.get("axis_order", "XYZ"),
@@ -214,6 +233,7 @@ def read_amc(path: str | os.PathLike, asf: AsfSkeleton) -> tuple[dict[str, np.nd
     sizes["root"] = len(asf.root_order)
     angle = asf.angle_unit
     frames: list[dict[str, list[float]]] = []
+    expected, jumped = 0, False
     # Text parsing: one pass over the lines (AMC is line-oriented and bones may be absent).
     for number, raw in enumerate(lines, 1):
         line = raw.strip()
@@ -227,6 +247,13 @@ def read_amc(path: str | os.PathLike, asf: AsfSkeleton) -> tuple[dict[str, np.nd
             continue
         words = line.split()
         if len(words) == 1 and words[0].isdigit():
+            numbered = int(words[0])
+            if frames and numbered != expected and not jumped:
+                jumped = True
+                warnings.warn(f"{path}: AMC frame numbers do not count up by one (line "
+                              f"{number}: frame {numbered} after {expected - 1}); the frames "
+                              "are taken in file order", MocapWarning, stacklevel=2)
+            expected = numbered + 1
             frames.append({})
             continue
         if not frames:
@@ -239,9 +266,10 @@ def read_amc(path: str | os.PathLike, asf: AsfSkeleton) -> tuple[dict[str, np.nd
             values = [float(w) for w in words[1:]]
         except ValueError:
             raise MocapError(f"AMC line {number}: non-numeric value in {line!r}", path) from None
-        if not all(math.isfinite(v) for v in values):
+        if not all(abs(v) <= AMC_MAX_VALUE for v in values):
             raise MocapError(f"AMC line {number}: bone {bone!r} has a value that is not a "
-                             "finite number (NaN or infinity)", path)
+                             f"finite number within ±{AMC_MAX_VALUE:g} (NaN, infinity or "
+                             "absurd)", path)
         if len(values) != sizes[bone]:
             raise MocapError(f"AMC line {number}: bone {bone!r} has {len(values)} values, the "
                              f"ASF gives it {sizes[bone]} degrees of freedom", path)
