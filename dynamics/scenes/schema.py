@@ -17,6 +17,19 @@ import numpy as np
 from mocap.errors import MocapError
 from mocap.io.text_table import parse_toml, read_text
 
+#: Largest magnitude of any number in a scene (SI units: metres, kg, N/m, s, K ...). Far
+#: beyond every scene's scale, and small enough that sizes cubed, spacings to the 12th power
+#: and inertias stay finite: 1e300 passed as a finite number and overflowed later (a lattice
+#: of size 1e300 in the fluid pair force, a 1e300 kg box, a 1e300 damping).
+MAX_MAGNITUDE = 1e9
+
+
+def _is_number(value) -> bool:
+    """A finite int or float within +-MAX_MAGNITUDE (not a bool)."""
+    return (not isinstance(value, bool) and isinstance(value, (int, float))
+            and math.isfinite(value) and abs(value) <= MAX_MAGNITUDE)
+
+
 #: Folder of the example scenes shipped with the package.
 SCENES_DIR = Path(__file__).resolve().parent / "examples"
 
@@ -52,8 +65,9 @@ class Table:
                 raise self.error(key, "is required")
             return float(default)
         value = self.data[key]
-        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-            raise self.error(key, f"must be a finite number, not {value!r}")
+        if not _is_number(value):
+            raise self.error(key, f"must be a finite number within ±{MAX_MAGNITUDE:g}, not "
+                                  f"{value!r}")
         if minimum is not None and value < minimum:
             raise self.error(key, f"must be >= {minimum}, not {value!r}")
         if above is not None and not value > above:
@@ -91,8 +105,8 @@ class Table:
         ok = (isinstance(value, list) and len(value) == length and all(
             isinstance(v, int) if integer else isinstance(v, (int, float)) for v in value)
             and not any(isinstance(v, bool) for v in value))
-        if not ok or (not integer and not all(math.isfinite(v) for v in value)):
-            kind = "integers" if integer else "numbers"
+        if not ok or (not integer and not all(_is_number(v) for v in value)):
+            kind = "integers" if integer else f"numbers (finite, within ±{MAX_MAGNITUDE:g})"
             raise self.error(key, f"must be a list of {length} {kind}, not {value!r}")
         if minimum is not None and any(v < minimum for v in value):
             raise self.error(key, f"must have every entry >= {minimum}, not {value!r}")
@@ -110,7 +124,8 @@ class Table:
         return value
 
     def per_kind(self, key: str, default) -> dict | float:
-        """A finite number >= 0 or a {structural, shear, bend} table of them."""
+        """A finite number from 0 to MAX_MAGNITUDE, or a {structural, shear, bend} table of
+        them."""
         self.used.add(key)
         value = self.data.get(key, default)
         if isinstance(value, dict):
@@ -119,13 +134,13 @@ class Table:
                 raise self.error(key, f"has unknown spring kind(s) {sorted(unknown)}; "
                                       "use structural, shear, bend")
             for kind, v in value.items():
-                if isinstance(v, bool) or not isinstance(v, (int, float)) or not 0 <= v < math.inf:
-                    raise self.error(key, f"{kind} must be a finite number >= 0, not {v!r}")
+                if not (_is_number(v) and v >= 0):
+                    raise self.error(key, f"{kind} must be a finite number from 0 to "
+                                          f"{MAX_MAGNITUDE:g}, not {v!r}")
             return {k: float(v) for k, v in value.items()}
-        if isinstance(value, bool) or not isinstance(value, (int, float)) \
-                or not 0 <= value < math.inf:
-            raise self.error(key, f"must be a finite number >= 0 or a table of "
-                                  f"structural/shear/bend, not {value!r}")
+        if not (_is_number(value) and value >= 0):
+            raise self.error(key, f"must be a finite number from 0 to {MAX_MAGNITUDE:g} or a "
+                                  f"table of structural/shear/bend, not {value!r}")
         return float(value)
 
     def finish(self) -> None:
