@@ -36,6 +36,7 @@ import numpy as np
 from mocap.angles import unwrap_columns
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError, reading
+from mocap.io.c3d.read import unique_labels
 from mocap.skeleton import Motion, Skeleton, frame_rate
 
 #: Metres per unit for the units a BVH file may use.
@@ -316,6 +317,9 @@ def read_bvh(path: str | os.PathLike, units: str | None = None) -> Motion:
     total = sum(len(c) for c in channels)
     values, frame_time, time_text, stated, warnings = _parse_motion(
         text[split.end():], total, path)
+    # a repeated joint name would make joints unaddressable (and merge their channel lists)
+    names, notes = unique_labels(names)
+    warnings += [f"joint names: {note}" for note in notes]
     frames = values.shape[0]
     if frames * len(names) > MAX_JOINT_FRAMES:
         raise MocapError(f"BVH motion of {frames} frames × {len(names)} joints is beyond the "
