@@ -8,9 +8,10 @@ Steps (each prints one line with its time):
 4. hold out one person's walk and fit the N-mode SVD model on the rest;
 5. synthesise that walk from the person's other actions; compare with the captured
    walk and with the baseline (mean walk of the other people); recognise the person;
-6. give the synthesised walk a body (skeleton from the person's markers, feet planted)
-   and export it as BVH and angle CSV;
-7. check it with the Pinocchio humanoid (residuals, contact, skating, torques);
+6. give the synthesised walk a body (skeleton from the markers of one of the person's
+   trials on flat ground, feet planted) and export it as BVH and angle CSV;
+7. check it with the Pinocchio humanoid (residuals, contact, skating, torques), low-passed
+   at 6 Hz like ``mocap check`` and the captured walks the limits are calibrated on;
 8. animate it with a cloth cape and a rope from the core simulator (GIF);
 9. write ``index.html`` with the figures and tables.
 """
@@ -34,6 +35,7 @@ from mocap import io
 from mocap.atomic import atomic_folder
 from mocap.body.retarget import motion_from_trial
 from mocap.cli.batch_rows import find_trials
+from mocap.cli.check import DEFAULT_LOWPASS
 from mocap.cli.humanoid import export_motion
 from mocap.errors import MocapError
 from mocap.io.angles_csv import write_angles_csv
@@ -41,7 +43,7 @@ from mocap.io.discovery import parse_trial_name
 from mocap.markersets import load_markerset
 from mocap.pipeline import Cleaning, marker_file_angles
 from mocap.plot import plot_angles, save_figure
-from mocap.progress import progress
+from mocap.progress import progress, progress_bar
 from mocap.synthetic import generate_corpus
 from mocap.synthetic.people import make_people
 from synthesis.corpus import load_corpus
@@ -194,14 +196,17 @@ def _run(out: Path, final: Path, data: str | None, chosen, people: int, seed: in
         model = MotionModel().fit(training)
         model.save(out / "model.npz")
 
-    with steps(f"synthesising {person}'s {ACTION} from their other actions"):
+    with steps(f"synthesising {person}'s {ACTION} from their other actions"), \
+            progress_bar(3, "synthesis") as bar:
         p, a = corpus.people.index(person), corpus.actions.index(ACTION)
         truth = corpus.angles[p, a]
         synthesised = model.synthesize_angles(person, ACTION)
         others = [i for i in range(len(corpus.people)) if i != p]
         baseline = np.nanmean(corpus.angles[others, a], axis=0)
         curve = synthesised.values.reshape(truth.shape)
+        bar.update(1)
         recognition = model.recognize(truth, action=ACTION)
+        bar.update(1)
         summary["synthesis"] = {
             "person": person, "action": ACTION,
             "synthesis_rms_deg": round(_rms(curve, truth), 3),
@@ -213,6 +218,7 @@ def _run(out: Path, final: Path, data: str | None, chosen, people: int, seed: in
         }
         _plot_synthesis(corpus, truth, curve, baseline, figures / "synthesis.png", person)
         write_angles_csv(synthesised, out / "synthesis" / f"{person}_{ACTION}_synthesised.csv")
+        bar.update(1)
 
     with steps("giving the walk a body: skeleton from markers, feet planted, BVH export"):
         motion = _body_motion(synthesised, names, person, chosen)
@@ -221,12 +227,16 @@ def _run(out: Path, final: Path, data: str | None, chosen, people: int, seed: in
         export_motion(motion, bvh, "bvh")
         summary["bvh"] = shown(bvh)
 
-    with steps("checking the motion with the Pinocchio humanoid"):
-
-        report = check_motion(motion)
+    with steps(f"checking the motion with the Pinocchio humanoid (low-passed at "
+               f"{DEFAULT_LOWPASS:g} Hz, as mocap check)"), progress_bar(2, "check") as bar:
+        # The check's limits are calibrated on captured walks low-passed at 6 Hz, and
+        # ``mocap check`` of the exported BVH filters so too: the same band here.
+        report = check_motion(motion, lowpass=DEFAULT_LOWPASS)
+        bar.update(1)
         check = report.summary()
         (out / "check.json").write_text(json.dumps(check, indent=1) + "\n")
         plot_check(report, figures / "check.png")
+        bar.update(1)
         summary["check"] = {key: check[key] for key in (
             "verdict", "reasons", "residual_force_rms_pct_bw", "foot_skate_mm",
             "penetration_mm", "floating_mm")}
@@ -261,9 +271,31 @@ def _body_motion(synthesised, trials: dict, person: str, markerset):
     """Three cycles of the synthesised joint angles on the person's own skeleton (from
     their markers), feet planted (:func:`dynamics.humanoid.plant.motion_from_cycle`)."""
 
-    source = next(path for (who, _), (path, _) in sorted(trials.items()) if who == person)
-    skeleton = motion_from_trial(io.read(source), markerset).skeleton
+    skeleton = _flat_ground_skeleton(
+        [path for (who, _), (path, _) in sorted(trials.items()) if who == person], markerset)
     return motion_from_cycle(synthesised, skeleton, cycles=3)
+
+
+def _flat_ground_skeleton(paths: list, markerset):
+    """The person's skeleton from the first of their trials whose feet stood on one level.
+
+    The soles are put where the feet stand still, on the floor y = 0
+    (:func:`mocap.body.retarget.motion_from_trial`); in a stair trial a foot stands a step
+    up or down, and its sole would come out a stair's rise off (emil's ascent of the seed-0
+    corpus: the left sole 0.17 m low, which planted the walk on a 0.17 m longer left leg,
+    148 % body weight of residual). Two soles calibrated more than 3 cm apart (a foot
+    without still frames keeps its estimate: 0) mark such a trial; if every trial does,
+    the first one is used.
+    """
+    skeletons = []
+    for path in paths:
+        motion = motion_from_trial(io.read(path), markerset)
+        shifts = motion.metadata.get("sole_calibration_m", {})
+        levels = list(shifts.values()) + [0.0] * (2 - len(shifts))   # 0: estimate kept
+        if max(levels) - min(levels) <= 0.03:
+            return motion.skeleton
+        skeletons.append(motion.skeleton)
+    return skeletons[0]
 
 
 def _plot_synthesis(corpus, truth, curve, baseline, path: Path, person: str) -> None:
