@@ -65,14 +65,6 @@ def _angular_momentum(rotations: np.ndarray, origins: np.ndarray, person: Person
     return momentum + np.einsum("fsij,fsj->fi", world_inertia, angular)
 
 
-def _turning_rate(rotations: np.ndarray, origins: np.ndarray, person: Person,
-                  period: float, advance: np.ndarray) -> np.ndarray:
-    """Rate of change of the body's angular momentum about its centre of mass, per unit
-    body mass, (N, 3) m²/s² (:func:`_angular_momentum`)."""
-    return _periodic_rate(_angular_momentum(rotations, origins, person, period, advance),
-                          period)
-
-
 def _periodic_rate(values: np.ndarray, period: float) -> np.ndarray:
     """Spectral time derivative of samples over one period along the first axis."""
     n = len(values)
@@ -80,6 +72,71 @@ def _periodic_rate(values: np.ndarray, period: float) -> np.ndarray:
     flat = values.reshape(n, -1)
     return np.fft.irfft(omega[:, None] * np.fft.rfft(flat, axis=0), n, axis=0).reshape(
         values.shape)
+
+
+#: The segments that turn against the legs in a run's flight: the trunk, with head and arms.
+_UPPER = ("thorax", "head", "l_upperarm", "l_forearm", "l_hand", "r_upperarm", "r_forearm",
+          "r_hand")
+
+def _periodic_integral(values: np.ndarray, period: float) -> np.ndarray:
+    """Zero-mean periodic antiderivative of zero-mean samples over one period, (N, …)."""
+    n = len(values)
+    omega = 2j * np.pi * np.fft.rfftfreq(n, d=period / n)
+    spectrum = np.fft.rfft(values.reshape(n, -1), axis=0)
+    spectrum[1:] /= omega[1:, None]
+    spectrum[0] = 0.0
+    return np.fft.irfft(spectrum, n, axis=0).reshape(values.shape)
+
+
+def _upper_inertia(rotations: np.ndarray, origins: np.ndarray, person: Person) -> np.ndarray:
+    """Moment of inertia of the trunk, head and arms about the lumbar joint (the thorax's
+    origin) per unit body mass, about the lab's X, Y and Z axes, (N, 3) m²."""
+    fractions, centres, inertias = _mass_model(person)
+    upper = [SEGMENT_NAMES.index(name) for name in _UPPER]
+    joint = origins[:, SEGMENT_NAMES.index("thorax")]
+    arm = origins[:, upper] + np.einsum("fsij,sj->fsi", rotations[:, upper],
+                                        centres[upper]) - joint[:, None]
+    world = rotations[:, upper] @ inertias[upper] @ np.swapaxes(rotations[:, upper], 2, 3)
+    off_axis = (arm ** 2).sum(axis=2)[..., None] - arm ** 2          # distance² off each axis
+    return np.einsum("s,fsk->fk", fractions[upper], off_axis) \
+        + np.diagonal(world, axis1=2, axis2=3).sum(axis=1)
+
+
+#: Force (per body weight) below which the floor hardly turns the body: the weight of a
+#: sample's turning rate in :func:`_flight_turn` is ``1 / (f + _FORCE_FLOOR)²``.
+_FORCE_FLOOR = 0.05
+#: Cost of the trunk's extra turning rate (rad/s)² against the turning (m²/s² per kg)²
+#: that the floor could not supply, and of its extra angle (rad²).
+_SPIN_COST, _TURN_COST = 10.0, 10.0
+
+
+def _flight_turn(momentum: np.ndarray, inertia: np.ndarray, force: np.ndarray,
+                 period: float) -> np.ndarray:
+    """How much more the trunk (with head and arms) turns about the lumbar joint so that
+    the floor can supply the body's turning, (N, 3) radians about the lab's X, Y, Z.
+
+    The floor turns the body about its centre of mass only through its force, so the
+    rate of the angular momentum must vanish in flight and fade with the force at landing
+    and take-off.  The trunk turning by θ adds ``J θ'`` to the momentum ``L`` (``J`` its
+    inertia about the joint, ``inertia`` (N, 3) m² per kg); θ minimises, per axis,
+    ``Σ (L + J θ')'² / (f + F)² + a Σ θ'² + b Σ θ²`` over the cycle — the turning the
+    floor would have to give, weighted by how little force it has (``force`` f per body
+    weight, 0 in flight; F = :data:`_FORCE_FLOOR`), against the trunk's extra turning
+    (a, b = :data:`_SPIN_COST`, :data:`_TURN_COST`).  With the legs swinging in flight the
+    trunk turns the other way, and back in the stances.  ``momentum`` is L per unit body
+    mass, (N, 3) m²/s, on a uniform grid over one period.
+    """
+    n = len(momentum)
+    derivative = _periodic_rate(np.eye(n), period)                  # D @ x = x'
+    weight = 1.0 / (force + _FORCE_FLOOR) ** 2
+    rate = _periodic_rate(momentum, period)
+    turn = np.zeros((n, 3))
+    for axis in range(3):
+        spin = derivative @ (inertia[:, axis, None] * derivative)    # θ ↦ (J θ')'
+        normal = spin.T @ (weight[:, None] * spin) \
+            + _SPIN_COST * derivative.T @ derivative + _TURN_COST * np.eye(n)
+        turn[:, axis] = np.linalg.solve(normal, -spin.T @ (weight * rate[:, axis]))
+    return turn
 
 
 # --------------------------------------------------------------------------- body path
@@ -189,17 +246,25 @@ def _follow(paths: list[_FootPath], person: Person, gait: _Gait, periodic: np.nd
 
 
 def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
-               ) -> np.ndarray:
-    """Root (pelvis origin) positions over one cycle, (_GRID, 3) metres, at phases
-    ``arange(_GRID) / _GRID``, with the feet where ``paths`` put them.
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """Root (pelvis origin) positions over one cycle at phases ``arange(_GRID) / _GRID``,
+    with the feet where ``paths`` put them, and the trunk's turn.
 
     The centre of mass moves like an inverted pendulum on the centre of pressure, which
     rolls from heel to toe under each foot and passes from foot to foot in double
     support, so the floor can supply the accelerations.  Its height: walking and stairs,
     what the leading supporting leg gives at its nominal knee flexion (smoothed, and never
     higher than the supporting legs reach); running, a spring-mass bounce with a
-    ballistic flight.  The root follows from the centre of mass and the posture; a few
-    fixed-point passes settle the coupling.
+    ballistic flight, the trunk turning against the legs (:func:`_flight_turn`).  The
+    root follows from the centre of mass and the posture; a few fixed-point passes settle
+    the coupling.
+
+    Returns
+    -------
+    root : (_GRID, 3) metres
+    lean : (_GRID, 3) radians
+        The trunk's extra turn about the lab's X, Y, Z (zero but running), added to the
+        thorax's template by :func:`_leaning`.
     """
     u = np.arange(_GRID) / _GRID
     period = gait.period
@@ -245,7 +310,10 @@ def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
         spectrum[0] = 0.0
         bounce = np.fft.irfft(spectrum, _GRID)
     turning = np.zeros((_GRID, 3))       # rate of angular momentum about the COM, per kg
-    for _ in range(8):
+    lean = np.zeros((_GRID, 3))          # the trunk's turn (running), radians about X, Y, Z
+    thorax = SEGMENT_NAMES.index("thorax")
+    passes = 10 if bounce is not None else 8
+    for ordinal in range(passes):
         height = com_z - pressure[:, 2]
         accel = _periodic_second_derivative(com_z - trend[:, 2], period)
         stiffness = np.where(support > 0, (GRAVITY + accel) / height, 0.0)
@@ -319,11 +387,26 @@ def _body_path(person: Person, gait: _Gait, paths: list[_FootPath], seed: int
         root = np.column_stack([root_xy, com_z - offset[:, 2]])
         _follow(paths, person, gait, root - trend, seed)
         feet = [path.in_lab(u) for path in paths]
-        joints = _posture(person, clinical, root, feet)
+        joints = _posture(person, _leaning(clinical, lean), root, feet)
         rotations, origins = lab_frames(joints, offsets, root)
         offset = _centre_of_mass(rotations, origins, person) - root
-        turning = _turning_rate(rotations, origins, person, period, gait.advance)
-    return root
+        momentum = _angular_momentum(rotations, origins, person, period, gait.advance)
+        if bounce is not None and ordinal < passes - 3:   # the last passes settle the root
+            # the turn for the momentum without it (to first order), so it does not pile up
+            inertia = _upper_inertia(rotations, origins, person)
+            lean = _flight_turn(momentum - inertia * _periodic_rate(lean, period), inertia,
+                                force, period)
+        turning = _periodic_rate(momentum, period)
+    return root, lean
+
+
+def _leaning(clinical: np.ndarray, lean: np.ndarray) -> np.ndarray:
+    """Template angles (frames, segments, 3) degrees with the trunk's extra turn ``lean``
+    (frames, 3) radians about the lab's X, Y, Z added to the thorax's abduction, flexion
+    and rotation."""
+    leaning = clinical.copy()
+    leaning[:, SEGMENT_NAMES.index("thorax")] += np.degrees(lean[:, [1, 0, 2]])
+    return leaning
 
 
 def _motion(person: Person, action: str, phase: np.ndarray, seed: int = 0
@@ -336,10 +419,12 @@ def _motion(person: Person, action: str, phase: np.ndarray, seed: int = 0
     gait = _gait(person, action, seed)
     paths = [_FootPath(gait, person, side) for side in (0, 1)]
     grid = np.arange(_GRID) / _GRID
-    path = _body_path(person, gait, paths, seed) - np.outer(grid, gait.advance)
+    path, lean = _body_path(person, gait, paths, seed)
+    path = path - np.outer(grid, gait.advance)
     _follow(paths, person, gait, path, seed)
     root = _periodic_interpolate(path, phase % 1.0) + np.outer(phase, gait.advance)
-    clinical = _template(person, action, phase, seed)
+    clinical = _leaning(_template(person, action, phase, seed),
+                        _periodic_interpolate(lean, phase % 1.0))
     joints = _posture(person, clinical, root, [p.in_lab(phase) for p in paths])
     for side in "rl":
         for name in ("thigh", "shank", "foot"):
