@@ -97,7 +97,7 @@ def _read_plain(first_line: str, body: bytes, path) -> Trial:
     table = parse_table(body, ",", 1 + len(columns))
     times = table[:, 0]
     _check_times(times, body, path)
-    points = mark_missing(table[:, 1:].reshape(table.shape[0], len(labels), 3))
+    points = mark_missing(table[:, 1:].reshape(table.shape[0], len(labels), 3), warnings)
     rate = 0.0
     if len(times) > 1:
         rate = (len(times) - 1) / (times[-1] - times[0])
@@ -160,7 +160,7 @@ def _read_vicon(lines: list[str], path) -> Trial:
         end += 1
     labels, warnings = unique_labels(raw_labels)
     table = parse_numeric_rows(lines[start + 5:end], ",", 2 + 3 * len(labels))
-    points = mark_missing(table[:, 2:].reshape(table.shape[0], len(labels), 3))
+    points = mark_missing(table[:, 2:].reshape(table.shape[0], len(labels), 3), warnings)
     factor = unit_factor(units) if units else None
     if factor is None:
         guess, factor = infer_unit_factor(points)

@@ -431,16 +431,37 @@ def _fixed(value: float, places: int) -> str:
     return text[1:] if text[0] == "-" and not text.strip("-0.") else text
 
 
-def mark_missing(points: np.ndarray) -> np.ndarray:
-    """Set to NaN every sample with a non-finite coordinate or exactly at (0, 0, 0).
+#: Largest coordinate magnitude a text reader takes (file units or metres): 1000 km in
+#: millimetres. Beyond it a value is corrupt (1e300 mm read from a CSV in metres became inf
+#: when a TRC in millimetres was written).
+MAX_COORDINATE = 1e9
+
+
+def mark_missing(points: np.ndarray, notes: list[str] | None = None) -> np.ndarray:
+    """Set to NaN every sample with a non-finite coordinate, one beyond
+    :data:`MAX_COORDINATE`, or exactly at (0, 0, 0).
 
     Parameters
     ----------
     points : ndarray, shape (frames, markers, 3)
         Modified in place and returned.
+    notes : list of str, optional
+        Receives a warning when samples beyond :data:`MAX_COORDINATE` were set missing
+        (non-finite and (0, 0, 0) samples are the formats' ways of writing a gap).
+
+    >>> p = np.array([[[1.0, 2.0, 3.0], [0.0, 0.0, 0.0], [1e300, 0.0, 0.0]]])
+    >>> notes = []
+    >>> mark_missing(p, notes)[0, :, 0], notes
+    (array([ 1., nan, nan]), ['1 sample(s) with a coordinate beyond ±1e+09 read as missing'])
     """
     # one pass each: a NaN or infinite coordinate makes the sum non-finite
     missing = ~np.isfinite(points.sum(axis=2)) | ~points.any(axis=2)
+    huge = (np.abs(points) > MAX_COORDINATE).any(axis=2) & ~missing
+    if huge.any():
+        missing |= huge
+        if notes is not None:
+            notes.append(f"{int(huge.sum())} sample(s) with a coordinate beyond "
+                         f"±{MAX_COORDINATE:g} read as missing")
     points[missing] = np.nan
     return points
 

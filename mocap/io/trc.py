@@ -125,7 +125,8 @@ def read_trc(path: str | os.PathLike) -> Trial:
             table[:, 2:].reshape(table.shape[0], count, 3)))
         warnings.append(f"Units is {units!r}; {guess} inferred from the coordinates' magnitude")
     # scaled in one pass into a contiguous array, then gaps marked
-    points = mark_missing(np.multiply(table[:, 2:], factor).reshape(table.shape[0], count, 3))
+    points = mark_missing(np.multiply(table[:, 2:], factor).reshape(table.shape[0], count, 3),
+                          warnings)
     frames, times = table[:, 0], table[:, 1]
     metadata: dict = {"header": header, "warnings": warnings}
     problem = _time_column_problem(times, rate)
