@@ -168,6 +168,9 @@ def _circle_place(points: np.ndarray, marker: int, donors: list[int], window: np
 TRAINING_REACH = 1000
 #: Ridge penalty of the prediction, per training frame (standardised features).
 RIDGE = 1e-3
+#: Frames before each frame whose donor accelerations enter the prediction (a wand or
+#: skin marker swings behind its segment's acceleration, as a damped spring does).
+INERTIA_LAGS = (0, 4, 8)
 
 
 def _predicted_coordinates(points: np.ndarray, missing: np.ndarray, marker: int,
@@ -183,8 +186,10 @@ def _predicted_coordinates(points: np.ndarray, missing: np.ndarray, marker: int,
     segments) say much about all three: a linear (ridge) regression of the
     coordinates (``coordinates_at(f)`` -> (f, 3)) on the directions from each
     donor to each predictor marker, in the cylinder's own axes (so the lab
-    orientation does not enter), and the distances from each donor to each
-    predictor, is fitted on the recorded frames within
+    orientation does not enter), the distances from each donor to each
+    predictor, and the donors' accelerations (second differences, in the same
+    axes) at each of :data:`INERTIA_LAGS` frames before, is fitted on the
+    recorded frames within
     :data:`TRAINING_REACH` of the gap (every other gait cycle of a walk) and
     evaluated on ``frames``.  Returns the prediction at ``window`` (w, 3) and at
     ``frames`` (f, 3), or None when fewer than 30 frames can train it.
@@ -192,7 +197,19 @@ def _predicted_coordinates(points: np.ndarray, missing: np.ndarray, marker: int,
     lo = max(int(frames[0]) - TRAINING_REACH, 0)
     hi = min(int(frames[-1]) + TRAINING_REACH + 1, len(points))
     used = [marker] + list(donors) + list(predictors)
-    train = lo + np.flatnonzero(~missing[lo:hi][:, used].any(axis=1))
+    recorded = ~missing[:, used].any(axis=1)
+    # the donors' accelerations where they and their lagged values are known; without
+    # them on the gap and its window, the prediction goes without (as for the pelvis)
+    acceleration = np.gradient(np.gradient(points[:, donors], axis=0), axis=0)  # (n, 2, 3)
+    known = np.isfinite(acceleration).all(axis=(1, 2))
+    lagged = known.copy()
+    for lag in INERTIA_LAGS:
+        lagged[lag:] &= known[:len(known) - lag]
+        lagged[:lag] = False
+    inertia = bool(lagged[frames].all() and lagged[window].all())
+    if inertia:
+        recorded &= lagged
+    train = lo + np.flatnonzero(recorded[lo:hi])
     if len(train) < 30:
         return None
 
@@ -205,7 +222,10 @@ def _predicted_coordinates(points: np.ndarray, missing: np.ndarray, marker: int,
             to /= np.maximum(distance, 1e-12)[..., None]
             out += [np.einsum("fkc,fc->fk", to, basis) for basis in (axis, u, v)]
             out.append(distance)
-        return np.concatenate(out, axis=1)                                   # (f, 8k)
+        for lag in INERTIA_LAGS if inertia else ():
+            out += [np.einsum("fdc,fc->fd", acceleration[f - lag], basis)
+                    for basis in (axis, u, v)]                               # (f, 2) each
+        return np.concatenate(out, axis=1)                                   # (f, 8k + 18)
 
     coef, mean, scale, offset = _ridge(features(train), coordinates_at(train))
 
