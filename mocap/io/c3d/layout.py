@@ -432,6 +432,20 @@ def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
                         f"the file size say {layout.point_count} points, "
                         f"{layout.analog_per_frame} analog samples per frame and "
                         f"{layout.frames} frames, which were used")
+    # the other way round: a count parameter the file size overruled
+    overruled = []
+    used = count_parameter(parameters, "POINT", "USED")
+    if used is not None and used != layout.point_count:
+        overruled.append(f"POINT:USED says {used} points")
+    stated = count_parameter(parameters, "POINT", "FRAMES")
+    if (stated is not None and stated != layout.frames
+            and not (stated == 65535 and layout.frames > stated)
+            and not any("truncated" in w for w in warnings)):
+        overruled.append(f"POINT:FRAMES says {stated} frames")
+    if overruled:
+        warnings.append(f"{' and '.join(overruled)}; the header and the file size say "
+                        f"{layout.point_count} points and {layout.frames} frames, which were "
+                        f"used")
     if layout.rate == 0.0 and layout.frames > 1:
         _rate_from_analogs(layout, warnings)
     layout.warnings = warnings
