@@ -47,7 +47,8 @@ from mocap.skeleton import Motion
 from dynamics.humanoid.contact import (ballistic_runs, calibrate_contacts, estimate_floor,
                                        foot_skate, points_in_world, rig_soles,
                                        rollover_centres)
-from dynamics.humanoid.contact_forces import preference_weights, solve_contact_forces
+from dynamics.humanoid.contact_forces import (contact_columns, preference_weights,
+                                              solve_contact_forces)
 from dynamics.humanoid.inverse import contact_joint_torques, rnea_batch
 from dynamics.humanoid.kinematics import centre_of_mass, motion_kinematics
 from dynamics.humanoid.model import GRAVITY, Humanoid, build_humanoid
@@ -266,9 +267,10 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
     levers = contact_world - com[:, None, :]
     weights = preference_weights(heights, speed)
     preferred = _sagittal_towards(com, contact_world, world_r[:, 0]) if prefer_com else None
+    columns = contact_columns(levers, active, mu, weights=weights, preferred=preferred)
     forces, residual = solve_contact_forces(
         wrench, levers, active, mu, torque_length=torque_length, weights=weights,
-        preferred=preferred)
+        preferred=preferred, columns=columns)
     if rollover:
         # The same total force, its moment shared with the roll-over prior (module
         # docstring, step 4): only where each foot bears it changes, and the residual
@@ -280,7 +282,7 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
             held, levers, active, mu, torque_length=torque_length * HELD_FORCE_WEIGHT,
             weights=weights, preferred=preferred, centres=centres - com[:, None, :],
             groups=np.asarray(segments),
-            centre_length=ROLLOVER_LENGTH * torque_length * HELD_FORCE_WEIGHT)
+            centre_length=ROLLOVER_LENGTH * torque_length * HELD_FORCE_WEIGHT, columns=columns)
     residual_torque = residual[:, 3:]                      # about the centre of mass
     if lowpass:
         # The contact forces band-limited like the motion they come from: the on/off

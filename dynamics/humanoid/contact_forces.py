@@ -19,6 +19,8 @@ it with the heel-to-toe roll-over of :func:`dynamics.humanoid.contact.rollover_c
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 #: Height and speed scales of the load preference (module docstring).
@@ -66,19 +68,21 @@ def ridge_nnls(matrix: np.ndarray, target: np.ndarray, ridge: float,
     eye = np.eye(m)
     scale = 1.0 + np.linalg.norm(target, axis=1)
 
-    def objective(at: np.ndarray, goal: np.ndarray, res: np.ndarray) -> np.ndarray:
-        z = np.maximum((at @ res[..., None])[..., 0], 0.0)
+    def objective(goal: np.ndarray, res: np.ndarray, z: np.ndarray) -> np.ndarray:
+        """Φ at ``res``, given ``z = Aᵀ res``."""
+        z = np.maximum(z, 0.0)
         return 0.5 * (res * res).sum(axis=1) - (goal * res).sum(axis=1) \
             + 0.5 * (z * z).sum(axis=1) / ridge
 
     todo = np.arange(frames)
     at = transposed                         # the unfinished frames' Aᵀ, gathered once a step
     previous = np.full((frames, n), 2, np.int8)            # 2: no set seen yet
+    accepted = None                         # Aᵀr of the step the line search accepted
     for _ in range(iterations):
         if not todo.size:
             break
         a, res = np.swapaxes(at, 1, 2), r[todo]
-        z = (at @ res[..., None])[..., 0]
+        z = (at @ res[..., None])[..., 0] if accepted is None else accepted
         on = z > 0.0
         gradient = res - target[todo] + (a @ (np.where(on, z, 0.0) / ridge)[..., None])[..., 0]
         # Done: stationary, or the generator set settled after a full step (Φ is quadratic
@@ -88,8 +92,8 @@ def ridge_nnls(matrix: np.ndarray, target: np.ndarray, ridge: float,
         previous[todo] = on
         keep = ~done
         if not keep.all():
-            todo, at, on, res, gradient = (todo[keep], at[keep], on[keep], res[keep],
-                                           gradient[keep])
+            todo, at, z, on, res, gradient = (todo[keep], at[keep], z[keep], on[keep],
+                                              res[keep], gradient[keep])
             a = np.swapaxes(at, 1, 2)
         if not todo.size:
             break
@@ -97,12 +101,15 @@ def ridge_nnls(matrix: np.ndarray, target: np.ndarray, ridge: float,
         hessian = eye + (a * on[:, None, :]) @ at / ridge
         step = -np.linalg.solve(hessian, gradient[..., None])[..., 0]
         slope = (gradient * step).sum(axis=1)
-        before = objective(at, goal, res)
+        before = objective(goal, res, z)
         t = np.ones(todo.size)
+        accepted = None
         for _ in range(30):
             trial = res + t[:, None] * step
-            worse = objective(at, goal, trial) > before + 1e-4 * t * slope
+            z = (at @ trial[..., None])[..., 0]
+            worse = objective(goal, trial, z) > before + 1e-4 * t * slope
             if not worse.any():
+                accepted = z                    # r becomes this trial, bit for bit
                 break
             t = np.where(worse, 0.5 * t, t)
         r[todo] = res + t[:, None] * step
@@ -117,12 +124,63 @@ def pyramid_edges(mu: float, edges: int = 4) -> np.ndarray:
     return d / np.linalg.norm(d, axis=1, keepdims=True)
 
 
+class ContactColumns(NamedTuple):
+    """The generators of a contact solve (:func:`contact_columns`), which two solves of the
+    same contacts (the check's, with and without the roll-over prior) share."""
+
+    #: Unit generators ``d`` per point: pyramid edges, then the preferred direction;
+    #: (frames, points, kinds, 3).
+    directions: np.ndarray
+    #: ``[d; r × d]`` per point and generator, zero where the point is not in contact;
+    #: (frames, points · kinds, 6).
+    columns: np.ndarray
+    #: Ridge cost of each generator (∞: the preferred direction outside the pyramid);
+    #: (frames, points, kinds).
+    cost: np.ndarray
+
+
+def contact_columns(levers: np.ndarray, active: np.ndarray, mu: float = 0.8, edges: int = 4,
+                    weights: np.ndarray | None = None, preferred: np.ndarray | None = None
+                    ) -> ContactColumns:
+    """The generators of :func:`solve_contact_forces` for these contacts (its parameters of
+    the same names); pass them back as its ``columns`` to solve again without building them."""
+    frames, points = active.shape
+    kinds = edges + (preferred is not None)
+    # Columns [d; r × d] for every point and generator d, batched over frames: (F, P, K, 6),
+    # written in place (np.concatenate and np.cross on these small axes cost more than
+    # the solve); the same arithmetic as r × d by np.cross, so the same bits. The generators
+    # lie generator-major in memory, as np.concatenate left them: the forces' matmul in
+    # solve_contact_forces then sums in the same order as it always did.
+    d = np.empty((kinds, frames, points, 3)).transpose(1, 2, 0, 3)
+    d[:, :, :edges] = pyramid_edges(mu, edges)
+    cost = np.empty((frames, points, kinds))
+    cost[:, :, :edges] = 1.0 if weights is None else weights[:, :, None]
+    if preferred is not None:
+        # One more generator per point: the preferred direction, where inside the pyramid,
+        # at a fraction of the ridge cost (so it carries the load unless the wrench needs
+        # otherwise).
+        unit = preferred / np.maximum(np.linalg.norm(preferred, axis=2, keepdims=True), 1e-12)
+        inside = np.hypot(unit[..., 0], unit[..., 2]) <= mu * unit[..., 1]
+        d[:, :, edges] = unit
+        extra = (weights if weights is not None else np.ones((frames, points))) \
+            * PREFERRED_COST
+        cost[:, :, edges] = np.where(inside, extra, np.inf)
+    columns = np.empty((frames, points, kinds, 6))
+    columns[..., :3] = d
+    r = levers[:, :, None, :]
+    np.subtract(r[..., 1] * d[..., 2], r[..., 2] * d[..., 1], out=columns[..., 3])
+    np.subtract(r[..., 2] * d[..., 0], r[..., 0] * d[..., 2], out=columns[..., 4])
+    np.subtract(r[..., 0] * d[..., 1], r[..., 1] * d[..., 0], out=columns[..., 5])
+    columns *= active[:, :, None, None]
+    return ContactColumns(d, columns.reshape(frames, points * kinds, 6), cost)
+
+
 def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndarray,
                          mu: float = 0.8, edges: int = 4, regularisation: float = 1e-6,
                          torque_length: float = 1.0, weights: np.ndarray | None = None,
                          preferred: np.ndarray | None = None,
                          centres: np.ndarray | None = None, groups: np.ndarray | None = None,
-                         centre_length: float = 1.0
+                         centre_length: float = 1.0, columns: ContactColumns | None = None
                          ) -> tuple[np.ndarray, np.ndarray]:
     """Contact forces inside friction pyramids that best supply a wrench, frame by frame.
 
@@ -169,6 +227,9 @@ def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndar
         The group (foot) of each point; required with ``centres``.
     centre_length : float, m
         The length the prior rows' moments are divided by.
+    columns : ContactColumns, optional
+        :func:`contact_columns` of these ``levers``, ``active``, ``mu``, ``edges``,
+        ``weights`` and ``preferred``, when an earlier solve made them.
 
     Returns
     -------
@@ -176,35 +237,11 @@ def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndar
     residual : ndarray, shape (frames, 6)
         ``W − Σ (f, r × f)``: what the contacts cannot supply.
     """
+    if columns is None:
+        columns = contact_columns(levers, active, mu, edges, weights, preferred)
     frames, points = active.shape
-    kinds = edges + (preferred is not None)
-    # Columns [d; r × d] for every point and generator d, batched over frames: (F, P, K, 6),
-    # written in place (np.concatenate and np.cross on these small axes cost more than
-    # the solve); the same arithmetic as r × d by np.cross, so the same bits. The generators
-    # lie generator-major in memory, as np.concatenate left them: the forces' matmul below
-    # then sums in the same order as it always did.
-    d = np.empty((kinds, frames, points, 3)).transpose(1, 2, 0, 3)
-    d[:, :, :edges] = pyramid_edges(mu, edges)
-    cost = np.empty((frames, points, kinds))
-    cost[:, :, :edges] = 1.0 if weights is None else weights[:, :, None]
-    if preferred is not None:
-        # One more generator per point: the preferred direction, where inside the pyramid,
-        # at a fraction of the ridge cost (so it carries the load unless the wrench needs
-        # otherwise).
-        unit = preferred / np.maximum(np.linalg.norm(preferred, axis=2, keepdims=True), 1e-12)
-        inside = np.hypot(unit[..., 0], unit[..., 2]) <= mu * unit[..., 1]
-        d[:, :, edges] = unit
-        extra = (weights if weights is not None else np.ones((frames, points))) \
-            * PREFERRED_COST
-        cost[:, :, edges] = np.where(inside, extra, np.inf)
-    columns = np.empty((frames, points, kinds, 6))
-    columns[..., :3] = d
-    r = levers[:, :, None, :]
-    np.subtract(r[..., 1] * d[..., 2], r[..., 2] * d[..., 1], out=columns[..., 3])
-    np.subtract(r[..., 2] * d[..., 0], r[..., 0] * d[..., 2], out=columns[..., 4])
-    np.subtract(r[..., 0] * d[..., 1], r[..., 1] * d[..., 0], out=columns[..., 5])
-    columns *= active[:, :, None, None]
-    flat = columns.reshape(frames, points * kinds, 6)                  # (F, P·K, 6)
+    d, flat, cost = columns
+    kinds = d.shape[2]
     physical = flat.transpose(0, 2, 1)                                 # (F, 6, P·K)
     # Scaled problem: torque rows over L; columns over √cost (λ = μ / √cost keeps λ ≥ 0).
     scale = (1.0 / np.sqrt(cost)).reshape(frames, points * kinds)
