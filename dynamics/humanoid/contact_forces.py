@@ -246,25 +246,31 @@ def solve_contact_forces(wrench: np.ndarray, levers: np.ndarray, active: np.ndar
     # Scaled problem: torque rows over L; columns over √cost (λ = μ / √cost keeps λ ≥ 0).
     scale = (1.0 / np.sqrt(cost)).reshape(frames, points * kinds)
     rows = np.array([1.0, 1.0, 1.0] + [1.0 / torque_length] * 3)
-    matrix = (flat * rows * scale[:, :, None]).transpose(0, 2, 1)      # (F, 6, P·K)
+    # Products in place, here and below: fewer temporaries of this size, whose fresh pages'
+    # first-touch faults cost up to a sixth of the whole check's time.
     target = wrench * rows
-    if centres is not None:
+    if centres is None:
+        matrix = flat * rows
+        matrix *= scale[:, :, None]
+        matrix = matrix.transpose(0, 2, 1)                             # (F, 6, P·K)
+    else:
+        member = np.asarray(groups)[:, None] == np.unique(groups)[None, :]  # (P, G)
+        matrix = np.empty((frames, 6 + 2 * member.shape[1], points * kinds))
+        np.multiply(physical, rows[:, None], out=matrix[:, :6])
         known = active & np.isfinite(centres).all(axis=2)
         x = (levers - np.nan_to_num(centres))[:, :, None, :]
         # X and Z of (r − c) × d, as np.cross computes them: (2, F, P, K)
-        about = np.stack([x[..., 1] * d[..., 2] - x[..., 2] * d[..., 1],
-                          x[..., 0] * d[..., 1] - x[..., 1] * d[..., 0]])
-        about = about * known[None, :, :, None] / centre_length
-        member = np.asarray(groups)[:, None] == np.unique(groups)[None, :]  # (P, G)
-        full = np.empty((frames, 6 + 2 * member.shape[1], points * kinds))
-        full[:, :6] = matrix
+        about = np.empty((2, frames, points, kinds))
+        np.subtract(x[..., 1] * d[..., 2], x[..., 2] * d[..., 1], out=about[0])
+        np.subtract(x[..., 0] * d[..., 1], x[..., 1] * d[..., 0], out=about[1])
+        about *= known[None, :, :, None]
+        about /= centre_length
         # (F, G, 2, P, K): each group's two rows, the other groups' points at zero
-        prior = full[:, 6:].reshape(frames, member.shape[1], 2, points, kinds)
+        prior = matrix[:, 6:].reshape(frames, member.shape[1], 2, points, kinds)
         np.multiply(about.transpose(1, 0, 2, 3)[:, None],
                     member.T.astype(float)[None, :, None, :, None], out=prior)
-        full[:, 6:] *= scale[:, None, :]
-        matrix = full
-        target = np.concatenate([target, np.zeros((frames, full.shape[1] - 6))], axis=1)
+        matrix *= scale[:, None, :]
+        target = np.concatenate([target, np.zeros((frames, matrix.shape[1] - 6))], axis=1)
     m = matrix.shape[1]
     # A small ridge (min-norm among exact solutions) spreads the load over the points in
     # contact instead of a vertex solution where feet push against each other sideways.
