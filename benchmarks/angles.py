@@ -11,6 +11,8 @@ compare the ratio, not the absolute figures.  Never asserts.
 from __future__ import annotations
 
 import argparse
+import os
+import statistics
 import time
 import warnings
 
@@ -61,8 +63,8 @@ def reference(trial: Trial, markerset, sequence: str) -> np.ndarray:
     return out
 
 
-def best_of(function, repeats: int) -> tuple[float, float]:
-    """Best wall-clock and best CPU (process) time of ``repeats`` runs, seconds.
+def median_of(function, repeats: int) -> tuple[float, float]:
+    """Median wall-clock and median CPU (process) time of ``repeats`` runs, seconds.
 
     On a shared machine the wall clock includes time the process waited for a
     core; the CPU time is what one core spent, the figure the target is about.
@@ -73,7 +75,7 @@ def best_of(function, repeats: int) -> tuple[float, float]:
         function()
         wall.append(time.perf_counter() - start)
         cpu.append(time.process_time() - start_cpu)
-    return min(wall), min(cpu)
+    return statistics.median(wall), statistics.median(cpu)
 
 
 def main() -> None:
@@ -81,7 +83,7 @@ def main() -> None:
     parser.add_argument("--frames", type=int, default=100_000)
     parser.add_argument("--reference-frames", type=int, default=2000)
     parser.add_argument("--sequence", default="ZXY")
-    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--repeats", type=int, default=5)
     args = parser.parse_args()
 
     markerset = load_markerset("synthetic15")
@@ -102,9 +104,9 @@ def main() -> None:
             warnings.simplefilter("ignore", GimbalLockWarning)
             return joint_angles(trial, markerset, args.sequence)
 
-    full_s, full_cpu = best_of(full, args.repeats)
-    whole_s, whole_cpu = best_of(whole_arrays, args.repeats)
-    ref_s, ref_cpu = best_of(lambda: reference(small, markerset, args.sequence), 1)
+    full_s, full_cpu = median_of(full, args.repeats)
+    whole_s, whole_cpu = median_of(whole_arrays, args.repeats)
+    ref_s, ref_cpu = median_of(lambda: reference(small, markerset, args.sequence), 1)
 
     # the vectorised and per-frame paths agree (principal values) on the small trial
     with warnings.catch_warnings():
@@ -115,6 +117,7 @@ def main() -> None:
     work = args.frames * segments
     ref_work = args.reference_frames * segments
     print(f"joint angles, {args.frames} frames x {segments} segments, sequence {args.sequence}; "
+          f"medians of {args.repeats} runs, load average {os.getloadavg()[0]:.1f}; "
           f"M segment-frames/s by wall clock and (per CPU second)")
     rows = [("joint_angles: frames+relative+Euler, unwrap, gimbal check", full_s, full_cpu, work),
             ("whole-trial segment_frames+relative_rotations+matrices_to_angles", whole_s,
@@ -154,8 +157,8 @@ def plugingait_throughput(frames: int, repeats: int) -> None:
     long_static = static.with_points(np.tile(static.points, (-(-frames // static.frames), 1, 1))
                                      [:frames])
     subject = calibrate(static, subject_from_trial(walk), flat_foot=True)
-    angles_s, angles_cpu = best_of(lambda: plugingait_angles(long_walk, subject=subject), repeats)
-    calib_s, calib_cpu = best_of(lambda: calibrate(long_static, subject_from_trial(walk),
+    angles_s, angles_cpu = median_of(lambda: plugingait_angles(long_walk, subject=subject), repeats)
+    calib_s, calib_cpu = median_of(lambda: calibrate(long_static, subject_from_trial(walk),
                                                    flat_foot=True), repeats)
     joints = len(SIDES) * len(JOINTS)
     print(f"  plugingait_angles ({frames} frames x {joints} joints): {angles_s:.3f} s, "

@@ -75,7 +75,9 @@ def median_wall(argv: list[str], runs: int, env: dict | None = None, fresh=None)
         if fresh is not None:
             fresh()
         start = time.perf_counter()
-        child = subprocess.Popen(argv, env=env, stdout=subprocess.DEVNULL,
+        # cwd=ROOT: 'python -m mocap' puts the working folder first on sys.path, so run
+        # from another checkout it would time that checkout's code
+        child = subprocess.Popen(argv, env=env, cwd=ROOT, stdout=subprocess.DEVNULL,
                                  stderr=subprocess.DEVNULL)
         _, status, usage = os.wait4(child.pid, 0)
         times.append(time.perf_counter() - start)
