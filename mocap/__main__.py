@@ -8,12 +8,15 @@ surface half-way through an import as a traceback (or as another exception, or a
 "Exception ignored in …" text). Once the command's options are parsed, :func:`mocap.cli.main`
 puts its own handler in its place, which lets the command's clean-up run.
 
-Only ``os`` and ``signal`` are imported here (``os`` is loaded by the interpreter itself), and
-``import mocap`` imports nothing, so the window before the handler is the interpreter's own
-start-up.
+The handler is installed when this module is imported, which only the entry points do. It
+imports only ``os`` and ``_signal`` (both loaded by the interpreter itself) and ``import
+mocap`` imports nothing, so the window before the handler is the interpreter's own start-up
+(``site``, ``.pth`` files, the console script's ``import re``), which no Python code can
+guard.
 """
 import os
-import signal
+
+import _signal      # the C module behind ``signal``: built in and already loaded, so free
 
 
 def interrupted_at_start(signum, frame) -> None:
@@ -26,10 +29,18 @@ def interrupted_at_start(signum, frame) -> None:
 interrupted_at_start.replaceable = True
 
 
+def _catch_interrupts_at_start() -> None:
+    if _signal.getsignal(_signal.SIGINT) is _signal.default_int_handler:   # not when ignored
+        _signal.signal(_signal.SIGINT, interrupted_at_start)
+
+
+# at import: the console script imports this module first, then calls run()
+_catch_interrupts_at_start()
+
+
 def run() -> None:
     """The ``mocap`` command: the start-up handler, then the shell (:func:`mocap.cli.run`)."""
-    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:   # not when ignored
-        signal.signal(signal.SIGINT, interrupted_at_start)
+    _catch_interrupts_at_start()
     from mocap.cli import run as shell
     shell()
 

@@ -34,8 +34,9 @@ import numpy as np
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.io.c3d.read import infer_unit_factor, unique_labels, unit_factor
-from mocap.io.text_table import (check_label, coordinate_decimals, format_table, mark_missing,
-                                 parse_numeric_rows, parse_table, read_head)
+from mocap.io.text_table import (check_label, check_times_increase, coordinate_decimals,
+                                 format_table, mark_missing, parse_numeric_rows, parse_table,
+                                 read_head)
 from mocap.trial import Trial
 
 _AXIS_COLUMN = re.compile(r"^(?P<label>.+?)[_.: ](?P<axis>[xyzXYZ])$")
@@ -96,7 +97,7 @@ def _read_plain(first_line: str, body: bytes, path) -> Trial:
     labels, warnings = unique_labels(labels)
     table = parse_table(body, ",", 1 + len(columns))
     times = table[:, 0]
-    _check_times(times, body, path)
+    check_times_increase(times, body, path, first_line=2)
     points = mark_missing(table[:, 1:].reshape(table.shape[0], len(labels), 3), warnings)
     rate = 0.0
     if len(times) > 1:
@@ -114,32 +115,6 @@ def _read_plain(first_line: str, body: bytes, path) -> Trial:
                         "metres: check the file")
     metadata = {"start_time": float(times[0]) if times.size else 0.0, "warnings": warnings}
     return Trial(labels, points, rate, "m", os.fspath(path), "csv", metadata=metadata)
-
-
-def _check_times(times: np.ndarray, body: bytes, path) -> None:
-    """MocapError naming the first row whose time is missing, not a number, or not after the
-    previous row's (a time column that stalls or runs backwards has no rate)."""
-    finite = np.isfinite(times)
-    later = np.concatenate([[True], np.diff(times) > 0])
-    bad = np.flatnonzero(~(finite & later))
-    if not bad.size:
-        return
-    row = int(bad[0])
-    line = _line_of_row(body, row)
-    if not finite[row]:
-        raise MocapError(f"line {line}: the time is missing or not a number", path)
-    raise MocapError(f"line {line}: time {times[row]:.9g} s does not come after the previous "
-                     f"row's {times[row - 1]:.9g} s (the time column must increase)", path)
-
-
-def _line_of_row(body: bytes, row: int) -> int:
-    """The file line (the header is line 1) of data row ``row`` (blank lines skipped)."""
-    for number, line in enumerate(body.split(b"\n"), start=2):
-        if line.strip(b" \t\r,"):
-            if row == 0:
-                return number
-            row -= 1
-    return number
 
 
 def _read_vicon(lines: list[str], path) -> Trial:

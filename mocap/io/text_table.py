@@ -136,6 +136,48 @@ def read_head(path: str | os.PathLike, count: int,
     return text, body
 
 
+def check_times_increase(times: np.ndarray, body: bytes, path, first_line: int,
+                         delimiter: str = ",", missing_ok: bool = False) -> None:
+    """MocapError naming the file line of the first row whose time is missing or not after
+    the previous row's (a time column that stalls or runs backwards has no rate).
+
+    Parameters
+    ----------
+    times : ndarray, shape (rows,), s
+        The time column as :func:`parse_table` read it from ``body``.
+    body : bytes
+        The table's text, whose first line is line ``first_line`` of the file.
+    missing_ok : bool
+        A column with missing times is not checked (the format has another source of
+        time, such as a TRC's DataRate); only a complete one must increase.
+    """
+    finite = np.isfinite(times)
+    if missing_ok and not finite.all():
+        return
+    later = np.concatenate([[True], np.diff(times) > 0])
+    bad = np.flatnonzero(~(finite & later))
+    if not bad.size:
+        return
+    row = int(bad[0])
+    line = _line_of_row(body, row, first_line, delimiter)
+    if not finite[row]:
+        raise MocapError(f"line {line}: the time is missing or not a number", path)
+    raise MocapError(f"line {line}: time {times[row]:.9g} s does not come after the previous "
+                     f"row's {times[row - 1]:.9g} s (the time column must increase)", path)
+
+
+def _line_of_row(body: bytes, row: int, first_line: int, delimiter: str) -> int:
+    """The file line of data row ``row`` (blank lines skipped, as :func:`parse_table` does)."""
+    blank = b" \t\r" + delimiter.encode()
+    number = first_line
+    for number, line in enumerate(body.split(b"\n"), start=first_line):
+        if line.strip(blank):
+            if row == 0:
+                return number
+            row -= 1
+    return number
+
+
 def parse_table(data: bytes | str, delimiter: str, width: int) -> np.ndarray:
     """Numbers of delimited text rows; blank lines skipped, empty or unparsable cells NaN.
 
