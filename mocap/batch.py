@@ -15,6 +15,7 @@ import os
 import shutil
 import signal
 import tempfile
+import warnings
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 from typing import Any, Callable, Iterable, Sequence
@@ -49,7 +50,11 @@ def run_batch(row: Callable[..., dict], paths: Sequence[str | os.PathLike], jobs
     if jobs < 1:
         raise MocapError(f"jobs= must be at least 1, got {jobs}")
     if dask or scheduler:
-        return _run_dask(row, names, jobs, scheduler, arguments, show_progress)
+        with warnings.catch_warnings():
+            # Dask's warnings are about its own machinery (a dashboard port another
+            # cluster holds …), not the user's trials, whose problems are in their rows
+            warnings.filterwarnings("ignore", module=r"distributed(\..*)?$")
+            return _run_dask(row, names, jobs, scheduler, arguments, show_progress)
     if jobs == 1:
         return [row(p, **arguments)
                 for p in progress(names, "analysing trials", enabled=show_progress)]

@@ -503,6 +503,23 @@ def test_ctrl_c_on_dask_at_any_moment_leaves_nothing_and_is_one_line(walk, tmp_p
     assert list(scratch.iterdir()) == [] and not (tmp_path / "t.csv").exists()
 
 
+def test_batch_on_dask_keeps_dask_s_own_warnings_to_itself(walk, tmp_path):
+    """With port 8787 taken (another cluster's dashboard), distributed warned in three lines
+    'Port 8787 is already in use …', printed as a mocap warning."""
+    pytest.importorskip("dask.distributed")
+    import socket
+    with socket.socket() as holder:
+        holder.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        with contextlib.suppress(OSError):      # already taken by someone: just as good
+            holder.bind(("", 8787))
+            holder.listen(1)
+        env = {**os.environ, "PYTHONPATH": str(ROOT)}
+        done = subprocess.run([sys.executable, "-m", "mocap", "batch", str(walk), "--dask",
+                               "-j", "1"], env=env, capture_output=True, text=True,
+                              timeout=300)
+    assert done.returncode == 0 and done.stderr == "1 of 1 trials analysed\n", done.stderr
+
+
 def test_segment_names_that_would_corrupt_the_angle_csv_are_refused(walk, tmp_path, capsys):
     """A marker set whose segment is named 'pel,vis' (or holds a line break) wrote an angle
     CSV whose header had more columns than its rows."""
