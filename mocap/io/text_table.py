@@ -148,8 +148,8 @@ def check_times_increase(times: np.ndarray, body: bytes, path, first_line: int,
     body : bytes
         The table's text, whose first line is line ``first_line`` of the file.
     missing_ok : bool
-        A column with missing times is not checked (the format has another source of
-        time, such as a TRC's DataRate); only a complete one must increase.
+        A column with missing times is not checked (for a format with another source of
+        time); only a complete one must increase.
     """
     finite = np.isfinite(times)
     if missing_ok and not finite.all():

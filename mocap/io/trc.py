@@ -34,8 +34,8 @@ from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.io import require_rate
 from mocap.io.c3d.read import infer_unit_factor, unique_labels, unit_factor
-from mocap.io.text_table import (check_label, check_times_increase, coordinate_decimals,
-                                 format_table, mark_missing, parse_table, read_head)
+from mocap.io.text_table import (check_label, coordinate_decimals, format_table, mark_missing,
+                                 parse_table, read_head)
 from mocap.trial import Trial
 
 
@@ -114,8 +114,6 @@ def read_trc(path: str | os.PathLike) -> Trial:
     warnings += notes
 
     table = parse_table(body, delimiter, 2 + 3 * count)
-    check_times_increase(table[:, 1], body, path, first_line=6, delimiter=delimiter,
-                         missing_ok=True)
     announced_frames = _int_or_none(header.get("NumFrames"))
     if announced_frames is not None and announced_frames != table.shape[0]:
         warnings.append(f"header announces {announced_frames} frames but the file holds "

@@ -156,22 +156,3 @@ def test_asf_channels_must_be_known(old, new, message, tmp_path, capsys):
     error = _one_error_line(capsys)
     assert str(asf) in error and f"line {line}" in error
 
-
-def test_a_trc_time_column_must_increase_too(tmp_path, capsys):
-    """A TRC keeps its Time column (written back by every writer): one running backwards
-    was carried into the outputs. A column with holes still falls back to DataRate."""
-    from mocap.io import write
-    from mocap.trial import Trial
-    path = tmp_path / "walk.trc"
-    write(Trial(["A"], np.ones((5, 1, 3)), 100.0), path)
-    lines = path.read_text().splitlines()
-    first = next(i for i, text in enumerate(lines) if text.startswith("1\t"))
-    cells = lines[first + 1].split("\t")
-    lines[first + 1] = "\t".join([cells[0], "0.05"] + cells[2:])
-    path.write_text("\n".join(lines) + "\n")
-    with pytest.raises(MocapError, match=f"line {first + 3}: time 0.02 s does not come after"):
-        read(path)
-    cells[1] = ""
-    lines[first + 1] = "\t".join(cells)
-    path.write_text("\n".join(lines) + "\n")
-    assert read(path).rate == 100.0
