@@ -1,4 +1,4 @@
-"""A C3D file whose POINT:USED or POINT:FRAMES disagrees with the header and the file size
+"""A C3D file whose POINT:USED, POINT:FRAMES or the sign of POINT:SCALE disagrees with the header and the file size
 (found by the hostile re-run of issue 11): the reader used the header's counts, rightly, but
 without a word, while the opposite disagreement (the header overruled) was reported."""
 from __future__ import annotations
@@ -15,8 +15,9 @@ from tests.conftest import realdata_path
 WALK = ("c3dorg_via_c3dio", "sample_00", "Motion_Analysis_Corporation", "Walk1.c3d")
 
 
-def _set_int16_parameter(data: bytearray, group: str, name: str, value: int) -> None:
-    """Overwrite the first int16 of GROUP:NAME in an Intel C3D's parameter section."""
+def _set_parameter(data: bytearray, group: str, name: str, value: float) -> None:
+    """Overwrite the first value (int16 or float32) of GROUP:NAME in an Intel C3D's
+    parameter section."""
     position = (data[0] - 1) * 512 + 4
     groups: dict[int, str] = {}
     while True:
@@ -29,8 +30,8 @@ def _set_int16_parameter(data: bytearray, group: str, name: str, value: int) -> 
             groups[-gid] = label
         elif groups.get(gid) == group and label == name:
             kind, dims = struct.unpack_from("<bB", data, at + 2)
-            assert kind == 2
-            struct.pack_into("<H", data, at + 4 + dims, value)
+            assert kind in (2, 4)
+            struct.pack_into("<H" if kind == 2 else "<f", data, at + 4 + dims, value)
             return
         position = at + step
 
@@ -40,17 +41,20 @@ def _set_int16_parameter(data: bytearray, group: str, name: str, value: int) -> 
     ("USED", 1, "POINT:USED says 1 points"),
     ("FRAMES", 0, "POINT:FRAMES says 0 frames"),
     ("FRAMES", 2, "POINT:FRAMES says 2 frames"),
+    # a positive scale on a float file: the header's storage wins, now with a word
+    ("SCALE", 1e30, "POINT:SCALE 1e+30 disagree on the storage; the header's (float) was used"),
 ])
 def test_an_overruled_count_parameter_is_said(name, value, words, tmp_path):
     source = realdata_path(*WALK)
     data = bytearray(source.read_bytes())
-    _set_int16_parameter(data, "POINT", name, value)
+    _set_parameter(data, "POINT", name, value)
     path = tmp_path / "m.c3d"
     path.write_bytes(bytes(data))
     trial, reference = read(path), read(source)
-    notes = [w for w in trial.metadata["warnings"] if "says" in w]
+    notes = [w for w in trial.metadata["warnings"] if "says" in w or "disagree" in w]
     assert len(notes) == 1 and words in notes[0], trial.metadata["warnings"]
-    assert "the header and the file size say 49 points and 151 frames" in notes[0]
+    assert name == "SCALE" or "the header and the file size say 49 points and 151 frames" \
+        in notes[0]
     np.testing.assert_array_equal(trial.points, reference.points)
 
 
@@ -63,3 +67,4 @@ def test_no_real_c3d_has_an_overruled_count_parameter():
         except Exception:          # files the reader refuses are tested elsewhere
             continue
         assert not [w for w in layout.warnings if "POINT:" in w and " says " in w], path
+        assert not [w for w in layout.warnings if "disagree on the storage" in w], path

@@ -401,6 +401,10 @@ def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
         raise _fail(path, f"header scale factor {header_scale} is not a number")
     if (header_scale < 0) != (scale < 0):
         # The storage type is decided by the header; keep the parameter's magnitude.
+        if header_scale != 0:
+            storage = "float" if header_scale < 0 else "integer"
+            warnings.append(f"header scale {header_scale:.6g} and POINT:SCALE {scale:.6g} "
+                            f"disagree on the storage; the header's ({storage}) was used")
         scale = math.copysign(abs(scale), header_scale if header_scale != 0 else scale)
     if (scale > 0 and header_scale > 0
             and not math.isclose(scale, header_scale, rel_tol=1e-4)):
