@@ -11,7 +11,7 @@ import numpy as np
 
 
 def rigid_fill(points: np.ndarray, missing: np.ndarray, start: int, length: int,
-                marker: int, donors: list[int], guess: np.ndarray,
+                marker: int, donors: list[int],
                 reference: np.ndarray | None = None,
                 predictors: list[int] | None = None) -> list[int]:
     """Fill ``points[start:start+length, marker]`` from donors on the same rigid body.
@@ -28,9 +28,8 @@ def rigid_fill(points: np.ndarray, missing: np.ndarray, start: int, length: int,
     One leaves it on a sphere about the donor: the direction
     from the donor is interpolated the same way.  Whatever the method, the fill
     is then corrected by the linear blend of its misfit at the two edge frames,
-    so it meets the recorded trajectory at both ends of the gap.  ``guess`` (the
-    marker's own spline, (gap, 3)) is unused now but kept for callers.  Returns
-    the donors used (none: nothing filled).
+    so it meets the recorded trajectory at both ends of the gap.  Returns the
+    donors used (none: nothing filled).
     """
     before, after = start - 1, start + length
     usable = [d for d in donors if not missing[before:after + 1, d].any()]

@@ -198,7 +198,6 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
             elif n > limit:
                 report.unfilled.append(Gap(label, s, n, f"longer than {limit} frames"))
             else:
-                guess = spline(all_frames[s:s + n])
                 reference = (references or {}).get(label)
                 columns = donor_columns.get(label, [])
                 others = []
@@ -209,12 +208,12 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
                 if columns and rehearse and not _rigid_rehearses_better(
                         points, missing, s, n, m, columns, reference, others):
                     columns = []
-                used = rigid_fill(points, missing, s, n, m, columns, guess, reference, others)
+                used = rigid_fill(points, missing, s, n, m, columns, reference, others)
                 if used:
                     names = ",".join(trial.labels[d] for d in used)
                     report.filled.append(Gap(label, s, n, method=f"rigid {names}"))
                 else:
-                    points[s:s + n, m] = guess
+                    points[s:s + n, m] = spline(all_frames[s:s + n])
                     report.filled.append(Gap(label, s, n, method="spline"))
     out = trial.with_points(points)
     out.metadata["filled"] = filled_masks(trial, report)
@@ -280,7 +279,7 @@ def _rigid_rehearses_better(points: np.ndarray, missing: np.ndarray, start: int,
         from scipy.interpolate import CubicSpline   # deferred: scipy's start-up, see fill_gaps
         spline = CubicSpline(seen, window[seen, marker], axis=0)(
             np.arange(local, local + length))
-        if not rigid_fill(window, holes, local, length, marker, donors, spline,
+        if not rigid_fill(window, holes, local, length, marker, donors,
                            None if reference is None else reference[lo:hi], predictors):
             continue
         rigid = window[local:local + length, marker]

@@ -13,6 +13,19 @@ from dynamics.scenes.schema import SCENES_DIR
 from mocap.cli import main
 
 
+def _simulate_edited(scene: str, old: str, new: str, tmp_path, capsys) -> list[str]:
+    """``mocap simulate`` of an example scene with ``old`` replaced by ``new``: it must
+    exit 2 and write nothing; returns the lines it printed on stderr."""
+    text = (SCENES_DIR / f"{scene}.toml").read_text()
+    assert old in text
+    path = tmp_path / "s.toml"
+    path.write_text(text.replace(old, new, 1))
+    assert main(["simulate", str(path), "-o", str(tmp_path / "out.npz"), "--steps", "3",
+                 "--no-progress"]) == 2
+    assert not (tmp_path / "out.npz").exists()
+    return capsys.readouterr().err.strip().splitlines()
+
+
 @pytest.mark.parametrize("scene, old, new, key", [
     ("hanging-cloth", "damping = { structural = 0.01 }", "damping = { structural = inf }",
      "'damping' structural must be a finite number from 0 to 1e+09, not inf"),
@@ -25,16 +38,9 @@ from mocap.cli import main
 ])
 def test_spring_values_must_be_finite_and_are_refused_once(scene, old, new, key, tmp_path,
                                                          capsys):
-    text = (SCENES_DIR / f"{scene}.toml").read_text()
-    assert old in text
-    path = tmp_path / "s.toml"
-    path.write_text(text.replace(old, new, 1))
-    assert main(["simulate", str(path), "-o", str(tmp_path / "out.npz"), "--steps", "3",
-                 "--no-progress"]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
+    err = _simulate_edited(scene, old, new, tmp_path, capsys)
     assert len(err) == 1 and key in err[0], err
     assert err[0].count("s.toml") == 1, err
-    assert not (tmp_path / "out.npz").exists()
 
 
 @pytest.mark.parametrize("scene, old, new, key", [
@@ -48,12 +54,5 @@ def test_spring_values_must_be_finite_and_are_refused_once(scene, old, new, key,
     ("swinging-rope", "start = [0.0, 2.0, 0.0]", "start = [0.0, 1e12, 0.0]", "'start'"),
 ])
 def test_numbers_beyond_any_scene_are_refused_at_reading(scene, old, new, key, tmp_path, capsys):
-    text = (SCENES_DIR / f"{scene}.toml").read_text()
-    assert old in text
-    path = tmp_path / "s.toml"
-    path.write_text(text.replace(old, new, 1))
-    assert main(["simulate", str(path), "-o", str(tmp_path / "out.npz"), "--steps", "3",
-                 "--no-progress"]) == 2
-    err = capsys.readouterr().err.strip().splitlines()
+    err = _simulate_edited(scene, old, new, tmp_path, capsys)
     assert len(err) == 1 and key in err[0] and "1e+09" in err[0], err
-    assert not (tmp_path / "out.npz").exists()
