@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mocap.skeleton import Motion
+from mocap.trial import runs as runs_of_true
 
 from mocap.body.anthropometry import foot_points, leg_length
 
@@ -97,8 +98,9 @@ def points_in_world(points: np.ndarray, segments: list[int], world_r: np.ndarray
 
 
 def _runs(mask: np.ndarray, shortest: int) -> list[tuple[int, int]]:
-    edges = np.flatnonzero(np.diff(np.r_[0, mask.astype(int), 0]))
-    return [(a, b) for a, b in zip(edges[::2], edges[1::2]) if b - a >= shortest]
+    """(start, stop) of the runs of True in a 1-D mask at least ``shortest`` long."""
+    starts, lengths = runs_of_true(mask)
+    return [(a, a + n) for a, n in zip(starts, lengths) if n >= shortest]
 
 
 def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndarray,

@@ -33,6 +33,7 @@ from mocap.body.retarget import Z_UP_TO_Y_UP
 from mocap.errors import MocapError
 from mocap.filtering import butterworth_lowpass
 from mocap.io.c3d.forceplates import plate_forces
+from mocap.trial import runs
 
 #: Vertical force (N) above which a plate is loaded.
 LOADED_N = 20.0
@@ -118,12 +119,6 @@ def _lowpass(values: np.ndarray, cutoff: float, rate: float) -> np.ndarray:
     return np.moveaxis(butterworth_lowpass(np.moveaxis(values, 1, 0), cutoff, rate), 0, 1)
 
 
-def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    """(start, stop) of the runs of True in a 1-D mask."""
-    edges = np.flatnonzero(np.diff(np.r_[0, mask.astype(int), 0]))
-    return list(zip(edges[::2], edges[1::2]))
-
-
 def _inside(points: np.ndarray, outline: np.ndarray, margin: float) -> np.ndarray:
     """Whether horizontal positions (…, 3) lie within a plate's outline grown by margin."""
     low = outline[:, [0, 2]].min(axis=0) - margin
@@ -154,7 +149,8 @@ def plate_stances(report, plates: MeasuredPlates) -> tuple[list[Stance], np.ndar
     minimum = max(int(round(MIN_STANCE_S * report.rate)), 2)
     for k in range(len(plates.names)):
         loaded = plates.vertical[k] > LOADED_N
-        for start, stop in _runs(loaded):
+        for start, length in zip(*runs(loaded)):
+            stop = start + length
             cop = plates.cop[k, start:stop]
             distance = []
             for foot in feet:
