@@ -244,6 +244,10 @@ def _add_bodies(system: System, document: dict, path) -> tuple[list, list]:
         with np.errstate(over="ignore"):
             count = float(np.prod(np.floor(size / spacing + 1e-9) + 1))
         _check_count(t, count, system, "spacing")
+        if count < 2:
+            # a block under one spacing on every axis is one particle: no fluid at all
+            raise t.error("size", f"{size.tolist()} is under one spacing ({spacing:g} m) on "
+                                  f"every axis, which makes one particle, not a fluid")
         body = builders.particle_block(t.vector("origin"), size, spacing,
                                        t.number("mass", 1.0, above=0.0),
                                        t.number("jitter", 0.0, minimum=0.0),

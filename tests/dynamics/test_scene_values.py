@@ -7,6 +7,7 @@ message a second time: 'f.toml: [[cloth]] #1: f.toml: [[cloth]] #1: ...'). And e
 is within +-1e9: 1e300 passed as finite and overflowed later."""
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from dynamics.scenes.schema import SCENES_DIR
@@ -56,3 +57,24 @@ def test_spring_values_must_be_finite_and_are_refused_once(scene, old, new, key,
 def test_numbers_beyond_any_scene_are_refused_at_reading(scene, old, new, key, tmp_path, capsys):
     err = _simulate_edited(scene, old, new, tmp_path, capsys)
     assert len(err) == 1 and key in err[0] and "1e+09" in err[0], err
+
+
+@pytest.mark.parametrize("size", ["[0, 0, 0]", "[0.01, 0.0, 0.019]"])
+def test_fluid_block_under_one_spacing_is_refused(size, tmp_path, capsys):
+    """A [[fluid]] block smaller than its spacing (0.02 m) on every axis is one particle:
+    refused in one line naming the key (it simulated one falling particle, issue 11)."""
+    err = _simulate_edited("fluid-drop", "size = [0.2, 0.2, 0.2]", f"size = {size}",
+                           tmp_path, capsys)
+    assert len(err) == 1 and "'size'" in err[0] and "one particle" in err[0], err
+    assert err[0].count("s.toml") == 1, err
+
+
+def test_fluid_sheet_one_particle_thick_is_still_a_fluid(tmp_path):
+    """A block thin on one axis (a layer 11 x 1 x 11 particles) is accepted."""
+    text = (SCENES_DIR / "fluid-drop.toml").read_text().replace(
+        "size = [0.2, 0.2, 0.2]", "size = [0.2, 0.0, 0.2]", 1)
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    assert main(["simulate", str(path), "-o", str(tmp_path / "out.npz"), "--steps", "3",
+                 "--no-progress"]) == 0
+    assert np.load(tmp_path / "out.npz")["positions"].shape[1] == 121
