@@ -12,7 +12,9 @@ This project's layout, one row per frame::
 - coordinates in **metres**, three columns per marker named ``<label>_x``,
   ``_y``, ``_z`` (``.x``, ``:x`` or `` x`` and upper case are read too);
 - a missing sample is an empty cell (``NaN`` is read too); a marker at exactly
-  (0, 0, 0) is read as missing, as in the other formats.
+  (0, 0, 0) is read as missing, as in the other formats; a row of fewer cells than the
+  header names is read with gaps for the cells it lacks, and cells beyond them are
+  ignored, each with a warning.
 
 Vicon Nexus "Trajectories" exports are recognised by their section line and read
 with their own rate and units::
@@ -95,7 +97,7 @@ def _read_plain(first_line: str, body: bytes, path) -> Trial:
                              f"be <label>_x, <label>_y, <label>_z", path)
         labels.append(names.pop())
     labels, warnings = unique_labels(labels)
-    table = parse_table(body, ",", 1 + len(columns))
+    table = parse_table(body, ",", 1 + len(columns), warnings, first_line=2)
     times = table[:, 0]
     check_times_increase(times, body, path, first_line=2)
     points = mark_missing(table[:, 1:].reshape(table.shape[0], len(labels), 3), warnings)
@@ -134,7 +136,8 @@ def _read_vicon(lines: list[str], path) -> Trial:
     while end < len(lines) and lines[end].strip(" ,"):
         end += 1
     labels, warnings = unique_labels(raw_labels)
-    table = parse_numeric_rows(lines[start + 5:end], ",", 2 + 3 * len(labels))
+    table = parse_numeric_rows(lines[start + 5:end], ",", 2 + 3 * len(labels), warnings,
+                               first_line=start + 6)
     points = mark_missing(table[:, 2:].reshape(table.shape[0], len(labels), 3), warnings)
     factor = unit_factor(units) if units else None
     if factor is None:

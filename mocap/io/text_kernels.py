@@ -3,7 +3,8 @@
 Imported only for tables large enough to be worth loading numba (~1.5 s per process).
 ``parse_kernel`` reads delimited numbers in one pass over the bytes (exact: an integer
 mantissa of at most 2**53 times or divided by an exact power of ten, else the cell is
-handed back for Python's ``float``). Writing needs no compiled loop
+handed back for Python's ``float``) and counts each row's cells (a row of fewer cells
+than ``width``: its count; of more: up to its last cell that is not blank). Writing needs no compiled loop
 (:func:`mocap.io.text_table._format_block`).
 """
 from __future__ import annotations
@@ -20,6 +21,7 @@ def parse_kernel(data, delimiter, width, pow10):         # pragma: no cover - co
         if data[i] == 10:
             lines += 1
     table = np.empty((lines, width))
+    cells = np.empty(lines, dtype=np.int64)
     slow_rows = [0]
     slow_cols = [0]
     slow_start = [0]
@@ -113,9 +115,25 @@ def parse_kernel(data, delimiter, width, pow10):         # pragma: no cover - co
             table[row, col] = value
             col += 1
             i = j + 1
-        while col < width:
-            table[row, col] = np.nan
-            col += 1
+        filled = col
+        if col == width:
+            # cells beyond the width: the last one that is not blank counts
+            while i <= end:
+                j = i
+                blank = True
+                while j < end and data[j] != delimiter:
+                    c = data[j]
+                    if c != 32 and c != 13 and c != 9:
+                        blank = False
+                    j += 1
+                col += 1
+                if not blank:
+                    filled = col
+                i = j + 1
+        cells[row] = filled
+        while filled < width:
+            table[row, filled] = np.nan
+            filled += 1
         row += 1
         start = end + 1
     fallback = np.empty((slow, 4), dtype=np.int64)
@@ -124,4 +142,4 @@ def parse_kernel(data, delimiter, width, pow10):         # pragma: no cover - co
         fallback[m, 1] = slow_cols[m + 1]
         fallback[m, 2] = slow_start[m + 1]
         fallback[m, 3] = slow_end[m + 1]
-    return table[:row], fallback
+    return table[:row], fallback, cells[:row]

@@ -178,7 +178,8 @@ def _line_of_row(body: bytes, row: int, first_line: int, delimiter: str) -> int:
     return number
 
 
-def parse_table(data: bytes | str, delimiter: str, width: int) -> np.ndarray:
+def parse_table(data: bytes | str, delimiter: str, width: int, notes: list[str] | None = None,
+                first_line: int = 1) -> np.ndarray:
     """Numbers of delimited text rows; blank lines skipped, empty or unparsable cells NaN.
 
     Parameters
@@ -188,52 +189,98 @@ def parse_table(data: bytes | str, delimiter: str, width: int) -> np.ndarray:
     delimiter : str
         One character (``"\\t"`` or ``","``); spaces around a cell are ignored.
     width : int
-        Columns to keep; shorter rows are padded with NaN, longer ones cut.
+        Columns to keep (the header's); shorter rows are padded with NaN, longer ones cut.
+    notes : list of str, optional
+        Receives a warning for rows of fewer cells than ``width``, and one for rows with
+        cells beyond it that are not blank (blank cells at the end of a row, such as a
+        trailing tab, are not counted).
+    first_line : int
+        The file line of ``data``'s first line, for the warnings.
 
     Returns
     -------
     ndarray, shape (rows, width), float
+
+    Examples
+    --------
+    >>> notes = []
+    >>> parse_table("1,2,3\\n4,5\\n6,7,8,\\n", ",", 3, notes, first_line=2)
+    array([[ 1.,  2.,  3.],
+           [ 4.,  5., nan],
+           [ 6.,  7.,  8.]])
+    >>> notes
+    ['1 row has 2 cells where the header names 3 (first at line 3); the missing cells read as gaps']
     """
     if isinstance(data, str):
         data = data.encode("utf-8")
     if len(data) < 12 * COMPILED_ABOVE:
-        return _parse_python(data.decode("utf-8", errors="replace"), delimiter, width)
+        table, cells = _parse_python(data.decode("utf-8", errors="replace"), delimiter, width)
+    else:
+        table, cells = _parse_compiled(data, delimiter, width)
+    if notes is not None:
+        for ragged, effect in ((cells < width, "the missing cells read as gaps"),
+                               (cells > width, "the cells beyond the header's were ignored")):
+            rows = np.flatnonzero(ragged)
+            if rows.size:
+                low, high = int(cells[rows].min()), int(cells[rows].max())
+                count = f"{low}" if low == high else f"{low} to {high}"
+                line = _line_of_row(data, int(rows[0]), first_line, delimiter)
+                notes.append(f"{rows.size} row{' has' if rows.size == 1 else 's have'} "
+                             f"{count} cells where the header names {width} (first at "
+                             f"line {line}); {effect}")
+    return table
+
+
+def _parse_compiled(data: bytes, delimiter: str, width: int) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`parse_table` of a large table by the compiled loop; and each row's count of
+    cells."""
     from mocap.io.text_kernels import parse_kernel
 
     buffer = np.frombuffer(data, dtype=np.uint8)
-    table, fallback = parse_kernel(buffer, np.uint8(ord(delimiter)), int(width), POW10)
+    table, fallback, cells = parse_kernel(buffer, np.uint8(ord(delimiter)), int(width), POW10)
     for row, col, a, b in fallback:
         try:
             table[row, col] = float(data[a:b])
         except ValueError:
             pass            # a stray word in a number column: missing
-    return table
+    return table, cells
 
 
-def _parse_python(text: str, delimiter: str, width: int) -> np.ndarray:
-    """:func:`parse_table` of a small table, one ``float`` per cell."""
+def _parse_python(text: str, delimiter: str, width: int) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`parse_table` of a small table, one ``float`` per cell; and each row's count
+    of cells (as the compiled loop counts them)."""
     blank = " \t\r" + delimiter
     rows = [line for line in text.split("\n") if line.strip(blank)]
     table = np.full((len(rows), width), np.nan)
+    counts = np.empty(len(rows), dtype=np.int64)
     for r, line in enumerate(rows):
-        for c, cell in enumerate(line.split(delimiter)[:width]):
+        cells = line.split(delimiter)
+        counts[r] = len(cells)
+        if len(cells) > width:
+            counts[r] = width
+            for c in range(len(cells) - 1, width - 1, -1):
+                if cells[c].strip(" \t\r"):
+                    counts[r] = c + 1
+                    break
+        for c, cell in enumerate(cells[:width]):
             cell = cell.strip(" \t\r")
             if cell:
                 try:
                     table[r, c] = float(cell)
                 except ValueError:
                     pass            # a stray word in a number column: missing
-    return table
+    return table, counts
 
 
-def parse_numeric_rows(lines: list[str], delimiter: str, width: int) -> np.ndarray:
+def parse_numeric_rows(lines: list[str], delimiter: str, width: int,
+                       notes: list[str] | None = None, first_line: int = 1) -> np.ndarray:
     """:func:`parse_table` of rows given as a list of lines (each one row, kept in order).
 
     Blank lines are skipped, as by :func:`parse_table`.
     """
     if not lines:
         return np.zeros((0, width))
-    return parse_table("\n".join(lines) + "\n", delimiter, width)
+    return parse_table("\n".join(lines) + "\n", delimiter, width, notes, first_line)
 
 
 def format_table(table: np.ndarray, decimals, delimiter: str, nan: str = "NaN",

@@ -20,8 +20,10 @@ the trial was read. Columns without a label on line 4 are named after their colu
 A header whose NumFrames disagrees with the rows in the file (the pyomeca
 sample announces 652 frames and holds 93 rows) is not an error: the rows that
 are there are loaded, which is the only data the file has, and
-``metadata["warnings"]`` says so. A row with a different number of cells is
-padded with missing samples.
+``metadata["warnings"]`` says so. A row of fewer cells than line 4 names is read
+with missing samples for the cells it lacks, and cells beyond them are ignored, each
+with a warning naming the first such line (blank cells at the end of a row, such as
+a trailing tab, are not counted).
 """
 from __future__ import annotations
 
@@ -113,7 +115,7 @@ def read_trc(path: str | os.PathLike) -> Trial:
     labels, notes = unique_labels(raw_labels)
     warnings += notes
 
-    table = parse_table(body, delimiter, 2 + 3 * count)
+    table = parse_table(body, delimiter, 2 + 3 * count, warnings, first_line=6)
     announced_frames = _int_or_none(header.get("NumFrames"))
     if announced_frames is not None and announced_frames != table.shape[0]:
         warnings.append(f"header announces {announced_frames} frames but the file holds "

@@ -191,7 +191,9 @@ def test_trc_with_empty_cells_short_rows_and_padded_header(tmp_path):
     np.testing.assert_allclose(trial.points[0], [[0.01, 0.02, 0.03], [0.04, 0.05, 0.06]])
     assert np.isnan(trial.points[1, 1]).all() and not np.isnan(trial.points[1, 0]).any()
     assert np.isnan(trial.points[2]).any(axis=1).all()
-    assert trial.metadata["warnings"] == []
+    # the short row is said (the empty cells of row 2 are cells, and gaps, as written)
+    assert trial.metadata["warnings"] == ["1 row has 4 cells where the header names 8 (first "
+                                          "at line 9); the missing cells read as gaps"]
 
 
 def test_trc_without_rate_is_a_clear_error(tmp_path):
