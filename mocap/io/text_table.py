@@ -1,12 +1,13 @@
 """Helpers shared by the text formats (CSV, TRC, MOT): numeric tables as delimited text.
 
 Large tables are read by a compiled loop (numba, cached on disk,
-:mod:`mocap.io.text_kernels`), one pass over the bytes, and written by whole-array numpy
-(:func:`_format_block`: every cell's digits at once, eight per integer operation): reading
-and writing a 20 000 × 60 marker table takes tenths of a second where a Python loop per
-cell took seconds (``benchmarks/io.py``). Writing needs no numba, whose loading (~0.5 s
-per process) cost more than the whole 100 000 × 46 angle table takes to write. Small
-tables (up to :data:`COMPILED_ABOVE` cells) are done in Python with the same results.
+:mod:`mocap.io.text_kernels`), one pass over the bytes, and every table is written by
+whole-array numpy (:func:`_format_block`: every cell's digits at once, eight per integer
+operation): reading and writing a 20 000 × 60 marker table takes tenths of a second where
+a Python loop per cell took seconds (``benchmarks/io.py``). Writing needs no numba, whose
+loading (~0.5 s per process) cost more than the whole 100 000 × 46 angle table takes to
+write. Small tables (up to :data:`COMPILED_ABOVE` cells) are read in Python with the same
+results.
 
 Reading is exact: a number with at most 15 significant digits and a decimal
 exponent within ±22 (every number a TRC or CSV file holds in practice) is an exact
@@ -15,13 +16,15 @@ operation, so it gives the same float64 as ``float(text)``; any other number is
 handed to ``float`` itself. Empty cells, ``NaN`` and words read as NaN.
 
 Writing uses a fixed number of decimal places per column; the written value is the
-number rounded to that many places (``floor(|x| 10^p + 0.5)`` units of the last place
-for large tables; Python's exact rounding for small ones, which differs only in a tie),
-so reading it back is exact to half a unit of the last place. NaN is written as ``NaN``, which OpenSim, numpy and pandas read
+number rounded to that many places (``floor(|x| 10^p + 0.5)`` units of the last place,
+a tie away from zero, for every table: a table too large for the fast writer's limit
+goes cell by cell in Python with the same rule, :func:`_fixed`), so reading it back is
+exact to half a unit of the last place. NaN is written as ``NaN``, which OpenSim, numpy and pandas read
 (OpenSim drops empty cells at the end of a row and then rejects the row).
 """
 from __future__ import annotations
 
+import math
 import os
 
 import numpy as np
@@ -30,9 +33,9 @@ from mocap.errors import MocapError, reading
 
 #: Bytes the parser treats as blank around a cell.
 _SPACE, _CR, _NL = 32, 13, 10
-#: Tables of more cells than this are read by the compiled loop (:mod:`mocap.io.text_kernels`)
-#: and written by :func:`_format_block`; smaller ones are done in Python, which spares a
-#: small file the ~1.5 s of loading numba.
+#: Tables of more cells than this (12 bytes each) are read by the compiled loop
+#: (:mod:`mocap.io.text_kernels`); smaller ones in Python, which spares a small file the
+#: ~1.5 s of loading numba.
 COMPILED_ABOVE = 100_000
 #: Exact powers of ten as float64.
 POW10 = np.array([10.0 ** k for k in range(23)])
@@ -314,14 +317,13 @@ def format_table(table: np.ndarray, decimals, delimiter: str, nan: str = "NaN",
         raise ValueError("decimal places must be 0 to 15")
     if table.size == 0:
         return b"" if as_bytes else ""
-    if table.size > COMPILED_ABOVE:
-        blocks = [_format_block(table[start:start + WRITE_BLOCK_ROWS], places, delimiter,
-                                nan == "NaN")
-                  for start in range(0, table.shape[0], WRITE_BLOCK_ROWS)]
-        if all(block is not None for block in blocks):
-            raw = b"".join(blocks)
-            return raw if as_bytes else raw.decode("ascii")
-    # a small table, or a number too large for the compiled loop: Python's own formatting
+    blocks = [_format_block(table[start:start + WRITE_BLOCK_ROWS], places, delimiter,
+                            nan == "NaN")
+              for start in range(0, table.shape[0], WRITE_BLOCK_ROWS)]
+    if all(block is not None for block in blocks):
+        raw = b"".join(blocks)
+        return raw if as_bytes else raw.decode("ascii")
+    # a number too large for the whole-array writer: Python, cell by cell, same rounding
     text = "".join(delimiter.join(nan if value != value else _fixed(value, p)
                                   for value, p in zip(row, places.tolist())) + "\n"
                    for row in table.tolist())
@@ -355,7 +357,7 @@ def write_table(handle, parts, decimals, delimiter: str, nan: str = "NaN") -> No
     rows = parts[0].shape[0] if parts else 0
     width = sum(part.shape[1] for part in parts)
     places = np.broadcast_to(np.asarray(decimals, dtype=np.int64), (width,)).copy()
-    if rows * width <= COMPILED_ABOVE or not _compiled_can_write(parts, places):
+    if rows <= WRITE_BLOCK_ROWS or not _compiled_can_write(parts, places):
         handle.write(format_table(np.column_stack(parts) if parts else np.zeros((0, 0)),
                                   places, delimiter, nan, as_bytes=True))
         return
@@ -515,7 +517,20 @@ def _compiled_can_write(parts: list[np.ndarray], places: np.ndarray) -> bool:
 
 
 def _fixed(value: float, places: int) -> str:
-    """``value`` with ``places`` decimals; no sign on a value that rounds to zero."""
+    """``value`` with ``places`` decimals, rounded as :func:`_format_block` rounds
+    (``floor(|x| 10^p + 0.5)`` units, so a tie goes away from zero); no sign on a value
+    that rounds to zero. Beyond that writer's limit (``|x| >= 9e15 / 10^p``, where every
+    float is a whole number of units), Python's exact formatting.
+
+    >>> _fixed(0.125, 2), _fixed(-2.5, 0), _fixed(-0.0004, 3)
+    ('0.13', '-3', '0.000')
+    """
+    scale = 10.0 ** places
+    if abs(value) < 9.0e15 / scale:
+        units = math.floor(abs(value) * scale + 0.5)
+        whole, fraction = divmod(units, 10 ** places)
+        sign = "-" if value < 0 and units else ""
+        return f"{sign}{whole}.{fraction:0{places}d}" if places else f"{sign}{whole}"
     text = f"{value:.{places}f}"
     return text[1:] if text[0] == "-" and not text.strip("-0.") else text
 

@@ -128,9 +128,28 @@ def test_compiled_and_python_paths_agree(monkeypatch):
     fixed_compiled = format_table(values, 6, ",")
     a, b = parse_table(fixed_python, ",", 9), parse_table(fixed_compiled, ",", 9)
     np.testing.assert_array_equal(np.isnan(a), np.isnan(values))
-    # both are the value rounded to 6 decimals (they may differ in a last-digit tie)
-    np.testing.assert_allclose(a, b, rtol=0, atol=1.0000001e-6)
+    assert fixed_compiled == fixed_python
     np.testing.assert_allclose(a, values, rtol=1e-15, atol=5.000001e-7)
+
+
+@pytest.mark.parametrize("huge", [False, True])
+def test_small_and_large_tables_round_a_tie_alike(huge):
+    """A tie (x.5 units of the last place, exact in binary) is rounded away from zero in a
+    table of 4 cells, of 400 000 cells, and cell by cell in Python when one cell is beyond
+    the whole-array writer's limit: small tables rounded half to even, large ones half up
+    (found by the hostile re-run of issue 11)."""
+    from mocap.io.text_table import COMPILED_ABOVE
+
+    ties = np.array([[0.125, 2.5, -2.5, 0.375, -0.0625, 1e-7, 0.5]])
+    places = [2, 0, 0, 2, 3, 6, 0]
+    expected = "0.13,3,-3,0.38,-0.063,0.000000,1\n"
+    if huge:                    # 1e20 at 0 places: beyond the limit, so all in Python
+        ties, places, expected = np.hstack([ties, [[1e20]]]), places + [0], \
+            expected[:-1] + ",100000000000000000000\n"
+    assert format_table(ties, places, ",") == expected
+    large = np.repeat(ties, COMPILED_ABOVE // ties.shape[1] + 1, axis=0)
+    assert large.size > COMPILED_ABOVE
+    assert format_table(large, places, ",") == expected * large.shape[0]
 
 
 @pytest.mark.parametrize("huge", [False, True])
