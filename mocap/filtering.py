@@ -101,7 +101,8 @@ def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
     frequencies = np.fft.rfftfreq(size, 1.0 / rate)
     ratio = np.tan(np.pi * np.minimum(frequencies, rate / 2 * 0.999999) / rate) / \
         np.tan(np.pi * cutoff / rate)
-    gain = 1.0 / (1.0 + ratio ** (2 * order))            # |H|², forward and back
+    with np.errstate(over="ignore"):        # far above a tiny cutoff: inf, gain 0
+        gain = 1.0 / (1.0 + ratio ** (2 * order))        # |H|², forward and back
     spectrum = np.fft.rfft(padded, axis=0)
     shape = (-1,) + (1,) * (x.ndim - 1)
     smoothed = np.fft.irfft(spectrum * gain.reshape(shape), n=size, axis=0)

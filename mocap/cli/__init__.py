@@ -21,8 +21,6 @@ import warnings
 from mocap.cli.commands import COMMANDS
 from mocap.errors import MocapError, MocapWarning, one_line
 
-_default_showwarning = warnings.showwarning
-
 def package_version() -> str:
     """The installed distribution's version (pyproject.toml holds the one string)."""
     from importlib.metadata import PackageNotFoundError, version
@@ -87,20 +85,48 @@ def _command_of(argv: list[str]) -> str | None:
     return next((word for word in argv if word in COMMANDS), None)
 
 
+#: Packages of this project: their warning classes are its findings about the user's input.
+_OWN_PACKAGES = ("mocap", "synthesis", "dynamics")
+
+
 def _warning_printer(command: str):
-    """A ``warnings.showwarning`` that prints a user's warning as one line (each once)."""
+    """A ``warnings.showwarning`` that prints every warning as one line, each once.
+
+    The project's own warnings (:class:`MocapWarning`, ``GimbalLockWarning`` … : a class
+    defined in mocap, synthesis or dynamics) are its findings, ``mocap CMD: warning:
+    <file>: <message>``. Any other (numpy's ``RuntimeWarning``, a library's
+    ``UserWarning``) is not a finding about the input: it says its class and where it
+    arose, ``mocap CMD: warning: RuntimeWarning in mocap/filtering.py:88: <message>``,
+    instead of Python's two lines with the source line.
+    """
     seen: set[str] = set()
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:
         text = str(message)
-        if issubclass(category, UserWarning):       # MocapWarning is one too
-            if text not in seen:
-                seen.add(text)
-                print(f"mocap {command}: warning: {one_line(text)}", file=sys.stderr)
-        else:
-            _default_showwarning(message, category, filename, lineno, file, line)
+        if category.__module__.split(".")[0] not in _OWN_PACKAGES:
+            text = f"{category.__name__} in {_source_of(filename)}:{lineno}: {text}"
+        if text not in seen:
+            seen.add(text)
+            print(f"mocap {command}: warning: {one_line(text)}", file=sys.stderr)
 
     return show
+
+
+def _source_of(filename: str) -> str:
+    """A source file as a user can place it: inside its package (``numpy/linalg/…``,
+    ``mocap/filtering.py``), else its name.
+
+    >>> _source_of("/venv/lib/python3.12/site-packages/scipy/signal/_filter_design.py")
+    'scipy/signal/_filter_design.py'
+    """
+    parts = os.path.normpath(filename).split(os.sep)
+    for anchor in ("site-packages", "dist-packages"):
+        if anchor in parts:
+            return "/".join(parts[len(parts) - parts[::-1].index(anchor):])
+    for k in range(len(parts) - 1, -1, -1):
+        if parts[k] in _OWN_PACKAGES:
+            return "/".join(parts[k:])
+    return os.path.basename(filename)
 
 
 class _Parser(argparse.ArgumentParser):

@@ -300,7 +300,7 @@ def _lab(plate: ForcePlate, force: np.ndarray, moment: np.ndarray, rate: float,
     """Lab-frame force, moment about the lab origin, COP and free moment of one plate."""
     axes, centre = plate.axes, plate.centre
     fz = force[:, 2]
-    loaded = np.abs(fz) >= threshold
+    loaded = (np.abs(fz) >= threshold) & (fz != 0)       # no COP without a force
     safe = np.where(loaded, fz, 1.0)
     cop_p = np.stack([-moment[:, 1] / safe, moment[:, 0] / safe, np.zeros_like(fz)], axis=1)
     if plate.type == 3 and plate.cop_poly is not None:
@@ -396,7 +396,7 @@ def total_forces(parts: list[PlateForces], threshold: float = THRESHOLD) -> Plat
     up /= np.linalg.norm(up)
     height = float(np.mean([p.plate.centre @ up for p in parts if p.plate is not None]))
     fn = force @ up
-    loaded = np.abs(fn) >= threshold
+    loaded = (np.abs(fn) >= threshold) & (fn != 0)       # no COP without a force
     safe = np.where(loaded, fn, 1.0)
     # The point c on the plane c·up = h where the moment is parallel to up:
     # M = c × F + T up  ⇒  c = h up + (up × M_perp-part) / (F·up) adjusted for the height.
