@@ -16,7 +16,20 @@ fixes what a walk cannot tell:
   joint centre, see :mod:`mocap.plugingait`) to the foot along heel → toe,
   as Plug-in Gait's StaticPlantFlex and StaticRotOff (the mean over the
   static's frames of the first two YXZ angles of that rotation).  With
-  ``flat_foot`` the heel is taken at the toe's height (the sole on the floor).
+  ``flat_foot`` the heel is taken at the toe's height (the sole on the floor);
+* a knee alignment device (KAD: markers {S}KAX, {S}KD1, {S}KD2 with data):
+  the virtual knee marker at the device's corner replaces {S}KNE, the knee
+  joint centre lies in the plane of KAX, the hip centre and that marker
+  (:func:`kad_virtual_knee`, :func:`kad_thigh_rotation`), and the angle about
+  the thigh from the THI wand's plane to it becomes the thigh rotation offset
+  the walks use (Plug-in Gait's ThighRotation);
+* the shank rotation offset (Plug-in Gait's ShankRotation) with a KAD, or when
+  a tibial torsion is known and the subject gives no shank rotation: the ankle
+  centre is put where the static's ankle axis (ankle centre → ANK) lies at the
+  tibial torsion from the knee flexion axis, as Plug-in Gait does
+  (:func:`shank_rotation_for_torsion`; in Vicon's static outputs the
+  torsioned tibia's y is parallel to the knee axis, to 0.01° on 5 subjects
+  and 0.6° on the other 3).
 
 Everything is computed from the static's complete frames only; nothing a gap
 fill does in a walk can change it.  The result is a :class:`~mocap.plugingait.Subject`
@@ -31,14 +44,17 @@ import numpy as np
 
 from mocap.errors import MocapError
 from mocap.markersets.model import MissingMarkerWarning
-from mocap.plugingait import (MARKERS, SIDES, Subject,
-                              anatomical_foot_frame, kinematics, markers_from_trial,
+from mocap.plugingait import (MARKERS, SIDES, Subject, _side_sign,
+                              anatomical_foot_frame, chord, hip_joint_centres, kinematics,
+                              markers_from_trial, pelvis_frame, rotate_about,
                               subject_from_trial, yxz_angles, _unit)
 from mocap.trial import Trial
 
 #: Medial marker names accepted for knee width and tibial torsion, per side letter.
 MEDIAL_KNEE = ("{S}KNM", "{S}MKN", "{S}MFC", "{S}KNEM")
 MEDIAL_ANKLE = ("{S}MED", "{S}MMA", "{S}MMAL", "{S}ANKM")
+#: Knee alignment device markers: the arm along the knee flexion axis, then the two across it.
+KAD = ("{S}KAX", "{S}KD1", "{S}KD2")
 
 
 def _first_present(markers: dict, patterns: tuple[str, ...], side: str) -> np.ndarray | None:
@@ -55,6 +71,163 @@ def _median_distance(a: np.ndarray, b: np.ndarray) -> float | None:
     return float(np.median(d)) if d.size else None
 
 
+def _about(a: np.ndarray, b: np.ndarray, axis: np.ndarray) -> np.ndarray:
+    """Signed angle (radians, (frames,)) about unit ``axis`` from ``a`` to ``b``,
+    both taken perpendicular to the axis."""
+    a = a - np.sum(a * axis, axis=-1, keepdims=True) * axis
+    b = b - np.sum(b * axis, axis=-1, keepdims=True) * axis
+    return np.arctan2(np.sum(np.cross(a, b) * axis, axis=-1), np.sum(a * b, axis=-1))
+
+
+def _median_angle(angle: np.ndarray) -> float | None:
+    angle = angle[np.isfinite(angle)]
+    return float(np.median(angle)) if angle.size else None
+
+
+def kad_virtual_knee(kax: np.ndarray, kd1: np.ndarray, kd2: np.ndarray,
+                     hjc: np.ndarray, ankle: np.ndarray) -> np.ndarray:
+    """The corner of a knee alignment device, its virtual knee marker (frames, 3).
+
+    The device's three arms are equally long and mutually perpendicular: KAX
+    along the knee flexion axis (laterally), KD1 and KD2 across it.  The
+    corner is the apex of the tetrahedron over the markers' triangle, at
+    ``s / sqrt(6)`` from the triangle's centroid along its normal (``s`` the
+    mean side, millimetres; pyCGM2's KAD uses the same apex), on the side of
+    the leg: the one nearer the line from the hip joint centre to ANK (the
+    other lies ``2 s / sqrt(6)`` further out from the knee).
+
+    Parameters
+    ----------
+    kax, kd1, kd2 : ndarray, shape (frames, 3), millimetres
+    hjc, ankle : ndarray, shape (frames, 3), millimetres
+        The hip joint centre and the lateral malleolus marker (ANK).
+
+    Examples
+    --------
+    >>> arms = 100.0 * np.eye(3)[None] + [0.0, 50.0, 400.0]   # corner at (0, 50, 400)
+    >>> leg = np.array([[0.0, 0.0, 800.0]]), np.array([[0.0, 40.0, 0.0]])
+    >>> kad_virtual_knee(arms[:, 0], arms[:, 1], arms[:, 2], *leg).round(9) + 0.0
+    array([[  0.,  50., 400.]])
+    """
+    centroid = (kax + kd1 + kd2) / 3.0
+    side = (np.linalg.norm(kax - kd1, axis=-1) + np.linalg.norm(kax - kd2, axis=-1)
+            + np.linalg.norm(kd1 - kd2, axis=-1)) / 3.0
+    normal = _unit(np.cross(kd1 - kax, kd2 - kax)) * (side / np.sqrt(6.0))[..., None]
+    a, b = centroid + normal, centroid - normal
+    leg = _unit(ankle - hjc)
+
+    def off_leg(p: np.ndarray) -> np.ndarray:
+        return np.linalg.norm(np.cross(p - hjc, leg), axis=-1)
+
+    return np.where((off_leg(a) <= off_leg(b))[..., None], a, b)
+
+
+def kad_thigh_rotation(thigh: np.ndarray, hjc: np.ndarray, knee: np.ndarray,
+                       kax: np.ndarray, delta: float, side: str) -> tuple[np.ndarray, float]:
+    """Knee joint centre and thigh rotation offset from a knee alignment device.
+
+    The centre is Plug-in Gait's chord of (KAX, HJC, virtual knee) at
+    ``delta`` (half the knee width plus the marker radius) from the virtual
+    knee: the device's wand takes the thigh wand's place.  The offset is the
+    angle about the thigh axis (KJC → HJC) from the THI wand's plane to the
+    plane of the knee flexion axis (KJC → virtual knee), with Plug-in Gait's
+    sign (the ``ThighRotation`` of the PROCESSING group; the chord of a walk
+    turns the THI plane by it, :func:`mocap.plugingait.kinematics`).
+
+    Parameters
+    ----------
+    thigh, hjc, knee, kax : ndarray, shape (frames, 3), millimetres
+        THI, the hip joint centre, the virtual knee marker, KAX.
+    delta : float
+        Millimetres.
+    side : {"l", "r"}
+
+    Returns
+    -------
+    kjc : ndarray, shape (frames, 3), millimetres
+    rotation : float
+        Radians, the median over the frames; NaN when no frame gives it.
+    """
+    kjc = chord(kax, hjc, knee, delta)
+    angle = _about(thigh - kjc, knee - kjc, _unit(hjc - kjc))
+    value = _median_angle(angle)
+    return kjc, np.nan if value is None else _side_sign(side) * value
+
+
+def shank_rotation_for_torsion(kjc: np.ndarray, tibia: np.ndarray, ankle: np.ndarray,
+                               knee_axis: np.ndarray, delta: float, torsion: float,
+                               side: str, iterations: int = 8) -> float:
+    """Plug-in Gait's shank rotation offset: the static's ankle axis at the tibial
+    torsion from the knee flexion axis.
+
+    The ankle joint centre ``J`` lies on the circle of points at ``delta``
+    from ANK that see KJC and ANK at a right angle (the chord's locus); it is
+    put where the shank's y (``J`` → ANK, towards the left) is the knee
+    flexion axis (the thigh's y) turned about the shank axis by the torsion,
+    so that the torsioned tibia's y is parallel to the knee axis (a few
+    whole-trial fixed-point passes: the shank axis moves with ``J``).  The
+    offset is the angle about the shank axis from the TIB wand's plane to
+    (KJC, J, ANK), with Plug-in Gait's sign (``ShankRotation``).
+
+    Parameters
+    ----------
+    kjc, tibia, ankle : ndarray, shape (frames, 3), millimetres
+        The knee joint centre, TIB, ANK.
+    knee_axis : ndarray, shape (frames, 3)
+        The thigh's y axis (unit, towards the left).
+    delta : float
+        Millimetres (half the ankle width plus the marker radius).
+    torsion : float
+        Radians, Plug-in Gait's TibialTorsion.
+    side : {"l", "r"}
+
+    Returns
+    -------
+    float
+        Radians, the median over the frames; NaN when no frame gives it.
+    """
+    sign = _side_sign(side)
+    length = np.linalg.norm(kjc - ankle, axis=-1, keepdims=True)
+    u = (kjc - ankle) / length
+    with np.errstate(invalid="ignore"):
+        centre = ankle + u * delta ** 2 / length
+        radius = delta * np.sqrt(1.0 - (delta / length) ** 2)
+    ajc = chord(tibia, kjc, ankle, delta)
+    for _ in range(iterations):     # whole-trial passes, not a frame loop
+        z = _unit(kjc - ajc)
+        y = knee_axis - np.sum(knee_axis * z, axis=-1, keepdims=True) * z
+        lateral = rotate_about(_unit(y), z, sign * torsion) * (-sign)   # J -> ANK
+        w = lateral - np.sum(lateral * u, axis=-1, keepdims=True) * u
+        ajc = centre - radius * _unit(w)     # so that J -> ANK runs along lateral
+    angle = _about(tibia - ajc, ankle - ajc, _unit(kjc - ajc))
+    value = _median_angle(angle)
+    return np.nan if value is None else sign * value
+
+
+def kad_markers(static: Trial) -> tuple[dict, list[str]]:
+    """The knee alignment device markers of each side that has all three with data.
+
+    Returns ``{side: (KAX, KD1, KD2)}`` (millimetres, (frames, 3)) and the
+    KAD labels of sides whose device is incomplete (a KD1 or KD2 label with
+    some of the three absent or empty).  A KAX alone is not a device (Vicon
+    writes a virtual LKAX/RKAX of its own in some statics).
+    """
+    names = tuple(p.format(S=S) for S in "LR" for p in KAD)
+    found, empty = markers_from_trial(static, names)
+    devices, unusable = {}, []
+    for side in SIDES:
+        mine = [p.format(S=side.upper()) for p in KAD]
+        if not any(n in found or n in empty for n in mine[1:]):
+            continue
+        if all(n in found for n in mine):
+            arrays = tuple(found[n] for n in mine)
+            if np.isfinite(np.stack(arrays)).all(axis=(0, 2)).any():
+                devices[side] = arrays
+                continue
+        unusable += [n for n in mine if n not in found] or mine
+    return devices, unusable
+
+
 def static_markers(static: Trial) -> dict:
     """Marker arrays (millimetres) of the static, with medial markers if present."""
     names = MARKERS + tuple(p.format(S=S) for p in MEDIAL_KNEE + MEDIAL_ANKLE
@@ -64,7 +237,7 @@ def static_markers(static: Trial) -> dict:
 
 
 def calibrate(static: Trial, subject: Subject | None = None, *, flat_foot: bool = False,
-              sole_delta: float = 0.0) -> Subject:
+              sole_delta: float = 0.0, warn: bool = True) -> Subject:
     """A calibrated :class:`Subject` from a static trial.
 
     Parameters
@@ -80,33 +253,54 @@ def calibrate(static: Trial, subject: Subject | None = None, *, flat_foot: bool 
         horizontal.
     sole_delta : float
         Millimetres of sole under the heel with ``flat_foot`` (shoes).
+    warn : bool
+        Say (a :class:`MissingMarkerWarning`) when the static has knee
+        alignment device labels that cannot be used (absent or empty markers):
+        it is then calibrated without the device.
 
     Returns
     -------
     Subject
         With ``static_plantar_flexion``, ``static_rotation_offset`` (radians,
-        Plug-in Gait's signs) and the estimated measurements filled in.
+        Plug-in Gait's signs) and the estimated measurements filled in; with a
+        knee alignment device, ``thigh_rotation`` and ``shank_rotation`` from
+        it (the given ones are replaced, as Plug-in Gait does).
 
     Raises
     ------
     MocapError
-        The static lacks the pelvis, knee, ankle or foot markers, or the knee
-        / ankle widths are neither given nor measurable.
+        The static lacks the pelvis, knee (or KAD), ankle or toe markers, or
+        the knee / ankle widths are neither given nor measurable.  A foot
+        without its heel marker keeps offsets of 0 (with a warning).
     """
     path = static.path
     base = subject_from_trial(static) if subject is None else subject
     sub = replace(base, leg_length=dict(base.leg_length),
                   knee_width=dict(base.knee_width), ankle_width=dict(base.ankle_width),
                   tibial_torsion=dict(base.tibial_torsion),
+                  thigh_rotation=dict(base.thigh_rotation),
+                  shank_rotation=dict(base.shank_rotation),
                   static_plantar_flexion={"l": None, "r": None},
                   static_rotation_offset={"l": None, "r": None})
     m = static_markers(static)
+    devices, unusable = kad_markers(static)
+    if unusable and warn:
+        warnings.warn(f"{path or 'static trial'}: knee alignment device marker(s) "
+                      f"{', '.join(unusable)} absent or without data: that side is "
+                      f"calibrated without the KAD (thigh rotation as given)",
+                      MissingMarkerWarning, stacklevel=2)
     needed = [n for n in ("LASI", "RASI", "LKNE", "RKNE", "LTHI", "RTHI", "LTIB", "RTIB",
-                          "LANK", "RANK", "LTOE", "RTOE", "LHEE", "RHEE") if n not in m]
+                          "LANK", "RANK", "LTOE", "RTOE")
+              if n not in m and not (n[1:] == "KNE" and n[0].lower() in devices)]
     if needed:
         raise MocapError(f"static trial lacks marker(s) with data: {', '.join(needed)} "
                          f"(a Plug-in Gait static needs the pelvis, both legs and feet)",
                          path)
+    heelless = [f"{S}HEE" for S in "LR" if f"{S}HEE" not in m]
+    if heelless and warn:
+        warnings.warn(f"{path or 'static trial'}: no {' or '.join(heelless)} with data: "
+                      f"that foot's plantar-flexion and rotation offsets are not calibrated "
+                      f"(taken as 0)", MissingMarkerWarning, stacklevel=2)
     if "SACR" not in m and not ("LPSI" in m and "RPSI" in m):
         raise MocapError("static trial has neither SACR nor LPSI and RPSI with data", path)
     if sub.inter_asis is None:
@@ -116,6 +310,14 @@ def calibrate(static: Trial, subject: Subject | None = None, *, flat_foot: bool 
         if sub.leg_length[side] is None:
             leg = _median_distance(m[f"{S}ASI"], m[f"{S}ANK"])
             sub.leg_length[side] = None if leg is None else leg + sub.radius
+    if devices:
+        pelvis, origin, _ = pelvis_frame(m, path)
+        hips = hip_joint_centres(pelvis, origin, sub)
+        for side, (kax, kd1, kd2) in devices.items():
+            m[f"{side.upper()}KNE"] = kad_virtual_knee(kax, kd1, kd2, hips[side],
+                                                       m[f"{side.upper()}ANK"])
+    for side in SIDES:
+        S = side.upper()
         for key, patterns, lateral in (("knee_width", MEDIAL_KNEE, "KNE"),
                                        ("ankle_width", MEDIAL_ANKLE, "ANK")):
             if getattr(sub, key)[side] is None:
@@ -127,6 +329,14 @@ def calibrate(static: Trial, subject: Subject | None = None, *, flat_foot: bool 
                 # marker centre to centre, less one diameter = skin to skin
                 getattr(sub, key)[side] = _median_distance(
                     m[f"{S}{lateral}"], medial) - sub.marker_diameter
+    for side, (kax, _, _) in devices.items():
+        S = side.upper()
+        _, rotation = kad_thigh_rotation(m[f"{S}THI"], hips[side], m[f"{S}KNE"], kax,
+                                         sub.knee_width[side] / 2.0 + sub.radius, side)
+        if not np.isfinite(rotation):
+            raise MocapError(f"static trial: no frame with {S}THI, {S}KAX, {S}KD1 and "
+                             f"{S}KD2 together", path)
+        sub.thigh_rotation[side] = rotation
     sub.static_plantar_flexion = {"l": 0.0, "r": 0.0}
     sub.static_rotation_offset = {"l": 0.0, "r": 0.0}
     sub.calibrated = False
@@ -136,10 +346,22 @@ def calibrate(static: Trial, subject: Subject | None = None, *, flat_foot: bool 
         medial = _first_present(m, MEDIAL_ANKLE, side)
         if medial is not None and not base.tibial_torsion[side]:
             sub.tibial_torsion[side] = _tibial_torsion(kin, m, medial, side)
-    if any(sub.tibial_torsion[s] != base.tibial_torsion[s] for s in SIDES):
+    for side in SIDES:
+        S = side.upper()
+        if side in devices or (sub.tibial_torsion[side] and not base.shank_rotation[side]):
+            rotation = shank_rotation_for_torsion(
+                kin.centres[f"{side}_knee"], m[f"{S}TIB"], m[f"{S}ANK"],
+                kin.frames[f"{side}_thigh"][..., 1],
+                sub.ankle_width[side] / 2.0 + sub.radius, sub.tibial_torsion[side], side)
+            if np.isfinite(rotation):
+                sub.shank_rotation[side] = rotation
+    if any(getattr(sub, key)[s] != getattr(base, key)[s] for s in SIDES
+           for key in ("tibial_torsion", "thigh_rotation", "shank_rotation")):
         kin = kinematics(m, sub, path)
     for side in SIDES:
         S = side.upper()
+        if f"{S}HEE" in heelless:
+            continue
         tibia = kin.frames[f"{side}_tibia"]
         uncorrected = kin.frames[f"{side}_foot_uncorrected"]
         anatomical = anatomical_foot_frame(m[f"{S}TOE"], m[f"{S}HEE"], tibia[..., 1],
@@ -167,11 +389,7 @@ def _tibial_torsion(kin, markers: dict, medial: np.ndarray, side: str) -> float:
     malleolar = markers[f"{S}ANK"] - medial          # medial → lateral
     if side == "r":
         malleolar = -malleolar                        # towards the left, like y
-    knee_axis = thigh[..., 1]
-    def flat(v):
-        return _unit(v - np.sum(v * z, axis=-1, keepdims=True) * z)
-    u, w = flat(knee_axis), flat(malleolar)
-    angle = np.arctan2(np.sum(np.cross(u, w) * z, axis=-1), np.sum(u * w, axis=-1))
+    angle = _about(thigh[..., 1], malleolar, z)     # knee flexion axis -> malleolar axis
     angle = angle[np.isfinite(angle)]
     if not angle.size:
         warnings.warn(f"{S}: no static frame gives the tibial torsion; using 0",
@@ -206,6 +424,6 @@ def resolve_flat_foot(static: Trial, subject: Subject, flat_foot: bool | str,
         return False
     error = {}
     for option in (False, True):
-        sub = calibrate(static, subject, flat_foot=option)
+        sub = calibrate(static, subject, flat_foot=option, warn=False)
         error[option] = sum(abs(sub.static_plantar_flexion[s] - stored[s]) for s in SIDES)
     return error[True] < error[False]

@@ -67,7 +67,9 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument("--static", metavar="STATIC.c3d",
                         help="static (standing) trial of the same subject: calibrates "
                              "Plug-in Gait's foot offsets and missing subject measurements "
-                             "(clinical angles only)")
+                             "(clinical angles only); a knee alignment device in it (LKAX, "
+                             "LKD1, LKD2 / RKAX, RKD1, RKD2 with data) is used automatically "
+                             "for the knee axis and the thigh and shank rotation offsets")
     parser.add_argument("--flat-foot", choices=("auto", "on", "off"), default="auto",
                         help="Plug-in Gait's foot-flat static option: on, off, or auto (the "
                              "choice a previous Plug-in Gait run stored in the files, else "
