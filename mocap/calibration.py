@@ -395,9 +395,10 @@ def _tibial_torsion(kin, markers: dict, medial: np.ndarray, side: str) -> float:
         warnings.warn(f"{S}: no static frame gives the tibial torsion; using 0",
                       MissingMarkerWarning, stacklevel=3)
         return 0.0
-    # Plug-in Gait's sign is the opposite of this angle's, for both sides: checked
-    # against the LTibialTorsion / RTibialTorsion Vicon stored for 7 real statics
-    # with medial malleoli (tests/mocap/test_plugingait_vicon.py)
+    # With the right malleolar axis reversed above (both axes then point left),
+    # Plug-in Gait's sign is the opposite of this angle on the left and this angle
+    # on the right: checked against the LTibialTorsion / RTibialTorsion Vicon
+    # stored for 7 real statics with medial malleoli (tests/mocap/test_plugingait_vicon.py)
     value = float(np.median(angle))
     return -value if side == "l" else value
 
