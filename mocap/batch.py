@@ -59,7 +59,8 @@ def run_batch(row: Callable[..., dict], paths: Sequence[str | os.PathLike], jobs
         return [row(p, **arguments)
                 for p in progress(names, "analysing trials", enabled=show_progress)]
     rows: list[dict | None] = [None] * len(names)
-    with ProcessPoolExecutor(max_workers=jobs, initializer=_ignore_interrupts) as pool:
+    with ProcessPoolExecutor(max_workers=jobs, initializer=_worker_start,
+                             initargs=(os.getpid(),)) as pool:
         futures = {pool.submit(row, p, **arguments): i for i, p in enumerate(names)}
         for future in progress(as_completed(futures), "analysing trials", total=len(names),
                                enabled=show_progress):
@@ -119,10 +120,38 @@ def _run_dask(row: Callable[..., dict], names: list[str], jobs: int, scheduler: 
                 shutil.rmtree(scratch, ignore_errors=True)
 
 
-def _ignore_interrupts() -> None:
+def _worker_start(parent: int) -> None:
     """Worker initializer: Ctrl-C goes to the parent, which stops the pool (workers print
-    no tracebacks of their own)."""
+    no tracebacks of their own); and a worker ends with its parent.
+
+    A parent killed outright (SIGKILL, the out-of-memory killer) cannot stop its pool: the
+    workers, forked with both ends of their task queue, waited on it for ever (found by
+    the hostile re-run of issue 11). On Linux the kernel sends each worker SIGKILL when
+    the parent dies (``PR_SET_PDEATHSIG``); elsewhere a thread checks every second.
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if not _kill_with_parent():
+        import threading
+
+        def watch() -> None:
+            while os.getppid() == parent:
+                threading.Event().wait(1.0)
+            os._exit(1)
+
+        threading.Thread(target=watch, daemon=True).start()
+    if os.getppid() != parent:              # the parent died before the guard was set
+        os._exit(1)
+
+
+def _kill_with_parent() -> bool:
+    """Ask Linux to SIGKILL this process when its parent dies; False where it cannot."""
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        return libc.prctl(1, int(signal.SIGKILL), 0, 0, 0) == 0      # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        return False
 
 
 @contextlib.contextmanager

@@ -3,6 +3,11 @@ from __future__ import annotations
 
 import csv
 import io
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
 
 import pytest
 
@@ -54,3 +59,54 @@ def test_batch_in_process_matches_and_bad_corpus_is_one_line(corpus, tmp_path, c
     assert main(["batch", str(tmp_path / "nowhere")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "nowhere" in err[0]
+
+
+def _children(pid: int) -> list[int]:
+    """Living processes whose parent is ``pid`` (from /proc)."""
+    found = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                fields = open(f"/proc/{entry}/stat").read().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid and fields[0] != "Z":
+                found.append(int(entry))
+    return found
+
+
+def _alive(pid: int) -> bool:
+    try:
+        return open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_workers_end_when_the_batch_is_killed(corpus, tmp_path):
+    """SIGKILL of ``mocap batch -j 2`` (nothing can run in the parent then) ends its worker
+    processes too: they waited on their task queue for ever (found by the hostile re-run
+    of issue 11, '2 processes of its group still alive')."""
+    many = tmp_path / "many"
+    many.mkdir()
+    for k in range(12):
+        for source in sorted(corpus.glob("[!z]*.c3d")):
+            (many / f"{source.stem}_{k}.c3d").write_bytes(source.read_bytes())
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2])}
+    process = subprocess.Popen([sys.executable, "-m", "mocap", "batch", str(many), "-j", "2",
+                                "-o", str(tmp_path / "t.csv")], env=env,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    workers: list[int] = []
+    while process.poll() is None and len(workers) < 2:
+        workers = _children(process.pid)
+        time.sleep(0.01)
+    process.kill()
+    process.wait()
+    assert len(workers) == 2, "the batch ended before its workers started"
+    deadline = time.monotonic() + 60          # a bound on waiting, not a speed assertion
+    while any(_alive(w) for w in workers) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    survivors = [w for w in workers if _alive(w)]
+    for worker in survivors:                  # a failing run leaves none behind either
+        os.kill(worker, 9)
+    assert not survivors
