@@ -247,10 +247,34 @@ def _writable_parent(target: Path) -> Path:
     return parent
 
 
+#: Room a temporary name needs beside the output's own: ".", the pid, "-old-", mkstemp's
+#: eight random characters, ".part" and the suffix.
+_TEMPORARY_EXTRA = 40
+
+
+def _leftover_prefix(target: Path, parent: Path) -> str:
+    """The start of the temporary names beside ``target`` (``.<name>.``), cut so that a
+    temporary name stays within the file system's name limit when the output's own name is
+    near it (a legal 250-character name must not fail as "File name too long")."""
+    try:
+        limit = os.pathconf(parent, "PC_NAME_MAX")
+    except (OSError, ValueError):
+        limit = 255
+    keep = max(1, limit - _TEMPORARY_EXTRA - 2 * len(target.suffix))
+    return f".{target.name[:keep]}."
+
+
+#: A write the system stopped part way: the disk or a quota is full, the file is larger
+#: than the process may write (ulimit -f), the device failed.
+_FULL = {errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EIO}
+
+
 def _os_error(error: OSError, target: Path) -> MocapError:
     reason = error.strerror or str(error)
     if error.errno == errno.ENOSPC:
         reason = "no space left on the device"
+    elif error.errno == errno.EFBIG:
+        reason = "the file would be larger than the system allows (a file-size limit)"
     return MocapError(f"cannot write: {reason}", target)
 
 
@@ -276,7 +300,7 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
         raise MocapError("is a folder; give a file name for the output", target)
     refuse_special(target)
     parent = _writable_parent(target)
-    prefix = f".{target.name}."
+    prefix = _leftover_prefix(target, parent)
     _remove_dead_leftovers(parent, f"{glob.escape(prefix)}*.part{glob.escape(target.suffix)}", prefix)
     try:
         fd, tmp_name = tempfile.mkstemp(prefix=f"{prefix}{os.getpid()}-",
@@ -300,7 +324,7 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
         with interrupts_held(), contextlib.suppress(FileNotFoundError):
             tmp.unlink()
         if isinstance(error, (PermissionError, IsADirectoryError)) or (
-                isinstance(error, OSError) and error.errno == errno.ENOSPC):
+                isinstance(error, OSError) and error.errno in _FULL):
             raise _os_error(error, target) from None
         raise
 
@@ -337,7 +361,7 @@ def atomic_folder(path: str | os.PathLike, replace: bool = False) -> Iterator[Pa
         raise MocapError("folder exists and holds files; choose a new folder (or "
                          "replace it with force=)", target)
     parent = _writable_parent(target)
-    prefix = f".{target.name}."
+    prefix = _leftover_prefix(target, parent)
     _remove_dead_leftovers(parent, f"{glob.escape(prefix)}*.part", prefix)
     try:
         tmp = Path(tempfile.mkdtemp(prefix=f"{prefix}{os.getpid()}-", suffix=".part",

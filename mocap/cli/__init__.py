@@ -10,6 +10,7 @@ command's module. This package is the only code that imports ``synthesis`` and
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
 import os
 import re
@@ -157,6 +158,11 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {one_line(message)} (see '{self.prog} --help')\n")
 
 
+#: Refusals of the place itself that may come without a file name (a write that fails).
+_PLACE_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS, errno.EIO,
+                 errno.ENAMETOOLONG, errno.ELOOP}
+
+
 def _os_error_line(error: OSError) -> str:
     where = f"{error.filename}: " if getattr(error, "filename", None) else ""
     return one_line(f"{where}{error.strerror or error}")
@@ -276,6 +282,16 @@ def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
             print(f"mocap {command}: interrupted", file=sys.stderr)
             return 130
         # the system refused a path the user gave: one line, like any user mistake
+        print(f"mocap {command}: error: {_os_error_line(error)}", file=sys.stderr)
+        return 2
+    except OSError as error:
+        # any other refusal of a path the user gave (a name too long for the file system,
+        # a symbolic-link loop, a full or read-only disk): one line too
+        if interrupts.seen:
+            print(f"mocap {command}: interrupted", file=sys.stderr)
+            return 130
+        if getattr(error, "filename", None) is None and error.errno not in _PLACE_ERRNOS:
+            raise
         print(f"mocap {command}: error: {_os_error_line(error)}", file=sys.stderr)
         return 2
     except BaseException:

@@ -8,12 +8,14 @@ phrase each, what it could not keep.
 from __future__ import annotations
 
 import os
+from pathlib import Path
 
 import numpy as np
 
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.io import require_rate
+from mocap.io.c3d.layout import inspect_c3d
 from mocap.io.c3d.parameters import carry_parameters, offsets_to_keep, patch_int_parameter
 from mocap.io.c3d.read import unit_factor
 from mocap.trial import Trial
@@ -29,6 +31,24 @@ def _analog_gain(group: dict, channels: int) -> np.ndarray:
     gen = group.get("GEN_SCALE")
     gen = float(gen.reshape(-1)[0]) if isinstance(gen, np.ndarray) and gen.size else 1.0
     return scale * gen
+
+
+def _check_written(written: Path, markers: int, frames: int, path) -> None:
+    """MocapError unless ``written`` holds all ``frames`` of ``markers`` points.
+
+    ezc3d's writer does not report a failed write (a full disk, a file-size limit): the
+    file it leaves is cut short, or empty, and was renamed into place as if complete.
+    """
+    try:
+        layout = inspect_c3d(written)
+        complete = (layout.point_count == markers and layout.frames == frames
+                    and layout.file_size >= layout.data_offset + frames * layout.frame_bytes)
+    except MocapError:
+        complete = False
+    if not complete:
+        size = written.stat().st_size if written.exists() else 0
+        raise MocapError(f"cannot write C3D: the file came out incomplete ({size} bytes "
+                         "written: no space left on the device, or a file-size limit)", path)
 
 
 def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> list[str]:
@@ -157,10 +177,14 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> list[
         ezc3d_name = tmp.with_suffix(".c3d")
         try:
             c3d.write(str(ezc3d_name))
+            _check_written(ezc3d_name, markers, frames, path)
             if offsets is not None and not patch_int_parameter(ezc3d_name, "ANALOG",
                                                                "OFFSET", offsets):
                 raise RuntimeError("ANALOG:OFFSET not found in the written file")
             os.replace(ezc3d_name, tmp)
+        except MocapError:
+            ezc3d_name.unlink(missing_ok=True)
+            raise
         except Exception as error:   # ezc3d reports write problems as RuntimeError/OSError
             ezc3d_name.unlink(missing_ok=True)
             raise MocapError(f"cannot write C3D: {error}", path) from None
