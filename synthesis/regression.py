@@ -139,6 +139,35 @@ def _impute_full_modes(data: np.ndarray, observed: np.ndarray, filled: np.ndarra
     return filled
 
 
+TOO_FEW_CELLS = ("need at least 2 people who performed every action to build the action bases "
+                 "(or, to impute missing cells, at least 3 people and every action performed by "
+                 "at least 2 of them)")
+
+
+def can_impute(observed: np.ndarray) -> bool:
+    """True when :func:`impute_cells` can fill the missing cells of ``observed``.
+
+    Parameters
+    ----------
+    observed : ndarray of bool, shape (people, actions)
+    """
+    observed = np.asarray(observed, dtype=bool)
+    return bool(observed.shape[0] >= 3 and np.all(observed.sum(axis=0) >= 2)
+                and np.all(observed.sum(axis=1) >= 1))
+
+
+def can_fit(observed: np.ndarray) -> bool:
+    """True when :meth:`MotionModel.fit` can fit a tensor with these cells: two complete
+    people, or missing cells :func:`impute_cells` can fill.
+
+    Parameters
+    ----------
+    observed : ndarray of bool, shape (people, actions)
+    """
+    observed = np.asarray(observed, dtype=bool)
+    return bool(observed.all(axis=1).sum() >= 2 or can_impute(observed))
+
+
 def impute_cells(data: np.ndarray, action_rank: Rank = None, feature_rank: Rank = None,
                  people_rank: Rank = None, folds: int = 4) -> tuple[np.ndarray, int]:
     """Fill the missing cells of a tensor in which fewer than two people are complete.
@@ -165,10 +194,8 @@ def impute_cells(data: np.ndarray, action_rank: Rank = None, feature_rank: Rank 
     """
     observed = np.isfinite(data).all(axis=2)
     people, actions = observed.shape
-    if np.any(observed.sum(axis=0) < 2) or np.any(observed.sum(axis=1) < 1) or people < 3:
-        raise MocapError("need at least 2 people who performed every action to build the "
-                         "action bases (or, to impute missing cells, at least 3 people and "
-                         "every action performed by at least 2 of them)")
+    if not can_impute(observed):
+        raise MocapError(TOO_FEW_CELLS)
     largest = people - 2               # below the centred people rank (people − 1): no echo
     if isinstance(people_rank, (int, np.integer)) and not isinstance(people_rank, bool):
         rank = int(min(people_rank, largest))

@@ -44,10 +44,11 @@ from mocap.markersets import load_markerset
 from mocap.pipeline import Cleaning, marker_file_angles
 from mocap.plot import plot_angles, save_figure
 from mocap.progress import progress, progress_bar
-from mocap.synthetic import generate_corpus
+from mocap.synthetic import ACTIONS, generate_corpus
 from mocap.synthetic.people import make_people
 from synthesis.corpus import load_corpus
 from synthesis.model import MotionModel
+from synthesis.regression import TOO_FEW_CELLS, can_fit
 from synthesis.plot import synthesis_figure
 
 ACTION = "walk"
@@ -136,6 +137,9 @@ def _check_inputs(data: str | None, hold_out: str | None, people: int, seed: int
         if person not in names:
             raise MocapError(f"hold_out= {person!r} is not one of the generated people "
                              f"({', '.join(names)})")
+        if not _fits_without(person, {(name, action) for name in names for action in ACTIONS}):
+            raise MocapError(f"people= {people} is too few: {person}'s {ACTION} is predicted "
+                             "from the other people's actions, which needs at least 3 people")
         return person
     if not Path(data).is_dir():
         raise MocapError("data= must be a folder of <person>_<action> marker files", data)
@@ -144,7 +148,24 @@ def _check_inputs(data: str | None, hold_out: str | None, people: int, seed: int
     if (person, ACTION) not in cells:
         raise MocapError(f"the corpus has no {ACTION} of {person!r} to hold out "
                          f"(trials must be named <person>_<action>.c3d)", data)
+    people_found, actions_found = {p for p, _ in cells}, {a for _, a in cells}
+    if len(people_found) < 2 or len(actions_found) < 2:
+        raise MocapError(f"need at least 2 people and 2 actions to separate people from "
+                         f"actions, found {len(people_found)} people and "
+                         f"{len(actions_found)} action(s)", data)
+    if not _fits_without(person, cells):
+        raise MocapError(f"too few trials to fit a model without {person}'s {ACTION}: "
+                         f"{TOO_FEW_CELLS}", data)
     return person
+
+
+def _fits_without(person: str, cells: set[tuple[str, str]]) -> bool:
+    """Whether a model can be fitted to ``cells`` less the held-out (person, walk) cell."""
+    names = sorted({p for p, _ in cells})
+    actions = sorted({a for _, a in cells})
+    observed = np.array([[(p, a) in cells and (p, a) != (person, ACTION) for a in actions]
+                         for p in names])
+    return can_fit(observed)
 
 
 def _run(out: Path, final: Path, data: str | None, chosen, people: int, seed: int,

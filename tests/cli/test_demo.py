@@ -74,6 +74,22 @@ def test_demo_checks_hold_out_and_data_before_writing(tmp_path, capsys):
     assert list(tmp_path.iterdir()) == []
 
 
+def test_demo_refuses_too_few_people_before_starting(tmp_path, capsys):
+    """Two people cannot predict one's walk from the other (the model needs 3 to fill the
+    held-out cell): it was found out at step 4, after generating and extracting every
+    trial (~50 s); now at once, with nothing started or written (hostile harness, issue 11)."""
+    assert main(["demo", "-o", str(tmp_path / "o"), "--people", "2", "--no-animation"]) == 2
+    out, err = capsys.readouterr()
+    assert "[1/" not in out and "--people 2 is too few" in err
+    assert list(tmp_path.iterdir()) == []
+    from mocap.synthetic import generate_corpus
+    generate_corpus(tmp_path / "c", people=3, actions=["walk"])
+    assert main(["demo", "-o", str(tmp_path / "o"), "--data", str(tmp_path / "c")]) == 2
+    out, err = capsys.readouterr()
+    assert "[1/" not in out and "2 actions" in err
+    assert not (tmp_path / "o").exists()
+
+
 def test_demo_body_comes_from_a_trial_on_flat_ground(tmp_path):
     """The synthesised walk's skeleton is built from one of the person's trials whose feet
     stood on one level: emil's ascent (seed 0) stands the left foot a stair's rise up, and
