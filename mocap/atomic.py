@@ -317,7 +317,12 @@ def atomic_path(path: str | os.PathLike) -> Iterator[Path]:
         yield tmp
         with interrupts_held():         # in place and journaled, or neither
             backup = _backup_of(target, prefix) if journal is not None else None
-            os.replace(tmp, target)
+            try:
+                os.replace(tmp, target)
+            except BaseException:       # the place refused it (an immutable file …)
+                if backup is not None:
+                    _remove_backup(backup)
+                raise
             if journal is not None:
                 journal.entries.append((target, backup))
     except BaseException as error:

@@ -177,24 +177,34 @@ def run_angles(args: argparse.Namespace) -> int:
     return 0
 
 
+def _read_marker_trial(source: Path):
+    """The marker trial of ``source``; a skeleton motion (BVH, AMC) is refused in one line."""
+    from mocap.io import read
+    from mocap.trial import Trial
+
+    trial = read(source)
+    if not isinstance(trial, Trial):
+        raise MocapError("holds a skeleton motion, not marker trajectories: its joint angles "
+                         "are written by 'mocap export -f csv'", source)
+    return trial
+
+
 def _angles_one(source: Path, target: Path, plot: Path | None, markerset,
                 args: argparse.Namespace) -> None:
     if markerset is None:
-        from mocap.io import read
         from mocap.io.c3d.rotations import rotation_angles
 
-        angles = rotation_angles(read(source), args.sequence, args.segments)
+        angles = rotation_angles(_read_marker_trial(source), args.sequence, args.segments)
         write_angles_csv(angles, target)
         if plot is not None:
             plot_angles(angles, plot, title=f"{source.name} (segment poses, {args.sequence})")
         return
     from mocap.clinical import estimate_missing
-    from mocap.io import read
     from mocap.markersets.model import MissingMarkerWarning
     from mocap.plugingait import (MARKERS, AnatomicalOffsetWarning, MissingMeasurementError,
                                   markers_from_trial, subject_from_trial)
 
-    trial = read(source)
+    trial = _read_marker_trial(source)
     clinical = args.clinical
     if clinical and args.clinical_auto and args.static_trial is None:
         try:

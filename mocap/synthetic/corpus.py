@@ -164,6 +164,10 @@ def generate_corpus(out_dir: str | Path, people: int = 6, actions: Sequence[str]
         raise MocapError(f"unknown action(s) {', '.join(unknown)}; known: {', '.join(ACTIONS)}")
     if not actions:
         raise MocapError("need at least one action")
+    repeated = sorted({a for a in actions if list(actions).count(a) > 1})
+    if repeated:
+        raise MocapError(f"action(s) {', '.join(repeated)} given more than once; each action "
+                         "is one trial per person")
     if file_format not in ("c3d", "trc", "csv"):
         raise MocapError(f"unknown marker file format {file_format!r}; use c3d, trc or csv")
     out_dir = Path(out_dir)

@@ -80,3 +80,27 @@ def test_a_legal_name_near_the_limit_is_written(walk, tmp_path, capsys):
     name = "y" * 246 + ".trc"
     assert main(["convert", str(walk), str(tmp_path / name)]) == 0
     assert [p.name for p in tmp_path.iterdir()] == [name]
+
+
+def _immutable(path: Path) -> bool:
+    try:
+        return subprocess.run(["chattr", "+i", str(path)], capture_output=True).returncode == 0
+    except OSError:
+        return False
+
+
+def test_an_output_the_system_refuses_to_replace_leaves_no_backup(tmp_path, capsys):
+    """An existing output the system will not replace (an immutable file): the backup of it
+    taken for the all-or-nothing journal was left beside it as '.o.c3d.<pid>-old-….part'."""
+    target = tmp_path / "o.c3d"
+    target.write_text("user file\n")
+    if not _immutable(target):
+        pytest.skip("needs chattr +i (root, a file system with the immutable flag)")
+    try:
+        assert main(["export", str(BVH), "-f", "c3d", "-o", str(target)]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "o.c3d" in err[0] and "cannot write" in err[0], err
+        assert sorted(p.name for p in tmp_path.iterdir()) == ["o.c3d"]
+        assert target.read_text() == "user file\n"
+    finally:
+        subprocess.run(["chattr", "-i", str(target)])
