@@ -273,9 +273,19 @@ def read_amc(path: str | os.PathLike, asf: AsfSkeleton) -> tuple[dict[str, np.nd
         if len(values) != sizes[bone]:
             raise MocapError(f"AMC line {number}: bone {bone!r} has {len(values)} values, the "
                              f"ASF gives it {sizes[bone]} degrees of freedom", path)
+        if bone in frames[-1]:
+            raise MocapError(f"AMC line {number}: bone {bone!r} a second time in frame "
+                             f"{expected - 1} (a frame number missing?)", path)
         frames[-1][bone] = values
     if not frames:
         raise MocapError("AMC file has no frames", path)
+    listed = {bone: sum(bone in frame for frame in frames) for bone in sizes}
+    partial = sorted(bone for bone, count in listed.items() if 0 < count < len(frames))
+    if partial:
+        missing = len(frames) - listed[partial[0]]
+        warnings.warn(f"{path}: {len(partial)} bone(s) missing from some frames, taken as 0 "
+                      f"there ({partial[0]}: {missing} of {len(frames)} frames)",
+                      MocapWarning, stacklevel=2)
     result = {}
     for bone, size in sizes.items():
         table = np.zeros((len(frames), size))

@@ -32,3 +32,33 @@ def test_generate_with_an_action_given_twice_is_one_line(tmp_path, capsys):
                  "--actions", "walk,walk"]) == 2
     assert "walk given more than once" in _one_error_line(capsys)
     assert list(tmp_path.iterdir()) == []
+
+
+def _amc_pair(tmp_path: Path, edit) -> Path:
+    data = ROOT / "tests" / "data"
+    (tmp_path / "s.asf").write_text((data / "cmu_lambada.asf").read_text())
+    lines = (data / "cmu_lambada.amc").read_text().splitlines()
+    amc = tmp_path / "s_01.amc"
+    amc.write_text("\n".join(edit(lines)) + "\n")
+    return amc
+
+
+def test_an_amc_frame_without_its_number_is_refused(tmp_path, capsys):
+    """Without the frame numbers every bone line fell into frame 1, each one overwriting the
+    last: a 1-frame motion, exit 0, no word."""
+    amc = _amc_pair(tmp_path, lambda lines: [l for l in lines if not l.strip().isdigit()
+                                             or l.strip() == "1"])
+    assert main(["export", str(amc), "-f", "csv", "-o", str(tmp_path / "o.csv")]) == 2
+    line = _one_error_line(capsys)
+    assert "s_01.amc" in line and "second time in frame 1" in line, line
+    assert not (tmp_path / "o.csv").exists()
+
+
+def test_a_bone_missing_from_some_amc_frames_is_warned(tmp_path, capsys):
+    def drop(lines):
+        numbers = [i for i, l in enumerate(lines) if l.strip().isdigit()]
+        return [l for i, l in enumerate(lines) if i != numbers[2] + 3]
+    amc = _amc_pair(tmp_path, drop)
+    assert main(["export", str(amc), "-f", "csv", "-o", str(tmp_path / "o.csv")]) == 0
+    err = capsys.readouterr().err
+    assert "missing from some frames" in err and "1 of 4 frames" in err, err
