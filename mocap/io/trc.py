@@ -256,6 +256,9 @@ def write_trc(trial: Trial, path: str | os.PathLike, units: str = "mm",
         raise MocapError(f"cannot write TRC in units {units!r} (use mm, cm or m)", path)
     decimals = coordinate_decimals(units, precision, path)
     require_rate(trial, path, "TRC file (DataRate)")
+    if not len(trial.labels):
+        # a TRC without marker columns is one no reader takes (read_trc refuses it too)
+        raise MocapError("no markers to write: a TRC file holds marker trajectories", path)
     for label in trial.labels:
         check_label(label, "\t", "marker", path)
     frames, markers = trial.frames, len(trial.labels)

@@ -2,6 +2,7 @@
 hostile harness): one line naming the file or the option, exit status 2, nothing written."""
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 from mocap.cli import main
@@ -62,3 +63,21 @@ def test_a_bone_missing_from_some_amc_frames_is_warned(tmp_path, capsys):
     assert main(["export", str(amc), "-f", "csv", "-o", str(tmp_path / "o.csv")]) == 0
     err = capsys.readouterr().err
     assert "missing from some frames" in err and "1 of 4 frames" in err, err
+
+
+def test_every_output_of_an_analog_only_c3d_reads_back(tmp_path, capsys):
+    """A C3D of EMG channels and no markers (Cometa): convert wrote a TRC with no marker
+    columns, which the TRC reader then refuses; a TRC of nothing is refused at once now,
+    and the CSV and C3D outputs read back with their 199 frames at 10 Hz."""
+    from tests.conftest import realdata_path
+    emg = realdata_path("c3dorg_via_c3dio", "sample_00", "Cometa_Systems", "EMG_Data_Cometa.c3d")
+    assert main(["convert", str(emg), str(tmp_path / "e.trc")]) == 2
+    assert "no markers to write" in _one_error_line(capsys)
+    assert not (tmp_path / "e.trc").exists()
+    for suffix in (".csv", ".c3d"):
+        out = tmp_path / f"e{suffix}"
+        assert main(["convert", str(emg), str(out)]) == 0
+        capsys.readouterr()
+        assert main(["info", "--json", str(out)]) == 0
+        record = json.loads(capsys.readouterr().out.splitlines()[0])
+        assert (record["frames"], record["rate"], record["markers"]) == (199, 10.0, [])
