@@ -35,7 +35,7 @@ import numpy as np
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.io import require_rate
-from mocap.io.c3d.read import infer_unit_factor, unique_labels, unit_factor
+from mocap.io.c3d.read import infer_unit_factor, unique_labels, unit_disagreement, unit_factor
 from mocap.io.text_table import (check_label, coordinate_decimals, format_table, mark_missing,
                                  parse_table, read_head)
 from mocap.trial import Trial
@@ -126,6 +126,10 @@ def read_trc(path: str | os.PathLike) -> Trial:
         guess, factor = infer_unit_factor(mark_missing(
             table[:, 2:].reshape(table.shape[0], count, 3)))
         warnings.append(f"Units is {units!r}; {guess} inferred from the coordinates' magnitude")
+    else:
+        disagreement = unit_disagreement(table[:, 2:], factor, units)
+        if disagreement:
+            warnings.append(f"Units: {disagreement}")
     # scaled in one pass into a contiguous array, then gaps marked
     points = mark_missing(np.multiply(table[:, 2:], factor).reshape(table.shape[0], count, 3),
                           warnings)

@@ -100,6 +100,40 @@ def infer_unit_factor(values: np.ndarray) -> tuple[str, float]:
     return "m", 1.0
 
 
+#: Beyond this distance from the origin (m) no capture volume reaches: a stated unit that
+#: puts the markers there is a unit the file got wrong (mm values labelled m).
+UNIT_FAR_M = 100.0
+#: Below this (m) a whole marker cloud is no body: metre values labelled mm.
+UNIT_NEAR_M = 0.005
+
+
+def unit_disagreement(values: np.ndarray, factor: float, units: str) -> str | None:
+    """A warning when the stated unit puts the coordinates where no capture is, else None.
+
+    Parameters
+    ----------
+    values : ndarray
+        Coordinates in the file's unit, NaN where missing (any shape).
+    factor : float
+        Metres per file unit of the stated ``units``.
+    units : str
+        The unit as stated (for the message).
+    """
+    flat = values.reshape(-1)
+    flat = flat[:: max(1, flat.size // 200_000)]          # a sample is enough for a scale
+    finite = np.abs(flat[np.isfinite(flat) & (flat != 0)]) * factor
+    if finite.size < 10:
+        return None
+    reach = float(np.percentile(finite, 99))
+    if reach > UNIT_FAR_M:
+        return (f"the stated unit {units!r} puts the markers {reach:,.0f} m from the origin; "
+                "the coordinates look like millimetres (the file's unit may be wrong)")
+    if reach < UNIT_NEAR_M:
+        return (f"the stated unit {units!r} puts every marker within {reach * 1000:.2g} mm of "
+                "the origin; the coordinates look like metres (the file's unit may be wrong)")
+    return None
+
+
 def _string_list(value) -> list[str]:
     if value is None:
         return []
@@ -373,6 +407,10 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
         guess, factor = infer_unit_factor(markers)
         notes.append(f"POINT:UNITS is {units!r}; {guess} inferred from the coordinates' "
                      f"magnitude")
+    else:
+        disagreement = unit_disagreement(markers, factor, units)
+        if disagreement:
+            notes.append(f"POINT:UNITS: {disagreement}")
     if factor != 1.0:
         markers *= factor
 
@@ -448,4 +486,4 @@ def _events(layout: C3DLayout) -> list[dict]:
     return sorted(events, key=lambda event: event["frame"])
 
 
-__all__ = ["read_c3d", "unit_factor", "infer_unit_factor", "unique_labels", "MODELLED_KINDS"]
+__all__ = ["read_c3d", "unit_factor", "infer_unit_factor", "unit_disagreement", "unique_labels", "MODELLED_KINDS"]
