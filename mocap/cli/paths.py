@@ -118,6 +118,11 @@ def check_paths(command: str, args: argparse.Namespace) -> None:
     for path in inputs + [p for _, p in outputs]:
         if not path.strip():
             raise MocapError(f"an empty name {path!r} is not a file or folder; give a path")
+        if path == "-":
+            # the usual spelling of standard input/output, which no command reads or
+            # writes: it would be taken as a file named '-' in the working folder
+            raise MocapError("'-' (standard input or output) is not supported; give a file "
+                             "name")
     for path in inputs:
         check_input(path)
     files_only = [p for p in inputs if not Path(p).is_dir()]

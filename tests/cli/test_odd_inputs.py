@@ -81,3 +81,14 @@ def test_every_output_of_an_analog_only_c3d_reads_back(tmp_path, capsys):
         assert main(["info", "--json", str(out)]) == 0
         record = json.loads(capsys.readouterr().out.splitlines()[0])
         assert (record["frames"], record["rate"], record["markers"]) == (199, 10.0, [])
+
+
+def test_a_dash_for_standard_output_is_refused_not_written_as_a_file(tmp_path, capsys,
+                                                                     monkeypatch):
+    """'export -f csv -o -' wrote a file named '-' in the working folder ("wrote -")."""
+    monkeypatch.chdir(tmp_path)
+    for argv in (["export", str(BVH), "-f", "csv", "-o", "-"],
+                 ["check", str(BVH), "--plot", "-"], ["info", "-"]):
+        assert main(argv) == 2
+        assert "'-' (standard input or output) is not supported" in _one_error_line(capsys)
+    assert list(tmp_path.iterdir()) == []
