@@ -261,7 +261,10 @@ def _leftover_prefix(target: Path, parent: Path) -> str:
     except (OSError, ValueError):
         limit = 255
     keep = max(1, limit - _TEMPORARY_EXTRA - 2 * len(target.suffix))
-    return f".{target.name[:keep]}."
+    # a name that is not valid UTF-8 (undecodable bytes as surrogates) gets U+FFFD in its
+    # temporary sibling: libraries that take only UTF-8 paths (ezc3d) can write that one
+    name = target.name.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+    return f".{name[:keep]}."
 
 
 #: A write the system stopped part way: the disk or a quota is full, the file is larger

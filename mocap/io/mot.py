@@ -59,7 +59,8 @@ def write_mot(path: str | os.PathLike, times: np.ndarray, labels: list[str],
     buffer.write("\t".join(["time"] + list(labels)) + "\n")
     np.savetxt(buffer, table, fmt=f"%.{precision}f", delimiter="\t")
     with atomic_path(path) as tmp:
-        tmp.write_text(buffer.getvalue(), encoding="utf-8")
+        # surrogateescape: a name that is not valid UTF-8 is written as its own bytes
+        tmp.write_text(buffer.getvalue(), encoding="utf-8", errors="surrogateescape")
 
 
 def write_motion_mot(motion, path: str | os.PathLike, sequence: str = "ZXY") -> None:

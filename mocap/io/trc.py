@@ -284,7 +284,9 @@ def write_trc(trial: Trial, path: str | os.PathLike, units: str = "mm",
     table[:, 2:] = (trial.points / factor).reshape(frames, 3 * markers)
     places = np.full(table.shape[1], decimals)
     places[:2] = (0, TIME_DECIMALS)
-    head = ("\n".join(lines) + "\n").encode("utf-8")
+    # surrogateescape: a file name that is not valid UTF-8 (a Latin-1 name from an old
+    # archive) goes into the header as the very bytes of the name
+    head = ("\n".join(lines) + "\n").encode("utf-8", "surrogateescape")
     rows = format_table(table, places, "\t", as_bytes=True)
     with atomic_path(path) as tmp:
         with open(tmp, "wb") as handle:

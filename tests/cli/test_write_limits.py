@@ -104,3 +104,24 @@ def test_an_output_the_system_refuses_to_replace_leaves_no_backup(tmp_path, caps
         assert target.read_text() == "user file\n"
     finally:
         subprocess.run(["chattr", "-i", str(target)])
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="a file system that takes any bytes as names")
+@pytest.mark.parametrize("argv", [
+    ["convert", "{walk}", "{out}.trc"],             # the name goes into the header
+    ["convert", "{walk}", "{out}.c3d"],             # ezc3d takes UTF-8 paths only
+    ["export", "{bvh}", "-f", "mot", "-o", "{out}.mot"],
+    ["export", "{bvh}", "-f", "c3d", "-o", "{out}.c3d"],
+])
+def test_an_output_name_that_is_not_utf8_is_written(argv, walk, tmp_path, capsys):
+    """A Latin-1 name (from an old archive or USB stick): TRC and MOT traced back with
+    UnicodeEncodeError, C3D was refused with ezc3d's overload list as the message."""
+    out = os.fsdecode(bytes(tmp_path) + b"/caf\xe9")
+    argv = [a.format(walk=walk, bvh=BVH, out=out) for a in argv]
+    done = _run_limited(argv, tmp_path, None)      # a real process: its stderr escapes names
+    assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr
+    written = Path(argv[-1])
+    assert [p.name for p in tmp_path.iterdir()] == [written.name]
+    if written.suffix != ".mot":
+        back = _run_limited(["info", "--json", str(written)], tmp_path, None)
+        assert back.returncode == 0, back.stderr

@@ -176,6 +176,11 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> list[
         # ezc3d appends ".c3d" to any other suffix (".C3D" included).
         ezc3d_name = tmp.with_suffix(".c3d")
         try:
+            str(ezc3d_name).encode("utf-8")
+        except UnicodeEncodeError:
+            raise MocapError("cannot write C3D into a folder whose name is not valid UTF-8 "
+                             "(the C3D library takes UTF-8 paths only)", path) from None
+        try:
             c3d.write(str(ezc3d_name))
             _check_written(ezc3d_name, markers, frames, path)
             if offsets is not None and not patch_int_parameter(ezc3d_name, "ANALOG",
