@@ -92,3 +92,15 @@ def test_a_dash_for_standard_output_is_refused_not_written_as_a_file(tmp_path, c
         assert main(argv) == 2
         assert "'-' (standard input or output) is not supported" in _one_error_line(capsys)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_start_time_a_c3d_cannot_keep_is_said(tmp_path, capsys):
+    """OpenSim's Leg39 TRC starts at -0.0333 s; its C3D starts at frame 1, 0 s: every time
+    moved by one frame without a word (found by the round-trip family)."""
+    from tests.conftest import realdata_path
+    leg = realdata_path("opensim_models", "Pipelines", "Leg39", "leg39_swing_short.trc")
+    assert main(["convert", str(leg), str(tmp_path / "leg.c3d")]) == 0
+    err = capsys.readouterr().err
+    assert "the start time -0.0333333 s" in err and "frame 1 at 0 s" in err, err
+    assert main(["convert", str(tmp_path / "leg.c3d"), str(tmp_path / "again.c3d")]) == 0
+    assert "start time" not in capsys.readouterr().err

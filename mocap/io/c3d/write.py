@@ -137,6 +137,12 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> list[
     c3d["data"]["meta_points"]["camera_masks"] = np.zeros((7, markers, frames), dtype=bool)
     analogs_written = False
     notes: list[str] = []
+    start, kept = float(trial.time_base()[1][0]), (first_frame - 1) / trial.rate
+    if abs(start - kept) > 0.5 / trial.rate:
+        # C3D times follow the frame numbers (frame 1 at 0 s): a TRC or CSV whose Time
+        # starts elsewhere (-0.033 s in OpenSim's Leg39) would shift without a word
+        notes.append(f"the start time {start:.6g} s (C3D times follow the frame numbers: "
+                     f"frame {first_frame} at {kept:.6g} s)")
     offsets = None
     if trial.analogs is not None and trial.analog_rate and len(trial.analog_labels):
         per_frame = trial.analog_rate / trial.rate
