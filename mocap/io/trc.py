@@ -127,7 +127,8 @@ def read_trc(path: str | os.PathLike) -> Trial:
             table[:, 2:].reshape(table.shape[0], count, 3)))
         warnings.append(f"Units is {units!r}; {guess} inferred from the coordinates' magnitude")
     else:
-        disagreement = unit_disagreement(table[:, 2:], factor, units)
+        disagreement = unit_disagreement(table[:, 2:].reshape(table.shape[0], count, 3),
+                                         factor, units)
         if disagreement:
             warnings.append(f"Units: {disagreement}")
     # scaled in one pass into a contiguous array, then gaps marked

@@ -112,8 +112,8 @@ def unit_disagreement(values: np.ndarray, factor: float, units: str) -> str | No
 
     Parameters
     ----------
-    values : ndarray
-        Coordinates in the file's unit, NaN where missing (any shape).
+    values : ndarray, shape (frames, markers, 3)
+        Coordinates in the file's unit, NaN where missing.
     factor : float
         Metres per file unit of the stated ``units``.
     units : str
@@ -128,7 +128,7 @@ def unit_disagreement(values: np.ndarray, factor: float, units: str) -> str | No
     if reach > UNIT_FAR_M:
         return (f"the stated unit {units!r} puts the markers {reach:,.0f} m from the origin; "
                 "the coordinates look like millimetres (the file's unit may be wrong)")
-    if reach < UNIT_NEAR_M:
+    if reach < UNIT_NEAR_M and values.shape[1] >= 3:     # one or two markers may sit anywhere
         return (f"the stated unit {units!r} puts every marker within {reach * 1000:.2g} mm of "
                 "the origin; the coordinates look like metres (the file's unit may be wrong)")
     return None
