@@ -91,13 +91,11 @@ def measure(gap: int, at: tuple[float, ...], cutoff: float | None = None
 
 def table(worst: dict) -> None:
     """Per marker: gaps, median, 90th percentile, worst and count over 1 degree."""
-    table(worst)
-    if filtered:
-        every = np.concatenate([np.array(v) for v in filtered.values()])
-        print(f"after a {args.lowpass:g} Hz low-pass of both trials: median "
-              f"{np.median(every):.2f}, worst {every.max():.2f} degrees, "
-              f"{int((every > 1).sum())} over 1 degree")
-        table(filtered)
+    print("marker  gaps  median   p90  worst  >1deg")
+    for label in sorted(worst, key=lambda n: (n[1:], n[0])):
+        v = np.array(worst[label])
+        print(f"{label:6s} {len(v):5d} {np.median(v):7.2f} {np.percentile(v, 90):5.2f} "
+              f"{v.max():6.2f} {int((v > 1).sum()):6d}")
 
 
 def main() -> None:
