@@ -15,6 +15,7 @@ import numpy as np
 
 from dynamics.viz.render import check_animation_path, real_time_stride, save_animation
 from mocap.atomic import atomic_path
+from mocap.body.anthropometry import segment_kind
 from mocap.errors import MocapError
 
 if TYPE_CHECKING:
@@ -157,6 +158,13 @@ def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float |
     return int(chosen.size)
 
 
+def _headroom(axis, factor: float) -> None:
+    """Raise an axis's top to ``factor`` × its data's top so a legend fits above the data."""
+    low, high = axis.get_ylim()
+    if np.isfinite(high) and high > 0:
+        axis.set_ylim(low, low + factor * (high - low))
+
+
 def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100) -> Figure:
     """Plot a :class:`dynamics.humanoid.check.CheckReport`: residuals, ground reactions, joint
     torques and the lowest body point over time.
@@ -177,6 +185,8 @@ def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100) ->
     """
     # deferred: matplotlib is slow to import and only drawing needs it
     from matplotlib.figure import Figure
+
+    from dynamics.humanoid.model import JOINT_OF_SEGMENT
 
     if path is not None:
         path = Path(path)
@@ -199,7 +209,10 @@ def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100) ->
     verdict = f"{report.verdict}: " + ("; ".join(report.reasons) or "no problems")
     axes[0].set_title(textwrap.fill(verdict, 110), fontsize=8)
     lines = axes[0].get_lines() + torque_axis.get_lines()
-    axes[0].legend(lines, [line.get_label() for line in lines], fontsize=7)
+    _headroom(axes[0], 1.35)
+    _headroom(torque_axis, 1.35)
+    axes[0].legend(lines, [line.get_label() for line in lines], fontsize=7, loc="upper center",
+                   ncol=3)
     feet = {}
     for k, name in enumerate(report.contact_names):
         feet.setdefault(name.split(".")[0], []).append(k)
@@ -209,13 +222,22 @@ def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100) ->
     axes[1].set_ylabel("vertical reaction (BW)")
     axes[1].legend(fontsize=7)
     magnitude = np.linalg.norm(report.joint_torques, axis=2)
+    # one colour per joint (hip, knee …), solid left and dashed right, named as the text
+    # report names them: the segment the joint moves, the joint in brackets
+    kinds = list(JOINT_OF_SEGMENT)
     for j, name in enumerate(report.joint_names):
-        axes[2].plot(t, magnitude[:, j], label=name, linewidth=0.8)
+        kind = segment_kind(name)
+        joint = JOINT_OF_SEGMENT.get(kind)
+        axes[2].plot(t, magnitude[:, j], linewidth=0.9,
+                     label=f"{name} ({joint})" if joint else name,
+                     color=f"C{kinds.index(kind) % 10}" if kind in kinds else None,
+                     linestyle="--" if name.startswith("r_") else "-")
     axes[2].set_ylabel("joint torque (N·m)")
-    axes[2].legend(fontsize=6, ncol=4)
+    _headroom(axes[2], 1.45)                 # the legend sits above the curves
+    axes[2].legend(fontsize=6, ncol=4, loc="upper center")
     axes[3].plot(t, report.lowest_point_mm, color="tab:green")
     axes[3].axhline(0.0, color="0.3", linewidth=0.8)
-    axes[3].set_ylabel("lowest point (mm)")
+    axes[3].set_ylabel("lowest body point\nabove the floor (mm)")
     for axis in axes:                       # time ticks and label on every panel
         axis.tick_params(labelbottom=True)
         axis.set_xlabel("time (s)", fontsize=8)

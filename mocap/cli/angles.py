@@ -43,7 +43,7 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument("inputs", nargs="+", metavar="IN",
                         help="marker file(s) (.c3d, .trc, .csv) or folders of them")
     parser.add_argument("--markerset", "-m", metavar="SET",
-                        help="marker set: a preset name (plugingait-lower, synthetic15) or a "
+                        help="marker set: a preset name (plugingait-lower, plugingait-full, synthetic15) or a "
                              "TOML file defining segments and virtual markers (needed "
                              "unless --from-rotations)")
     parser.add_argument("--from-rotations", action="store_true",

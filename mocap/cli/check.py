@@ -86,7 +86,7 @@ def register(subparsers: Subparsers) -> None:
     check.add_argument("--max-residual", type=options.real(above=0, maximum=1000),
                        metavar="PCT",
                        help="RMS residual force above which the motion is implausible, in %% "
-                            "of body weight (default %(default)s: see the README's calibrated "
+                            "of body weight (default: the calibrated 8 %%, see the README's "
                             "thresholds)")
     check.add_argument("--max-penetration", type=options.real(0, 10000), metavar="MM",
                        help="deepest floor penetration allowed, mm (default: the calibrated "

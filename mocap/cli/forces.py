@@ -9,7 +9,7 @@ import numpy as np
 from mocap.atomic import atomic_path
 from mocap.cli import options
 from mocap.cli.commands import Subparsers, summary
-from mocap.errors import MocapError
+from mocap.errors import MocapError, one_line
 from mocap.io import read
 from mocap.io.c3d.forceplates import plate_forces, total_forces
 from mocap.io.text_table import format_table
@@ -74,7 +74,7 @@ def run_forces(args: argparse.Namespace) -> int:
     if args.output:
         write_forces_csv(parts, args.output)
     if args.plot:
-        save_figure(plot_forces(parts), args.plot, format=Path(args.plot).suffix[1:].lower())
+        save_figure(plot_forces(parts, title=one_line(Path(args.trial).name)), args.plot, format=Path(args.plot).suffix[1:].lower())
     print(f"{args.trial}: {len(plates)} force plates, {total.samples} samples at "
           f"{total.rate:g} Hz")
     for name, part in parts:
@@ -110,16 +110,24 @@ def write_forces_csv(parts: list, path: str | Path) -> None:
             handle.write(format_table(table, places, ",", nan="", as_bytes=True))
 
 
-def plot_forces(parts: list, figure=None):
-    """Force components over time, one panel per plate and one for the total; a Figure."""
+def plot_forces(parts: list, figure=None, title: str | None = None):
+    """Force components over time, one panel per plate and one for the total; a Figure.
+
+    Every panel has its own time ticks and label, and its force axis names the plate and
+    the unit; ``title`` (the trial's name) goes above them.
+    """
     from matplotlib.figure import Figure
 
-    figure = figure or Figure(figsize=(8, 2.2 * len(parts)), layout="constrained")
+    figure = figure or Figure(figsize=(8, 2.2 * len(parts) + 0.3), layout="constrained")
     axes = figure.subplots(len(parts), 1, sharex=True, squeeze=False)[:, 0]
     for ax, (name, part) in zip(axes, parts):
         for k, label in enumerate(("Fx", "Fy", "Fz")):
             ax.plot(part.times, part.force[:, k], label=label, lw=1)
-        ax.set_ylabel(f"{name} (N)")
+        ax.set_ylabel(f"{name} force (N)")
         ax.legend(loc="upper right", fontsize="small")
-    axes[-1].set_xlabel("time (s)")
+        ax.tick_params(labelbottom=True)    # time ticks on every panel, not only the last
+        ax.set_xlabel("time (s)", fontsize="small")
+        ax.grid(alpha=0.3)
+    figure.suptitle((f"{title}: " if title else "") + "ground reaction force, lab frame",
+                    fontsize="medium")
     return figure

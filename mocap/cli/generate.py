@@ -23,20 +23,22 @@ def register(subparsers: Subparsers) -> None:
                         help="folder to write the corpus into (or give -o/--output)")
     parser.add_argument("-o", "--output", dest="output", metavar="OUT_DIR",
                         help="the output folder, as every command spells it")
-    parser.add_argument("--people", type=options.PEOPLE, default=6, help="number of people (default 6)")
+    parser.add_argument("--people", type=options.PEOPLE, default=6, metavar="N", help="number of people (default 6)")
     parser.add_argument("--actions", default=",".join(ACTIONS),
                         help=f"comma-separated actions (default {','.join(ACTIONS)})")
-    parser.add_argument("--seed", type=options.SEED, default=0,
+    parser.add_argument("--seed", type=options.SEED, default=0, metavar="SEED",
                         help="random seed; the same seed gives the same corpus (default 0)")
-    parser.add_argument("--noise-mm", type=options.real(0, 1000), default=0.0,
+    parser.add_argument("--noise-mm", type=options.real(0, 1000), default=0.0, metavar="MM",
                         help="Gaussian marker noise, standard deviation in mm (default 0)")
     parser.add_argument("--gaps", type=options.real(0, below=0.9), default=0.0, metavar="FRACTION",
                         help="fraction of marker samples removed as gaps of 3-30 frames (default 0)")
-    parser.add_argument("--cycles", type=options.real(above=0, maximum=100), default=1.0,
+    parser.add_argument("--cycles", type=options.real(above=0, maximum=100), default=1.0, metavar="N",
                         help="gait cycles per trial (default 1)")
-    parser.add_argument("--rate", type=options.RATE, default=100.0, help="sampling rate in Hz (default 100)")
-    parser.add_argument("--sequence", default="ZXY",
-                        help="Euler sequence of the ground-truth angle CSVs (default ZXY)")
+    parser.add_argument("--rate", type=options.RATE, default=100.0, metavar="HZ",
+                        help="sampling rate in Hz (default 100)")
+    parser.add_argument("--sequence", default="ZXY", metavar="SEQ",
+                        help="Euler sequence of the ground-truth angle CSVs, scipy convention "
+                             "(default ZXY)")
     parser.add_argument("--format", dest="file_format", choices=("c3d", "trc", "csv"),
                         default="c3d", help="marker file format (default c3d)")
     parser.add_argument("--force", action="store_true",

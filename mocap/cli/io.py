@@ -31,7 +31,7 @@ def register(subparsers: Subparsers) -> None:
     )
     info.add_argument("files", nargs="+", metavar="FILE",
                       help="marker files (.c3d, .csv, .trc, any case); a folder stands for "
-                           "every marker file below it")
+                           "the marker files directly inside it (sub-folders are not searched)")
     info.add_argument("--json", action="store_true",
                       help="print one JSON object per file (one per line) with path, format, "
                            "rate, frames, duration, markers, units, missing, gaps, "

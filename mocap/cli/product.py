@@ -37,7 +37,7 @@ def register(subparsers: Subparsers) -> None:
     demo.add_argument("--data", metavar="DIR",
                       help="use this corpus of <person>_<action> marker files instead of "
                            "generating one (needs the synthetic15 markers, or --markerset)")
-    demo.add_argument("--markerset", "-m", default="synthetic15",
+    demo.add_argument("--markerset", "-m", default="synthetic15", metavar="SET",
                       help="marker set for --data (default synthetic15)")
     demo.add_argument("--people", type=options.PEOPLE, default=6, help="people to generate (default 6)")
     demo.add_argument("--seed", type=options.SEED, default=0, help="random seed of the corpus (default 0)")
@@ -60,13 +60,18 @@ def register(subparsers: Subparsers) -> None:
     batch.add_argument("-o", "--output", metavar="TABLE.csv",
                        help="write the table here (default: print it): .csv, or .json for "
                             "the rows as JSON")
-    batch.add_argument("--jobs", "-j", type=options.JOBS, default=1,
+    batch.add_argument("--jobs", "-j", type=options.JOBS, default=1, metavar="N",
                        help="worker processes, or LocalCluster workers with --dask (default 1)")
-    batch.add_argument("--markerset", "-m", help="marker set preset or TOML file for joint angles")
-    batch.add_argument("--sequence", default="ZXY", help="Euler sequence (default ZXY)")
+    batch.add_argument("--markerset", "-m", metavar="SET",
+                       help="marker set for joint-angle ranges: a preset name (synthetic15, "
+                            "plugingait-lower, plugingait-full) or a TOML file")
+    batch.add_argument("--sequence", default="ZXY", metavar="SEQ",
+                       help="Euler sequence of the angles, scipy convention (default ZXY)")
     batch.add_argument("--check", action="store_true",
-                       help="also run the humanoid dynamics check (full-body marker sets)")
-    batch.add_argument("--mass", type=options.MASS, default=75.0, help="body mass in kg for --check")
+                       help="also run the humanoid dynamics check (as mocap check; a "
+                            "lower-body set carries the trunk, head and arms on the pelvis)")
+    batch.add_argument("--mass", type=options.MASS, default=75.0, metavar="KG",
+                       help="body mass in kg for --check (default 75)")
     batch.add_argument("--lowpass", type=options.real(minimum=0, maximum=1e6), default=6.0,
                        metavar="HZ",
                        help="low-pass the motion before --check's inverse dynamics "

@@ -76,7 +76,11 @@ def find_files(inputs: Iterable[str | os.PathLike], suffixes: Iterable[str],
                            if p.is_file() and p.suffix.lower() in wanted
                            and not any(part.startswith(".") for part in p.relative_to(path).parts))
             if not found:
-                raise MocapError(f"folder holds no {', '.join(sorted(wanted))} files", path)
+                nested = not recursive and any(p.is_dir() and not p.name.startswith(".")
+                                               for p in path.iterdir())
+                raise MocapError(f"folder holds no {', '.join(sorted(wanted))} files"
+                                 + (" directly inside it (sub-folders are not searched: name "
+                                    "them, e.g. FOLDER/*/)" if nested else ""), path)
             files.extend(found)
         elif path.exists() or missing == "keep":
             files.append(path)

@@ -1,0 +1,80 @@
+"""What a new user meets first: help texts that spell one idea one way, folders that say
+why they hold nothing, and pictures whose every panel is labelled (issue 11)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from dynamics.humanoid.check import check_motion
+from dynamics.viz.animate import plot_check
+from mocap.body.segments import default_skeleton
+from mocap.cli import build_parser, main
+from mocap.cli.forces import load_plates, plot_forces
+from mocap.skeleton import Motion
+from tests.conftest import realdata_path
+
+#: One metavar per idea, whatever the command (issue 11: "one spelling per idea").
+METAVARS = {"--markerset": "SET", "--sequence": "SEQ", "--mass": "KG", "--lowpass": "HZ"}
+
+
+def _options():
+    parser = build_parser(None)
+    for name, command in parser.commands.items():
+        for action in command._actions:
+            for flag in action.option_strings:
+                yield name, flag, action
+
+
+def test_every_command_spells_an_option_with_the_same_metavar():
+    seen = {}
+    for command, flag, action in _options():
+        if flag in METAVARS:
+            seen.setdefault(flag, set()).add((command, action.metavar))
+    assert set(seen) == set(METAVARS)
+    for flag, uses in seen.items():
+        wrong = sorted(command for command, metavar in uses if metavar != METAVARS[flag])
+        assert not wrong, f"{flag} has another metavar in: {wrong}"
+
+
+def test_no_help_says_default_none():
+    for command, flag, action in _options():
+        text = (action.help or "") % {"default": action.default, "prog": "mocap"}
+        assert "default None" not in text, (command, flag)
+
+
+@pytest.mark.parametrize("command", ["info", "batch"])
+def test_a_folder_of_sub_folders_says_they_are_not_searched(capsys, command):
+    subject = realdata_path("biomechzoo_sample_study", "HC002D")   # Static/ Straight/ Turn/
+    assert main([command, str(subject)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and str(subject) in err
+    assert "sub-folders are not searched" in err
+
+
+def test_force_plot_has_time_ticks_and_units_on_every_panel():
+    path = realdata_path("biomechzoo_sample_study", "HC030A", "Turn", "HC030A22.c3d")
+    _, plates, total = load_plates(path)
+    parts = [(f"plate{p.plate.index + 1}", p) for p in plates] + [("total", total)]
+    figure = plot_forces(parts, title="HC030A22.c3d")
+    assert len(figure.axes) == 3
+    for axis, (name, _) in zip(figure.axes, parts):
+        assert axis.get_xlabel() == "time (s)"
+        assert axis.xaxis.get_tick_params()["labelbottom"]
+        assert name in axis.get_ylabel() and "(N)" in axis.get_ylabel()
+    assert "HC030A22.c3d" in figure.get_suptitle()
+
+
+def test_check_plot_names_joints_and_tells_sides_apart():
+    skeleton = default_skeleton(1.75)
+    frames = 12
+    motion = Motion(skeleton, np.zeros((frames, 3)),
+                    np.tile(np.eye(3), (frames, skeleton.count, 1, 1)), 50.0)
+    torque_axis = plot_check(check_motion(motion)).axes[2]
+    lines = {line.get_label(): line for line in torque_axis.get_lines()}
+    left, right = lines["l_thigh (hip)"], lines["r_thigh (hip)"]      # named as the text is
+    assert left.get_color() == right.get_color()
+    assert left.get_linestyle() != right.get_linestyle()
+    knee = lines["l_shank (knee)"]
+    assert knee.get_color() != left.get_color()
+    legend = [text.get_text() for text in torque_axis.get_legend().get_texts()]
+    assert "l_foot (ankle)" in legend
