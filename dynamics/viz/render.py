@@ -46,7 +46,7 @@ def _draw_colliders(axes, result: dict) -> None:
             axes.plot(p[:, 0], p[:, 1], p[:, 2], color="tab:green", linewidth=0.6)
 
 
-def render_animation(result: dict, path: str | os.PathLike, fps: float = 30.0,
+def render_animation(result: dict, path: str | os.PathLike, fps: float | None = None,
                      max_frames: int = 300, dpi: int = 80, title: str = "") -> int:
     """Write an animation of a saved run to ``path`` (.gif or .mp4); returns frames drawn.
 
@@ -54,8 +54,10 @@ def render_animation(result: dict, path: str | os.PathLike, fps: float = 30.0,
     ----------
     result : dict of arrays, as saved (``SimulationResult.arrays()`` or ``load_result``)
     path : output file; ``.gif`` uses Pillow, ``.mp4`` needs ffmpeg on the PATH
-    fps : frames per second of the animation
-    max_frames : saved frames are subsampled evenly down to at most this many
+    fps : frames per second of the animation, or None (default) for real time: the saved
+        frames' own rate, every stride-th frame with a whole-centisecond delay
+        (:func:`real_time_stride`), as ``mocap animate`` plays motions
+    max_frames : at most this many frames are drawn (evenly spaced with ``fps``)
     dpi : resolution (the figure is 6.4 × 4.8 inches)
     """
     # deferred: matplotlib is slow to import and only drawing needs it
@@ -69,7 +71,16 @@ def render_animation(result: dict, path: str | os.PathLike, fps: float = 30.0,
     times = np.asarray(result["times"])
     positions = np.asarray(result["positions"])
     rigid_vertices = np.asarray(result.get("rigid_vertices", np.zeros((len(times), 0, 0, 3))))
-    frames = np.unique(np.linspace(0, len(times) - 1, min(max_frames, len(times))).astype(int))
+    step = np.diff(times)
+    rate = 1.0 / float(np.median(step)) if len(step) and np.median(step) > 0 else 0.0
+    if fps is None and np.isfinite(rate) and rate > 0:   # real time, like mocap animate
+        stride, delay = real_time_stride(rate, len(times), max_frames)
+        frames = np.arange(0, len(times), stride)
+        fps = 100.0 / delay
+    else:
+        frames = np.unique(np.linspace(0, len(times) - 1,
+                                       min(max_frames, len(times))).astype(int))
+        fps = 30.0 if fps is None else float(fps)
     springs = np.asarray(result.get("springs", np.zeros((0, 2), int)))
     kind = np.asarray(result.get("spring_kind", np.zeros(len(springs), np.int8)))
     broken_at = np.asarray(result.get("spring_broken_at", np.full(len(springs), np.inf)))

@@ -42,8 +42,9 @@ def register(subparsers: Subparsers) -> None:
                         help="override the implicit solver (implicit-euler only)")
     parser.add_argument("--save-every", type=options.whole(1, 100_000_000), metavar="N",
                         help="override [simulation] save_every (keep every N-th step)")
-    parser.add_argument("--fps", type=options.FPS, default=30.0,
-                        help="frames per second of the animation (default 30)")
+    parser.add_argument("--fps", type=options.FPS, default=None,
+                        help="frames per second of the animation (default: real time, the "
+                             "run's own speed, as mocap animate)")
     parser.add_argument("--max-frames", type=options.whole(1, 100000), default=300, metavar="N",
                         help="draw at most N frames in the animation (default 300)")
     parser.add_argument("--no-progress", action="store_true", help="do not show a progress bar")

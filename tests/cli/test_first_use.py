@@ -78,3 +78,24 @@ def test_check_plot_names_joints_and_tells_sides_apart():
     assert knee.get_color() != left.get_color()
     legend = [text.get_text() for text in torque_axis.get_legend().get_texts()]
     assert "l_foot (ankle)" in legend
+
+
+def test_simulate_gif_plays_at_the_runs_own_speed(tmp_path, capsys):
+    from PIL import Image
+
+    gif = tmp_path / "rope.gif"
+    assert main(["simulate", "swinging-rope", "--steps", "2000", "-o", str(tmp_path / "r.npz"),
+                 "--gif", str(gif), "--no-progress"]) == 0
+    times = np.load(tmp_path / "r.npz")["times"]
+    span = len(times) * float(np.median(np.diff(times)))      # seconds the run covers
+    with Image.open(gif) as image:
+        delays = []
+        for index in range(image.n_frames):
+            image.seek(index)
+            delays.append(image.info["duration"])
+    assert all(d >= 20 and d % 10 == 0 for d in delays)        # whole centiseconds
+    assert abs(sum(delays) / 1000 - span) <= 0.1 * span + max(delays) / 1000
+    assert main(["simulate", "swinging-rope", "--steps", "2000", "-o", str(tmp_path / "f.npz"),
+                 "--gif", str(tmp_path / "f.gif"), "--fps", "5", "--no-progress"]) == 0
+    with Image.open(tmp_path / "f.gif") as image:
+        assert image.info["duration"] == 200

@@ -54,7 +54,7 @@ def test_plots_and_animations_leave_the_matplotlib_state_alone(svg_backend, tmp_
     scene.steps, scene.save_every = 4, 2
     run = tmp_path / "run.gif"
     assert render_animation(run_scene(scene, show_progress=False).arrays(), run,
-                            max_frames=3, dpi=20) == 3
+                            max_frames=3, dpi=20, fps=30.0) == 3
     with Image.open(run) as image:
         assert image.n_frames == 3 and image.size == (128, 96)
 
