@@ -32,17 +32,21 @@ def register(subparsers: Subparsers) -> None:
     """Add ``export`` and ``animate`` to ``subparsers`` (``check`` is :mod:`mocap.cli.check`)."""
     export = subparsers.add_parser(
         "export", help=summary("export"),
-        description="Convert a motion: bvh (hierarchy + channels, centimetres), csv (joint "
+        description="Convert a motion, in the format -o's suffix names (or --format): bvh "
+                    "(hierarchy + channels, centimetres unless --out-units), csv (joint "
                     "angles as mocap angles writes them, in a Z-up lab), c3d/trc (one marker per joint and "
                     "end site, Z-up lab, stored in millimetres as C3D and TRC files usually "
-                    "are), mot (OpenSim storage: root translation and "
+                    "are), mot (OpenSim storage: root translation in metres and "
                     "joint Euler angles in degrees: the csv's angles, Z-up lab), json "
-                    "(skeleton, root translation, joint quaternions and joint positions).",
-        epilog="Examples: mocap export 01_01.amc --format bvh -o 01_01.bvh;  "
-               "mocap export walk.bvh --format mot -o walk.mot")
+                    "(skeleton, root translation, joint quaternions and joint positions; "
+                    "metres, Y up).",
+        epilog="Examples: mocap export 01_01.amc -o 01_01.bvh;  "
+               "mocap export walk.bvh -o walk.mot;  mocap export walk.bvh -o walk.trc --up y")
     _motion_options(export)
-    export.add_argument("--format", "-f", required=True, choices=EXPORT_FORMATS,
-                        help="output format")
+    export.add_argument("--format", "-f", choices=EXPORT_FORMATS,
+                        help="output format (default: the one -o's suffix names, as every "
+                             "command: walk.trc is trc; needed only for an output without "
+                             "a suffix)")
     export.add_argument("-o", "--output", required=True, metavar="OUT",
                         help="output file")
     export.add_argument("--body", action="store_true",
@@ -112,7 +116,7 @@ def _report_input(args: argparse.Namespace, motion) -> None:
 def run_export(args: argparse.Namespace) -> int:
     """Handler of ``mocap export``."""
 
-    output_format(args.output, EXPORT_SUFFIXES, args.format, "--format")
+    args.format = output_format(args.output, EXPORT_SUFFIXES, args.format, "--format")
     if args.model and args.format != "mot":
         raise MocapError("--model goes with --format mot (OpenSim coordinates)")
     if args.precision is not None and args.format not in ("trc", "mot"):

@@ -99,3 +99,20 @@ def test_simulate_gif_plays_at_the_runs_own_speed(tmp_path, capsys):
                  "--gif", str(tmp_path / "f.gif"), "--fps", "5", "--no-progress"]) == 0
     with Image.open(tmp_path / "f.gif") as image:
         assert image.info["duration"] == 200
+
+
+@pytest.mark.parametrize("suffix", [".trc", ".c3d"])
+def test_export_takes_its_format_from_the_output_name(tmp_path, capsys, suffix):
+    import json
+
+    bvh = realdata_path("bandai2", "dataset-2_walk_normal_001.bvh")   # 273 frames at 30 Hz
+    out = tmp_path / f"walk{suffix}"
+    # the refusal's own advice ("or leave --format out") has to work
+    assert main(["export", str(bvh), "--format", "bvh", "-o", str(out)]) == 2
+    assert "leave --format out" in capsys.readouterr().err
+    assert main(["export", str(bvh), "-o", str(out)]) == 0
+    assert f"({suffix[1:]}, 273 frames)" in capsys.readouterr().err
+    assert main(["info", str(out), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert (summary["format"], summary["frames"], summary["rate"], summary["units"]) == \
+        (suffix[1:], 273, 30.0, "mm")
