@@ -11,7 +11,7 @@ import numpy as np
 
 from mocap.cli import options
 from mocap.cli.commands import Subparsers, summary
-from mocap.errors import MocapError, MocapWarning
+from mocap.errors import MocapError, MocapWarning, one_line
 from mocap.io import format_of, read, suffixes, write
 from mocap.io.discovery import find_files
 from mocap.progress import progress, write_line
@@ -27,10 +27,12 @@ def register(subparsers: Subparsers) -> None:
                     "duration, marker labels, units as stored, and per marker the "
                     "fraction of frames missing, the number of gaps and the longest gap. "
                     "Damaged files are reported, one line each, and make the exit "
-                    "status 2.",
+                    "status 2. A BVH or ASF/AMC skeleton motion named directly gets its rate, "
+                    "frames, duration, joints and length unit (detected as check and export "
+                    "read it).",
     )
     info.add_argument("files", nargs="+", metavar="FILE",
-                      help="marker files (.c3d, .csv, .trc, any case); a folder stands for "
+                      help="marker files (.c3d, .csv, .trc, any case) or motions (.bvh, .amc); a folder stands for "
                            "the marker files directly inside it (sub-folders are not searched)")
     info.add_argument("--json", action="store_true",
                       help="print one JSON object per file (one per line) with path, format, "
@@ -53,9 +55,11 @@ def register(subparsers: Subparsers) -> None:
                          help="file to write; its suffix picks the format (.c3d, .csv, .trc)")
     convert.add_argument("-o", "--output", dest="output", metavar="OUT",
                          help="the output file, as every command spells it (instead of OUT)")
-    convert.add_argument("--units", choices=("mm", "cm", "m"), default="mm",
+    convert.add_argument("--out-units", "--units", dest="units", choices=("mm", "cm", "m"),
+                         default="mm",
                          help="length unit stored in a C3D or TRC output (default mm; CSV "
-                              "output is always metres)")
+                              "output is always metres); spelt --out-units as in export, "
+                              "where --units is the input's")
     add_output_options(convert)
     convert.set_defaults(func=run_convert)
 
@@ -87,7 +91,8 @@ def read_marker_file(path, quiet: bool = False) -> Trial:
     file_format = format_of(path)
     if file_format.kind != "markers":
         raise MocapError(f"a {file_format.description} file holds joint motion, not "
-                         f"markers (use .c3d, .csv or .trc)", path)
+                         f"markers (use .c3d, .csv or .trc; mocap check, export and animate "
+                         f"read motions)", path)
     with warnings.catch_warnings():
         if quiet:
             warnings.simplefilter("ignore", MocapWarning)
@@ -102,27 +107,75 @@ def run_info(args: argparse.Namespace) -> int:
     if not files:
         raise MocapError("no marker files found in " + ", ".join(args.files))
     if len(files) == 1:
-        trial = read_marker_file(files[0], quiet=True)    # a MocapError becomes the CLI's one line
-        _print_summary(summarise(trial), args)
+        # a MocapError becomes the CLI's one line
+        _print_summary(_summary_of(files[0]), args)
         return 0
     status = 0
-    for path in progress(files, "reading marker files"):
+    for path in progress(files, "reading files"):
         try:
-            trial = read_marker_file(path, quiet=True)
+            summary = _summary_of(path)
         except MocapError as error:
             # One line per bad file, printed above the progress bar, and go on.
             write_line(f"mocap info: error: {error}")
             status = 2
             continue
-        _print_summary(summarise(trial), args)
+        _print_summary(summary, args)
         if not args.json:
             print()
     return status
 
 
+def _summary_of(path: Path) -> dict:
+    """``summarise`` of a marker file, or :func:`motion_summary` of a BVH or AMC."""
+    if path.suffix.lower() in (".bvh", ".amc"):
+        return motion_summary(path)
+    return summarise(read_marker_file(path, quiet=True))
+
+
+def motion_summary(path: Path) -> dict:
+    """What ``mocap info`` says of a skeleton motion (BVH, ASF/AMC): path, format, rate (Hz),
+    frames, duration (s), joints, units (the file's length unit, detected as ``check`` and
+    ``export`` read it), units_detected, height_file_units, warnings."""
+    from mocap.io.motion import read_motion   # deferred: only motion files need it
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", MocapWarning)
+        motion = read_motion(path)
+    meta = motion.metadata
+    height = meta.get("height_file_units")
+    return {"path": str(path), "format": path.suffix.lower()[1:], "rate": float(motion.rate),
+            "frames": int(motion.frames),
+            "duration": (motion.frames - 1) / motion.rate if motion.rate > 0 else None,
+            "joints": list(motion.skeleton.names), "units": meta.get("units"),
+            "units_detected": bool(meta.get("units_detected")),
+            "height_file_units": None if height is None else float(height),
+            "warnings": [one_line(str(w.message)) for w in caught
+                         if issubclass(w.category, MocapWarning)]}
+
+
+def _format_motion_summary(summary: dict) -> str:
+    joints = summary["joints"]
+    shown = ", ".join(joints[:8]) + (", …" if len(joints) > 8 else "")
+    duration = ("unknown" if summary["duration"] is None else f"{summary['duration']:.3f} s")
+    how = ("as given" if not summary["units_detected"] else
+           "detected" if summary["height_file_units"] is None else
+           f"detected from a standing height of {summary['height_file_units']:.4g} file units")
+    lines = [f"path:      {one_line(summary['path'])}",
+             f"format:    {summary['format']} (skeleton motion)",
+             f"rate:      {summary['rate']:g} Hz",
+             f"frames:    {summary['frames']} ({duration})",
+             f"joints:    {len(joints)} ({shown})",
+             f"units:     {summary['units'] or '(not stated)'} ({how}; --units of check, "
+             f"export and animate overrides)"]
+    lines += [f"warning:   {w}" for w in summary["warnings"]]
+    return "\n".join(lines)
+
+
 def _print_summary(summary: dict, args: argparse.Namespace) -> None:
     if args.json:
         print(json.dumps(summary, allow_nan=False, default=_json_default))
+    elif "joints" in summary:
+        print(_format_motion_summary(summary))
     else:
         print(format_summary(summary, list_markers=args.markers))
 

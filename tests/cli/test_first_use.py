@@ -116,3 +116,35 @@ def test_export_takes_its_format_from_the_output_name(tmp_path, capsys, suffix):
     summary = json.loads(capsys.readouterr().out)
     assert (summary["format"], summary["frames"], summary["rate"], summary["units"]) == \
         (suffix[1:], 273, 30.0, "mm")
+
+
+def test_info_summarises_a_bvh_and_an_amc(capsys):
+    import json
+    from pathlib import Path
+
+    bvh = realdata_path("bandai2", "dataset-2_walk_normal_001.bvh")
+    assert main(["info", str(bvh)]) == 0
+    out = capsys.readouterr().out
+    assert "rate:      30 Hz" in out and "frames:    273 (9.067 s)" in out
+    assert "units:     cm (detected from a standing height of 140.6 file units" in out
+    assert main(["info", str(bvh), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert (summary["format"], summary["frames"], summary["rate"], summary["units"]) == \
+        ("bvh", 273, 30.0, "cm")
+    assert summary["joints"][:2] == ["joint_Root", "Hips"]
+    amc = Path(__file__).resolve().parents[1] / "data" / "cmu_lambada.amc"
+    assert main(["info", str(amc), "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert (summary["format"], summary["frames"], summary["rate"]) == ("amc", 4, 120.0)
+    assert "lfemur" in summary["joints"]
+
+
+def test_convert_spells_the_output_unit_as_export_does(tmp_path, capsys):
+    import json
+
+    source = realdata_path("pyomeca", "markers.trc")
+    out = tmp_path / "m.trc"
+    assert main(["convert", str(source), "-o", str(out), "--out-units", "m"]) == 0
+    capsys.readouterr()
+    assert main(["info", str(out), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["units"] == "m"
