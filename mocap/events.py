@@ -298,8 +298,10 @@ def cycles_figure(cycles: Cycles, title: str = ""):
                 ax.fill_between(percent, mean[:, j, k] - sd[:, j, k],
                                 mean[:, j, k] + sd[:, j, k], color=colour, alpha=0.2,
                                 linewidth=0)
-                if np.isfinite(off):
-                    ax.axvline(off, color=colour, linestyle=":", linewidth=1)
+                if np.isfinite(off):        # named in the legend: it is not a curve
+                    ax.axvline(off, color=colour, linestyle=":", linewidth=1,
+                               label=f"{'left' if side == 'l' else 'right'} foot off "
+                                     f"({off:.0f} %)")
     for j, joint in enumerate(cycles.joints):
         for k, axis_name in enumerate(cycles.axes):
             ax = axes[j][k]
@@ -308,6 +310,7 @@ def cycles_figure(cycles: Cycles, title: str = ""):
             ax.grid(alpha=0.3)
             if k == 0:
                 ax.set_ylabel("degrees")
+            ax.tick_params(labelbottom=True)      # % gait cycle ticks on every panel
     for ax in axes[-1]:
         ax.set_xlabel("% gait cycle")
         ax.set_xlim(0, 100)

@@ -90,7 +90,8 @@ def synthesis_figure(columns: Sequence[str], captured: np.ndarray, synthesised: 
                    captured_label="captured (held out)")
     for k in range(count, rows * across):
         axes.flat[k].set_visible(False)
-    for ax in axes[-1]:
+    for ax in axes.flat:                    # cycle ticks and label on every panel
+        ax.tick_params(labelbottom=True)
         ax.set_xlabel("% of cycle", fontsize=8)
     axes.flat[0].legend(fontsize=8)
     if title:
@@ -134,8 +135,8 @@ def evaluation_figure(evaluation: Evaluation, max_cells: int = 6, max_angles: in
             plot_cycle(axes[row, col], cell.captured[:, angle], cell.synthesised[:, angle],
                        cell.baseline[:, angle],
                        evaluation.columns[angle] if row == 0 else "", ylabel)
-            if row == len(ordered) - 1:
-                axes[row, col].set_xlabel("% of cycle", fontsize=8)
+            axes[row, col].tick_params(labelbottom=True)   # ticks on every panel
+            axes[row, col].set_xlabel("% of cycle", fontsize=8)
     axes[0, 0].legend(fontsize=7, loc="best")
     figure.suptitle(f"Leave-one-out synthesis: {evaluation.synthesis_rms:.2f}° RMS vs baseline "
                     f"{evaluation.baseline_rms:.2f}°, recognition "

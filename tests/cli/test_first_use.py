@@ -148,3 +148,16 @@ def test_convert_spells_the_output_unit_as_export_does(tmp_path, capsys):
     capsys.readouterr()
     assert main(["info", str(out), "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["units"] == "m"
+
+
+def test_cycle_plot_names_the_foot_off_lines_and_ticks_every_panel():
+    from mocap.events import Cycles, cycles_figure
+
+    percent = np.linspace(0, 1, 101)[None, :, None, None]
+    values = np.sin(2 * np.pi * percent) * np.ones((2, 101, 2, 3))       # one cycle a side
+    cycles = Cycles(["l", "r"], [1, 1], [0.0, 50.0], [100.0, 150.0], [61.0, 63.0], values,
+                    ["hip", "knee"], ["flexion", "adduction", "rotation"])
+    figure = cycles_figure(cycles)
+    legend = [t.get_text() for t in figure.axes[0].get_legend().get_texts()]
+    assert "left foot off (61 %)" in legend and "right foot off (63 %)" in legend
+    assert all(ax.xaxis.get_tick_params()["labelbottom"] for ax in figure.axes)

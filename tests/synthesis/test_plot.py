@@ -51,6 +51,9 @@ def test_synthesis_figure_shows_the_chosen_columns():
     assert [ax.get_title() for ax in visible] == ["r_thigh.Y", "pelvis.Z"]
     assert np.array_equal(visible[0].get_lines()[0].get_ydata(), captured[:, 5])
     assert np.array_equal(visible[1].get_lines()[1].get_ydata(), captured[:, 0] + 1)
+    full = synthesis_figure(COLUMNS, captured, captured + 1, captured - 1)   # two rows
+    for ax in full.axes:                       # % of cycle ticks on every panel (issue 11)
+        assert ax.get_xlabel() == "% of cycle" and ax.xaxis.get_tick_params()["labelbottom"]
 
 
 def test_evaluation_figure_picks_worst_median_best_and_the_most_varying_angles(tmp_path):
@@ -61,6 +64,8 @@ def test_evaluation_figure_picks_worst_median_best_and_the_most_varying_angles(t
     rows = [figure.axes[2 * r] for r in range(3)]
     assert [ax.get_ylabel().split("\n")[0] for ax in rows] == ["p0 walk", "p4 walk", "p7 walk"]
     assert [ax.get_title() for ax in figure.axes[:2]] == ["r_thigh.Y", "r_thigh.X"]
+    for ax in figure.axes:
+        assert ax.get_xlabel() == "% of cycle" and ax.xaxis.get_tick_params()["labelbottom"]
     plot_evaluation(result, tmp_path / "loo.svg")
     assert (tmp_path / "loo.svg").read_text().lstrip().startswith("<?xml")
     assert matplotlib.get_backend() == backend
