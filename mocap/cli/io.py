@@ -217,6 +217,10 @@ def run_convert(args: argparse.Namespace) -> int:
     if "modelled" in source_trial.metadata:
         dropped.append(f"{len(source_trial.metadata['modelled']['labels'])} modelled points "
                        f"(angles, forces …)")
+    if target_format.name == "csv" and trial.frames < 2 and trial.rate > 0:
+        # a CSV's only clock is its time column: one row cannot carry a rate
+        print(f"note: not kept in {target.name}: the rate ({trial.rate:g} Hz; a CSV's time "
+              "column of one frame holds no time step)", file=sys.stderr)
     if dropped and target_format.name != "c3d":
         print(f"note: {' and '.join(dropped)} not written; {target.suffix} holds markers",
               file=sys.stderr)

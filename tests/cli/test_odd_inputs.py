@@ -5,6 +5,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
+
 from mocap.cli import main
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -104,3 +106,17 @@ def test_a_start_time_a_c3d_cannot_keep_is_said(tmp_path, capsys):
     assert "the start time -0.0333333 s" in err and "frame 1 at 0 s" in err, err
     assert main(["convert", str(tmp_path / "leg.c3d"), str(tmp_path / "again.c3d")]) == 0
     assert "start time" not in capsys.readouterr().err
+
+
+def test_a_one_frame_csv_says_it_cannot_keep_the_rate(tmp_path, capsys):
+    """A CSV's clock is its time column: a 1-frame C3D converted to CSV lost its 100 Hz
+    without a word (its reader then finds no rate; found by the c3d2 family)."""
+    from mocap.io import write
+    from mocap.trial import Trial
+    one = tmp_path / "one.c3d"
+    write(Trial(["A", "B", "C"], np.full((1, 3, 3), 0.5), 100.0, units="m"), one)
+    assert main(["convert", str(one), str(tmp_path / "one.csv")]) == 0
+    err = capsys.readouterr().err
+    assert "not kept in one.csv: the rate (100 Hz" in err, err
+    assert main(["convert", str(one), str(tmp_path / "one.trc")]) == 0
+    assert "rate" not in capsys.readouterr().err.split("wrote")[0]
