@@ -91,10 +91,15 @@ def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
     x = np.asarray(values, dtype=float)
     if not 0 < cutoff < rate / 2:
         raise MocapError(f"cutoff {cutoff} Hz must be between 0 and {rate / 2} Hz")
+    if not cutoff / (rate / 2) > 0:
+        # a denormal cut-off (5e-324 Hz): its normalised frequency underflows to 0
+        raise MocapError(f"cutoff {cutoff} Hz is too small for a rate of {rate:g} Hz")
     n = x.shape[0]
     if n < 4:
         return x.copy()
-    pad = min(n - 1, max(3 * int(np.ceil(rate / cutoff)), 3 * (order + 1)))
+    periods = rate / cutoff                 # samples per period of the cut-off (may be inf)
+    pad = n - 1 if not periods < n else min(n - 1, max(3 * int(np.ceil(periods)),
+                                                       3 * (order + 1)))
     first, last = x[:1], x[-1:]
     padded = np.concatenate([2 * first - x[pad:0:-1], x, 2 * last - x[-2:-pad - 2:-1]])
     size = padded.shape[0]

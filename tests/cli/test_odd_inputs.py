@@ -120,3 +120,10 @@ def test_a_one_frame_csv_says_it_cannot_keep_the_rate(tmp_path, capsys):
     assert "not kept in one.csv: the rate (100 Hz" in err, err
     assert main(["convert", str(one), str(tmp_path / "one.trc")]) == 0
     assert "rate" not in capsys.readouterr().err.split("wrote")[0]
+
+
+def test_a_denormal_cutoff_is_one_line(capsys):
+    """'check --lowpass 5e-324' passed the option's '> 0' and traced back in the filter
+    (OverflowError: rate / cutoff is infinite; found by the numeric2 family)."""
+    assert main(["check", str(BVH), "--json", "--lowpass", "5e-324"]) == 2
+    assert "too small for a rate of" in _one_error_line(capsys)
