@@ -161,3 +161,19 @@ def test_cycle_plot_names_the_foot_off_lines_and_ticks_every_panel():
     legend = [t.get_text() for t in figure.axes[0].get_legend().get_texts()]
     assert "left foot off (61 %)" in legend and "right foot off (63 %)" in legend
     assert all(ax.xaxis.get_tick_params()["labelbottom"] for ax in figure.axes)
+
+
+def test_export_says_which_joint_markers_would_read_back_as_gaps(tmp_path, capsys):
+    import json
+
+    bvh = realdata_path("bandai2", "dataset-2_walk_normal_001.bvh")   # joint_Root at 0, 0, 0
+    out = tmp_path / "walk.trc"
+    assert main(["export", str(bvh), "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    note = next(line for line in err.splitlines() if line.startswith("note:"))
+    assert "joint_Root (273 of 273 frames) at exactly (0, 0, 0)" in note and "gap" in note
+    assert "Hips" not in note
+    assert main(["info", str(out), "--json"]) == 0              # and so it does read back
+    assert json.loads(capsys.readouterr().out)["missing"]["joint_Root"] == 1.0
+    assert main(["export", str(bvh), "-o", str(tmp_path / "walk.bvh")]) == 0
+    assert "note:" not in capsys.readouterr().err               # BVH keeps the root as it is
