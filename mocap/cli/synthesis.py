@@ -133,6 +133,9 @@ def _load_corpus(args: argparse.Namespace):
         raise MocapError("give a corpus folder or --manifest FILE.csv")
     if args.corpus is not None and args.manifest is not None:
         raise MocapError("give either a corpus folder or --manifest, not both")
+    if getattr(args, "cycle_angle", None) is not None and not args.cycles:
+        # without --cycles each trial is one cycle: the column would be ignored
+        raise MocapError(f"--cycle-angle {args.cycle_angle} applies with --cycles only")
     corpus = load_corpus(args.corpus, args.manifest, people=args.people, actions=args.actions,
                          markerset=args.markerset, sequence=args.sequence, samples=args.samples,
                          cycles=args.cycles, cycle_column=args.cycle_angle,

@@ -127,3 +127,12 @@ def test_a_denormal_cutoff_is_one_line(capsys):
     (OverflowError: rate / cutoff is infinite; found by the numeric2 family)."""
     assert main(["check", str(BVH), "--json", "--lowpass", "5e-324"]) == 2
     assert "too small for a rate of" in _one_error_line(capsys)
+
+
+def test_cycle_angle_without_cycles_is_refused(tmp_path, capsys):
+    """Without --cycles each trial is one cycle and --cycle-angle was ignored without a word,
+    whatever it named ('--cycle-angle 1e9'; found by the numeric2 family)."""
+    assert main(["decompose", str(tmp_path), "-m", "synthetic15", "-o", str(tmp_path / "m.npz"),
+                 "--cycle-angle", "r_thigh.Y"]) == 2
+    assert "applies with --cycles only" in _one_error_line(capsys)
+    assert list(tmp_path.iterdir()) == []
