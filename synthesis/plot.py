@@ -130,8 +130,8 @@ def evaluation_figure(evaluation: Evaluation, max_cells: int = 6, max_angles: in
     axes = figure.subplots(len(ordered), len(angles), squeeze=False, sharex=True)
     for row, cell in enumerate(ordered):
         for col, angle in enumerate(angles):
-            ylabel = (f"{cell.person} {cell.action}\n{cell.synthesis_rms:.1f}° vs "
-                      f"{cell.baseline_rms:.1f}°\ndegrees") if col == 0 else ""
+            ylabel = (f"{cell.person} {cell.action}\nsynthesis {cell.synthesis_rms:.1f}°, "
+                      f"baseline {cell.baseline_rms:.1f}°\ndegrees") if col == 0 else ""
             plot_cycle(axes[row, col], cell.captured[:, angle], cell.synthesised[:, angle],
                        cell.baseline[:, angle],
                        evaluation.columns[angle] if row == 0 else "", ylabel)

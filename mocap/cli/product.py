@@ -123,7 +123,8 @@ def run_batch_command(args: argparse.Namespace) -> int:
     failed = [row for row in rows if row["status"] != "ok"]
     for row in failed:
         print(f"failed: {one_line(row['error'])}", file=sys.stderr)
-    print(f"{len(rows) - len(failed)} of {len(rows)} trials analysed"
+    print(f"{len(rows) - len(failed)} of {len(rows)} trial{'' if len(rows) == 1 else 's'} "
+          f"analysed"
           + (f", {len(failed)} failed" if failed else "")
           + (f"; table in {args.output}" if args.output else ""), file=sys.stderr)
     return 1 if failed else 0

@@ -517,7 +517,7 @@ def test_batch_on_dask_keeps_dask_s_own_warnings_to_itself(walk, tmp_path):
         done = subprocess.run([sys.executable, "-m", "mocap", "batch", str(walk), "--dask",
                                "-j", "1"], env=env, capture_output=True, text=True,
                               timeout=300)
-    assert done.returncode == 0 and done.stderr == "1 of 1 trials analysed\n", done.stderr
+    assert done.returncode == 0 and done.stderr == "1 of 1 trial analysed\n", done.stderr
 
 
 def test_segment_names_that_would_corrupt_the_angle_csv_are_refused(walk, tmp_path, capsys):

@@ -63,6 +63,8 @@ def test_evaluation_figure_picks_worst_median_best_and_the_most_varying_angles(t
     assert len(figure.axes) == 3 * 2
     rows = [figure.axes[2 * r] for r in range(3)]
     assert [ax.get_ylabel().split("\n")[0] for ax in rows] == ["p0 walk", "p4 walk", "p7 walk"]
+    # which error is which, in words (it read '0.1° vs 2.0°')
+    assert rows[0].get_ylabel().split("\n")[1] == "synthesis 0.1°, baseline 2.0°"
     assert [ax.get_title() for ax in figure.axes[:2]] == ["r_thigh.Y", "r_thigh.X"]
     for ax in figure.axes:
         assert ax.get_xlabel() == "% of cycle" and ax.xaxis.get_tick_params()["labelbottom"]
