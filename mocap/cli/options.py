@@ -121,8 +121,9 @@ def whole(minimum: int | None = None, maximum: int | None = None) -> Callable[[s
 RATE = real(minimum=1e-3, maximum=1e6)
 #: A random seed.
 SEED = whole(0, MAX_SEED)
-#: A body mass, kg.
-MASS = real(above=0, maximum=1000)
+#: A body mass, kg. The floor keeps what divides by it finite (% body weight of a
+#: denormal mass was infinite: 'check --json --mass 5e-324' traced back in json).
+MASS = real(minimum=1e-3, maximum=1000)
 #: A gap length in seconds.
 SECONDS_GAP = real(minimum=0, maximum=3600)
 #: A low-pass cut-off, Hz.
