@@ -389,9 +389,8 @@ def _tibial_torsion(kin, markers: dict, medial: np.ndarray, side: str) -> float:
     malleolar = markers[f"{S}ANK"] - medial          # medial → lateral
     if side == "r":
         malleolar = -malleolar                        # towards the left, like y
-    angle = _about(thigh[..., 1], malleolar, z)     # knee flexion axis -> malleolar axis
-    angle = angle[np.isfinite(angle)]
-    if not angle.size:
+    value = _median_angle(_about(thigh[..., 1], malleolar, z))  # knee axis -> malleolar axis
+    if value is None:
         warnings.warn(f"{S}: no static frame gives the tibial torsion; using 0",
                       MissingMarkerWarning, stacklevel=3)
         return 0.0
@@ -399,7 +398,6 @@ def _tibial_torsion(kin, markers: dict, medial: np.ndarray, side: str) -> float:
     # Plug-in Gait's sign is the opposite of this angle on the left and this angle
     # on the right: checked against the LTibialTorsion / RTibialTorsion Vicon
     # stored for 7 real statics with medial malleoli (tests/mocap/test_plugingait_vicon.py)
-    value = float(np.median(angle))
     return -value if side == "l" else value
 
 
