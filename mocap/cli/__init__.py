@@ -158,6 +158,9 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {one_line(message)} (see '{self.prog} --help')\n")
 
 
+#: Refusals of a path the user gave, whether or not they name it.
+_PATH_ERRORS = (PermissionError, IsADirectoryError, NotADirectoryError, FileExistsError,
+                FileNotFoundError)
 #: Refusals of the place itself that may come without a file name (a write that fails).
 _PLACE_ERRNOS = {errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EROFS, errno.EIO,
                  errno.ENAMETOOLONG, errno.ELOOP}
@@ -276,21 +279,15 @@ def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
         devnull = os.open(os.devnull, os.O_WRONLY)
         os.dup2(devnull, sys.stdout.fileno())
         return 1
-    except (PermissionError, IsADirectoryError, NotADirectoryError, FileExistsError,
-            FileNotFoundError) as error:
-        if interrupts.seen:
-            print(f"mocap {command}: interrupted", file=sys.stderr)
-            return 130
-        # the system refused a path the user gave: one line, like any user mistake
-        print(f"mocap {command}: error: {_os_error_line(error)}", file=sys.stderr)
-        return 2
     except OSError as error:
-        # any other refusal of a path the user gave (a name too long for the file system,
-        # a symbolic-link loop, a full or read-only disk): one line too
+        # the system refused a path the user gave (no such file, permission, a folder, a
+        # name too long for the file system, a symbolic-link loop, a full or read-only
+        # disk): one line, like any user mistake
         if interrupts.seen:
             print(f"mocap {command}: interrupted", file=sys.stderr)
             return 130
-        if getattr(error, "filename", None) is None and error.errno not in _PLACE_ERRNOS:
+        if not isinstance(error, _PATH_ERRORS) and error.errno not in _PLACE_ERRNOS \
+                and getattr(error, "filename", None) is None:
             raise
         print(f"mocap {command}: error: {_os_error_line(error)}", file=sys.stderr)
         return 2
