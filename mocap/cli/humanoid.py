@@ -11,8 +11,6 @@ import argparse
 import sys
 from pathlib import Path
 
-import numpy as np
-
 from dynamics.humanoid.tracking import simulate_tracking
 from dynamics.secondary import simulate_secondary
 from dynamics.viz.animate import animate_motion
@@ -21,7 +19,7 @@ from mocap.cli import options
 from mocap.cli.check import _motion_options
 from mocap.cli.commands import Subparsers, summary
 from mocap.cli.paths import output_format
-from mocap.errors import MocapError, one_line
+from mocap.errors import MocapError
 from mocap.io.bvh import units_note
 from mocap.io.export import EXPORT_FORMATS, export_motion
 from mocap.io.motion import read_motion
@@ -131,27 +129,14 @@ def run_export(args: argparse.Namespace) -> int:
     motion = _load(args)
     if args.body:
         motion = reduce_to_segments(motion)
-    export_motion(motion, args.output, args.format, sequence=args.sequence,
-                  model=args.model, up=args.up, precision=args.precision,
-                  units=args.out_units or "cm", round_rate=args.round_rate)
+    notes = export_motion(motion, args.output, args.format, sequence=args.sequence,
+                          model=args.model, up=args.up, precision=args.precision,
+                          units=args.out_units or "cm", round_rate=args.round_rate)
     _report_input(args, motion)
-    if args.format in ("c3d", "trc"):
-        _note_origin_joints(motion, args.output)
+    for note in notes:
+        print(f"note: {args.output}: {note}", file=sys.stderr)
     print(f"wrote {args.output} ({args.format}, {motion.frames} frames)", file=sys.stderr)
     return 0
-
-
-def _note_origin_joints(motion, output) -> None:
-    """Say which written joint markers sit exactly at the lab origin: C3D and TRC readers
-    (the toolkit's own, Qualisys's convention) read a marker at (0, 0, 0) as a gap, so a rig
-    whose root joint stays there (Bandai Namco's ``joint_Root``) reads back missing."""
-    positions = motion.forward_kinematics()[1]                 # (frames, joints, 3), metres
-    at_origin = np.all(positions == 0.0, axis=2).sum(axis=0)    # frames per joint
-    named = [f"{one_line(motion.names[j])} ({at_origin[j]} of {motion.frames} frames)"
-             for j in np.flatnonzero(at_origin)]
-    if named:
-        print(f"note: {output}: " + ", ".join(named) + " at exactly (0, 0, 0), which C3D "
-              "and TRC readers (mocap's too) read as a gap", file=sys.stderr)
 
 
 def run_animate(args: argparse.Namespace) -> int:

@@ -15,7 +15,7 @@ from scipy.spatial.transform import Rotation
 from mocap.atomic import atomic_path
 from mocap.body.angles import motion_joint_angles
 from mocap.body.retarget import Z_UP_TO_Y_UP
-from mocap.errors import MocapError
+from mocap.errors import MocapError, one_line
 from mocap.io import write
 from mocap.io.angles_csv import write_angles_csv
 from mocap.io.bvh import write_bvh
@@ -31,7 +31,7 @@ EXPORT_FORMATS = ("bvh", "csv", "c3d", "trc", "mot", "json")
 def export_motion(motion, path: str | Path, file_format: str, sequence: str = "ZXY",
                   model: str | None = None, up: str = "z",
                   precision: int | None = None, units: str = "cm",
-                  round_rate: bool = False) -> None:
+                  round_rate: bool = False) -> list[str]:
     """Write a motion in one of :data:`EXPORT_FORMATS` (all-or-nothing).
 
     Parameters
@@ -55,7 +55,17 @@ def export_motion(motion, path: str | Path, file_format: str, sequence: str = "Z
         Length unit of a BVH output (Blender works in metres).
     round_rate : bool
         Resample a BVH output to the nearest whole frame rate (default: kept exactly).
+
+    Returns
+    -------
+    list of str
+        Notes on what a reader of the file will see differently: for ``c3d`` and
+        ``trc``, the joint markers written at exactly the lab origin (C3D and TRC
+        readers, the toolkit's own and Qualisys's convention, read a marker at
+        (0, 0, 0) as a gap, so a rig whose root joint stays there, Bandai Namco's
+        ``joint_Root``, reads back missing).
     """
+    notes: list[str] = []
     if file_format == "bvh":
         write_bvh(motion, path, units=units, round_rate=round_rate)
     elif file_format == "mot" and model:
@@ -72,6 +82,12 @@ def export_motion(motion, path: str | Path, file_format: str, sequence: str = "Z
         trial = rotate_trial(Trial(labels, points, motion.rate, units="m",
                                    format=file_format), up)
         write(trial, path, **({"precision": precision} if file_format == "trc" else {}))
+        at_origin = np.all(world[1] == 0.0, axis=2).sum(axis=0)      # frames per joint
+        named = [f"{one_line(motion.names[j])} ({at_origin[j]} of {motion.frames} frames)"
+                 for j in np.flatnonzero(at_origin)]
+        if named:
+            notes.append(", ".join(named) + " at exactly (0, 0, 0), which C3D and TRC "
+                         "readers (mocap's too) read as a gap")
     elif file_format == "json":
         sk = motion.skeleton
         quats = Rotation.from_matrix(motion.rotations.reshape(-1, 3, 3)).as_quat()
@@ -93,3 +109,4 @@ def export_motion(motion, path: str | Path, file_format: str, sequence: str = "Z
     else:
         raise MocapError(f"unknown export format {file_format!r}: use one of "
                          + ", ".join(EXPORT_FORMATS))
+    return notes
