@@ -19,9 +19,9 @@ import warnings
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from mocap.angles import (GimbalLockWarning, joint_angles, matrices_to_angles,
+from mocap.rotations.angles import (GimbalLockWarning, joint_angles, matrices_to_angles,
                           relative_rotations)
-from mocap.frames import segment_frames
+from mocap.rotations.frames import segment_frames
 from mocap.markersets import load_markerset
 from mocap.trial import Trial
 
@@ -141,10 +141,10 @@ def plugingait_throughput(frames: int, repeats: int) -> None:
     tiled to ``frames`` frames (skipped without ../shared/realdata)."""
     from pathlib import Path
 
-    from mocap.calibration import calibrate
-    from mocap.clinical import plugingait_angles
+    from mocap.plugingait.calibration import calibrate
+    from mocap.plugingait.clinical import plugingait_angles
     from mocap.io import read
-    from mocap.plugingait import JOINTS, SIDES, subject_from_trial
+    from mocap.plugingait.model import JOINTS, SIDES, subject_from_trial
 
     root = Path(__file__).resolve().parents[1].parent / "shared" / "realdata" / \
         "biomechzoo_sample_study" / "HC002D"

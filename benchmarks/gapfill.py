@@ -3,14 +3,14 @@
 Every Plug-in Gait walk in ../shared/realdata with Vicon's angles and a static of the
 same subject (the walks of tests/mocap/test_plugingait_vicon.py) has each model marker
 blanked for ``--gap`` frames at each ``--at`` fraction of the trial, filled with
-:func:`mocap.clinical.fill_plugingait`, and its clinical angles compared with those of
+:func:`mocap.plugingait.clinical.fill_plugingait`, and its clinical angles compared with those of
 the recorded data.  Prints, per marker, the median, 90th percentile and worst over walks
 and positions of the worst joint-plane RMS inside the gap (degrees), the count over 1
 degree, and whether any angle outside a gap changed (it must not).  ``--plain`` measures
 the fill without the regression (the marker's coordinates about its two points
 interpolated alone) and with the spline rehearsal.  ``--lowpass HZ`` prints a second
 table, of the same gaps after the low-pass a gait lab applies before the model
-(:func:`mocap.filtering.lowpass`, order 4, after filling, to the recorded trial and to
+(:func:`mocap.clean.filtering.lowpass`, order 4, after filling, to the recorded trial and to
 the filled one alike); the raw table is still printed first.
 
     PYTHONPATH=$PWD python benchmarks/gapfill.py [--gap 20] [--at 0.3,0.5,0.7] [--plain]
@@ -24,9 +24,9 @@ import warnings
 
 import numpy as np
 
-import mocap.gapfill
-from mocap.clinical import fill_plugingait, plugingait_angles, plugingait_labels, prepare_subject
-from mocap.filtering import lowpass
+import mocap.clean.gapfill
+from mocap.plugingait.clinical import fill_plugingait, plugingait_angles, plugingait_labels, prepare_subject
+from mocap.clean.filtering import lowpass
 from mocap.io import read
 from mocap.trial import Trial
 from tests.conftest import REALDATA
@@ -105,13 +105,13 @@ def main() -> None:
     parser.add_argument("--plain", action="store_true")
     parser.add_argument("--lowpass", type=float, default=None, metavar="HZ")
     args = parser.parse_args()
-    if args.plain:             # fill_plugingait looks fill_gaps up in mocap.gapfill when called
-        fill = mocap.gapfill.fill_gaps
+    if args.plain:             # fill_plugingait looks fill_gaps up in mocap.clean.gapfill when called
+        fill = mocap.clean.gapfill.fill_gaps
 
         def plain(*a, **k):
             k.update(correlate=False, rehearse=True)
             return fill(*a, **k)
-        mocap.gapfill.fill_gaps = plain
+        mocap.clean.gapfill.fill_gaps = plain
     t0 = time.perf_counter()
     worst, leaks, filtered = measure(args.gap, tuple(float(a) for a in args.at.split(",")),
                                      args.lowpass)

@@ -10,10 +10,10 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass, field
 
-from mocap.angles import DEFAULT_SEQUENCE, JointAngles, joint_angles
+from mocap.rotations.angles import DEFAULT_SEQUENCE, JointAngles, joint_angles
 from mocap.errors import MocapError
-from mocap.filtering import lowpass
-from mocap.gapfill import GapReport, fill_gaps
+from mocap.clean.filtering import lowpass
+from mocap.clean.gapfill import GapReport, fill_gaps
 from mocap.io import read
 from mocap.markersets import MarkerSet
 from mocap.trial import Trial
@@ -26,7 +26,7 @@ class Cleaning:
     Attributes
     ----------
     max_gap_seconds, max_gap_frames : float, int, optional
-        Fill marker gaps up to this long (:func:`mocap.gapfill.fill_gaps`, rigid with the
+        Fill marker gaps up to this long (:func:`mocap.clean.gapfill.fill_gaps`, rigid with the
         segment's other markers, else a cubic spline); give one or neither.
     lowpass_hz : float, optional
         Zero-lag Butterworth low-pass cut-off of the markers, Hz (after gap filling).
@@ -34,7 +34,7 @@ class Cleaning:
         Butterworth order (run forward and backward: the response is squared).
     short_runs : str
         With ``lowpass_hz``, valid runs too short to filter: ``"error"``, ``"keep"`` or
-        ``"drop"`` (see :func:`mocap.filtering.lowpass`).
+        ``"drop"`` (see :func:`mocap.clean.filtering.lowpass`).
     """
 
     max_gap_seconds: float | None = None

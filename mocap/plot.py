@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 
-from mocap.angles import JointAngles, axis_names
+from mocap.rotations.angles import JointAngles, axis_names
 from mocap.atomic import atomic_path
 
 

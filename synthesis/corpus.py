@@ -3,7 +3,7 @@
 A *corpus* is a set of trials, each labelled with a person and an action: a folder of files
 named ``<person>_<action>[_<anything>].<c3d|csv|trc|bvh|amc>`` (sub-folders such as ``truth/``
 are ignored) or a manifest CSV with columns ``path,person,action``. Each trial becomes joint
-angles (``mocap.angles.joint_angles`` with a marker set; read directly from an angle CSV),
+angles (``mocap.rotations.angles.joint_angles`` with a marker set; read directly from an angle CSV),
 then one gait cycle of ``samples`` frames per angle (unwrapping, one cycle per trial or cycle
 detection, branch: see :mod:`synthesis.cycles`). A corpus of skeleton trials only (BVH,
 ASF/AMC) is read by :mod:`synthesis.skeletons` instead: the rig's own joints (or the body model
@@ -25,7 +25,7 @@ from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
-from mocap.angles import axis_names, check_sequence, unwrap_columns
+from mocap.rotations.angles import axis_names, check_sequence, unwrap_columns
 from mocap.body.angles import motion_joint_angles
 from mocap.body.segments import read_joint_map
 from mocap.errors import MocapError
@@ -156,7 +156,7 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
 
     Returns
     -------
-    mocap.angles.JointAngles
+    mocap.rotations.angles.JointAngles
         ``values`` (frames, segments, 3) degrees, ``times`` (frames,) seconds.
     """
     path = Path(path)

@@ -3,7 +3,7 @@
 One trial's angle curves (frames, columns) become one gait cycle of ``samples`` frames
 (:func:`normalise_cycles`):
 
-* **Unwrapping** (:func:`mocap.angles.unwrap_columns`). Every angle is unwrapped (no ±180° jumps) before
+* **Unwrapping** (:func:`mocap.rotations.angles.unwrap_columns`). Every angle is unwrapped (no ±180° jumps) before
   interpolation, over the samples where it is defined (NaN where markers were missing); gaps
   are bridged by linear interpolation of the unwrapped angle (:func:`interpolate_missing`).
 * **One cycle per trial** (default): the whole trial is the cycle; it is resampled linearly to
@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 from scipy.signal import find_peaks
 
-from mocap.angles import unwrap_columns
+from mocap.rotations.angles import unwrap_columns
 from mocap.errors import MocapError, MocapWarning
 from synthesis.rotations import yaw_matrices
 

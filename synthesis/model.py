@@ -21,7 +21,7 @@ from typing import Sequence
 
 import numpy as np
 
-from mocap.angles import JointAngles
+from mocap.rotations.angles import JointAngles
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.io.motion import read_motion
@@ -349,7 +349,7 @@ class MotionModel:
 
     def synthesize_angles(self, person: str | None, action: str,
                           signature: "Signature | None" = None, samples: int | None = None):
-        """:meth:`synthesize` as :class:`mocap.angles.JointAngles` whose times span the duration."""
+        """:meth:`synthesize` as :class:`mocap.rotations.angles.JointAngles` whose times span the duration."""
         curve, duration = self.synthesize(person, action, signature, samples)
         times = np.linspace(0.0, duration, curve.shape[0])
         return JointAngles(times=times, values=curve.reshape(curve.shape[0], -1, 3),
@@ -361,7 +361,7 @@ class MotionModel:
 
         Parameters
         ----------
-        angles : mocap.angles.JointAngles
+        angles : mocap.rotations.angles.JointAngles
 
         Returns
         -------

@@ -40,8 +40,8 @@ import numpy as np
 
 from mocap.body.retarget import reduce_to_segments
 from mocap.errors import MocapError
-from mocap.filtering import butterworth_lowpass
-from mocap.quaternions import quaternions_to_matrices
+from mocap.clean.filtering import butterworth_lowpass
+from mocap.rotations.quaternions import quaternions_to_matrices
 from mocap.skeleton import Motion
 
 from dynamics.humanoid.contact import (ballistic_runs, calibrate_contacts, estimate_floor,

@@ -2,7 +2,7 @@
 
 q, v, a for Pinocchio (DESIGN 3.5 step 1): quaternions made sign-continuous, optionally
 low-passed (zero-lag Butterworth), smoothed and differentiated with a Savitzky–Golay filter
-(:mod:`mocap.filtering`, numpy only; exact for constant, linear and quadratic
+(:mod:`mocap.clean.filtering`, numpy only; exact for constant, linear and quadratic
 motion, so a still pose and a free fall are known answers); angular velocity and
 acceleration in each joint's frame are ``2 Im(q* ⊗ q̇)`` and ``2 Im(q* ⊗ q̈)``; the root's
 linear velocity is in its own frame (Pinocchio's free-flyer convention). Tests compare
@@ -15,8 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from mocap.errors import MocapError
-from mocap.filtering import butterworth_lowpass, savgol
-from mocap.quaternions import matrices_to_quaternions, quaternions_to_matrices
+from mocap.clean.filtering import butterworth_lowpass, savgol
+from mocap.rotations.quaternions import matrices_to_quaternions, quaternions_to_matrices
 from mocap.skeleton import Motion
 
 from dynamics.humanoid.model import Humanoid
@@ -76,7 +76,7 @@ class Kinematics:
 def lowpass_filter(values: np.ndarray, cutoff: float, rate: float, axis: int = 0
                    ) -> np.ndarray:
     """Zero-lag 2nd-order Butterworth low-pass (as ``filtfilt``, so 4th order overall,
-    the usual gait-analysis filter) along ``axis`` (:func:`mocap.filtering.butterworth_lowpass`)."""
+    the usual gait-analysis filter) along ``axis`` (:func:`mocap.clean.filtering.butterworth_lowpass`)."""
     if not 0 < cutoff < rate / 2:
         raise MocapError(f"--lowpass must be between 0 and half the frame rate "
                          f"({rate / 2:g} Hz), got {cutoff:g}")

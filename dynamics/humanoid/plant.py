@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.signal import butter, sosfiltfilt
 
-from mocap.angles import JointAngles
+from mocap.rotations.angles import JointAngles
 from mocap.body.angles import motion_from_angles
 from mocap.body.anthropometry import foot_points
 from mocap.body.planting import planted_translation
@@ -69,7 +69,7 @@ def motion_from_cycle(angles, skeleton=None, cycles: int = 1, up: str = "z") -> 
 
     Parameters
     ----------
-    angles : mocap.angles.JointAngles
+    angles : mocap.rotations.angles.JointAngles
         One cycle: ``values`` (samples, segments, 3) degrees, ``times`` seconds.
     skeleton : mocap.skeleton.Skeleton, optional
         The body to put the angles on (default :func:`mocap.skeleton.default_skeleton`).

@@ -31,7 +31,7 @@ import numpy as np
 
 from mocap.body.retarget import Z_UP_TO_Y_UP
 from mocap.errors import MocapError
-from mocap.filtering import butterworth_lowpass
+from mocap.clean.filtering import butterworth_lowpass
 from mocap.io.c3d.forceplates import plate_forces
 from mocap.trial import runs
 

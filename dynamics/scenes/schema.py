@@ -15,7 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from mocap.errors import MocapError
-from mocap.io.text_table import parse_toml, read_text
+from mocap.io.text_table import read_text
+from mocap.tomlfile import parse_toml
 
 #: Largest magnitude of any number in a scene (SI units: metres, kg, N/m, s, K ...). Far
 #: beyond every scene's scale, and small enough that sizes cubed, spacings to the 12th power

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mocap.angles import JointAngles, matrices_to_angles, unwrap_angles
+from mocap.rotations.angles import JointAngles, matrices_to_angles, unwrap_angles
 from mocap.body.retarget import motion_to_lab, reduce_to_segments, up_matrix
 from mocap.body.segments import default_skeleton
 from mocap.errors import MocapError
@@ -18,7 +18,7 @@ from mocap.skeleton import Motion, Skeleton, frame_rate
 
 
 def motion_joint_angles(motion: Motion, sequence: str = "ZXY", body: bool = True):
-    """Joint angles of a motion as ``mocap.angles.JointAngles`` (``docs/formats/angles-csv.md`` convention).
+    """Joint angles of a motion as ``mocap.rotations.angles.JointAngles`` (``docs/formats/angles-csv.md`` convention).
 
     Rotations are expressed in a Z-up lab (X anterior, Y left), like angles computed from
     markers, so BVH and ASF/AMC trials can join a marker corpus (``mocap decompose``).
@@ -41,7 +41,7 @@ def motion_joint_angles(motion: Motion, sequence: str = "ZXY", body: bool = True
 
 def motion_from_angles(angles, skeleton: Skeleton | None = None,
                        root_translation: np.ndarray | None = None, up: str = "z") -> Motion:
-    """A :class:`Motion` from joint angles (``mocap.angles.JointAngles``) on a skeleton.
+    """A :class:`Motion` from joint angles (``mocap.rotations.angles.JointAngles``) on a skeleton.
 
     Parameters
     ----------

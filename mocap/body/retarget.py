@@ -1,7 +1,7 @@
 """Motions on a skeleton built from other data: world segment frames, marker trials, and
 foreign skeletons (BVH, ASF) moved onto the 15-segment body; and back to a Z-up lab.
 
-* :func:`motion_from_frames` — world segment frames (``mocap.frames``) → :class:`Motion`;
+* :func:`motion_from_frames` — world segment frames (``mocap.rotations.frames``) → :class:`Motion`;
 * :func:`motion_from_trial` — a marker trial and its marker set → :class:`Motion`, with end
   sites from the markers and the soles calibrated on the floor;
 * :func:`reduce_to_segments` — a BVH/ASF motion with any joint names → the body's segments;
@@ -14,7 +14,7 @@ import numpy as np
 from mocap.body.segments import (BODY_SEGMENTS, LOWER_BODY, body_parents, canonical_segment,
                                  describe_mapping, map_segments)
 from mocap.errors import MocapError
-from mocap.frames import segment_frames
+from mocap.rotations.frames import segment_frames
 from mocap.markersets import load_markerset
 from mocap.skeleton import Motion, Skeleton
 
@@ -68,7 +68,7 @@ def _fill_linear(values: np.ndarray) -> np.ndarray:
 def motion_from_frames(rotations: np.ndarray, origins: np.ndarray, names: list[str],
                        parents: list[int], rate: float, up: str = "z",
                        metadata: dict | None = None) -> Motion:
-    """A :class:`Motion` from world segment frames (as given by ``mocap.frames``).
+    """A :class:`Motion` from world segment frames (as given by ``mocap.rotations.frames``).
 
     Offsets are the child's origin in the parent's frame, averaged over the frames where
     both are seen; end sites are not known from frames alone and are left empty (NaN).

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from mocap.errors import MocapError
-from mocap.io.text_table import parse_toml
+from mocap.tomlfile import parse_toml
 from mocap.skeleton import Skeleton
 
 #: The 15 segments of the project's body model, in model order (parents first).

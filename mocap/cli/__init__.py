@@ -97,7 +97,7 @@ def _warning_printer(command: str):
     defined in mocap, synthesis or dynamics) are its findings, ``mocap CMD: warning:
     <file>: <message>``. Any other (numpy's ``RuntimeWarning``, a library's
     ``UserWarning``) is not a finding about the input: it says its class and where it
-    arose, ``mocap CMD: warning: RuntimeWarning in mocap/filtering.py:88: <message>``,
+    arose, ``mocap CMD: warning: RuntimeWarning in mocap/clean/filtering.py:88: <message>``,
     instead of Python's two lines with the source line.
     """
     seen: set[str] = set()
@@ -115,7 +115,7 @@ def _warning_printer(command: str):
 
 def _source_of(filename: str) -> str:
     """A source file as a user can place it: inside its package (``numpy/linalg/…``,
-    ``mocap/filtering.py``), else its name.
+    ``mocap/clean/filtering.py``), else its name.
 
     >>> _source_of("/venv/lib/python3.12/site-packages/scipy/signal/_filter_design.py")
     'scipy/signal/_filter_design.py'

@@ -7,7 +7,7 @@ import sys
 import warnings
 from pathlib import Path
 
-from mocap.angles import GimbalLockWarning, check_sequence
+from mocap.rotations.angles import GimbalLockWarning, check_sequence
 from mocap.cli import options
 from mocap.io.angles_csv import write_angles_csv
 from mocap.cli.commands import Subparsers, summary
@@ -199,9 +199,9 @@ def _angles_one(source: Path, target: Path, plot: Path | None, markerset,
         if plot is not None:
             plot_angles(angles, plot, title=f"{source.name} (segment poses, {args.sequence})")
         return
-    from mocap.clinical import estimate_missing
+    from mocap.plugingait.clinical import estimate_missing
     from mocap.markersets.model import MissingMarkerWarning
-    from mocap.plugingait import (MARKERS, AnatomicalOffsetWarning, MissingMeasurementError,
+    from mocap.plugingait.model import (MARKERS, AnatomicalOffsetWarning, MissingMeasurementError,
                                   markers_from_trial, subject_from_trial)
 
     trial = _read_marker_trial(source)
@@ -248,7 +248,7 @@ def _angles_one(source: Path, target: Path, plot: Path | None, markerset,
                                  warning.lineno)
     cycles = None
     if args.cycles is not None:
-        from mocap.events import check_events, gait_events, normalise_cycles
+        from mocap.plugingait.events import check_events, gait_events, normalise_cycles
 
         cycles = normalise_cycles(angles, gait_events(trial))
         check_events(cycles, str(source))
@@ -266,7 +266,7 @@ def _clinical_angles(trial, args: argparse.Namespace):
     import numpy as np
 
     from mocap.clean import lowpass
-    from mocap.clinical import (fill_plugingait, plugingait_angles, plugingait_labels,
+    from mocap.plugingait.clinical import (fill_plugingait, plugingait_angles, plugingait_labels,
                                 prepare_subject)
     from mocap.trial import Trial
 
@@ -288,7 +288,7 @@ def _clinical_angles(trial, args: argparse.Namespace):
 def _write_cycles(cycles, source: Path, args: argparse.Namespace) -> None:
     """The tidy cycles CSV and its mean ± SD plot beside it (.png)."""
     from mocap.atomic import atomic_path, make_folder
-    from mocap.events import cycles_figure, write_cycles_csv
+    from mocap.plugingait.events import cycles_figure, write_cycles_csv
 
     where = Path(args.cycles)
     csv_path = where / f"{source.stem}.csv" if args.cycles_folder else where

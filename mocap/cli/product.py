@@ -7,7 +7,7 @@ import os
 import sys
 import warnings
 
-from mocap.angles import check_sequence
+from mocap.rotations.angles import check_sequence
 from mocap.atomic import atomic_path
 from mocap.batch import rows_to_csv, run_batch
 from mocap.cli.batch_rows import BASE_COLUMNS, CHECK_COLUMNS, analyse_trial, find_trials

@@ -17,7 +17,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from dynamics.humanoid.plant import motion_from_cycle
-from mocap.angles import JointAngles
+from mocap.rotations.angles import JointAngles
 from mocap.cli import options
 from mocap.io.angles_csv import write_angles_csv
 from mocap.cli.commands import Subparsers, summary

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mocap.angles import CLINICAL_AXES, SEQUENCES, JointAngles, axis_names
+from mocap.rotations.angles import CLINICAL_AXES, SEQUENCES, JointAngles, axis_names
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.io.text_table import check_label, read_text, write_table

@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mocap.angles import unwrap_columns
+from mocap.rotations.angles import unwrap_columns
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError, reading
 from mocap.io.c3d.read import unique_labels

@@ -4,7 +4,7 @@
 ``e1 = unit(p2 - p1)``, ``e3 = unit(e1 x (p3 - p1))``, ``e2 = e3 x e1`` and the
 segment's rotation is ``[e1 e2 e3]`` (columns), its origin ``p1``
 (:func:`frame_from_markers`; :func:`frame_components` is its component-major fast path used
-by :mod:`mocap.frames`). A segment's optional ``axes`` entry relabels those columns with a
+by :mod:`mocap.rotations.frames`). A segment's optional ``axes`` entry relabels those columns with a
 signed permutation (:func:`axes_matrix`).
 """
 from __future__ import annotations

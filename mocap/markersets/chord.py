@@ -1,5 +1,5 @@
 """Plug-in Gait's chord function: a joint centre from a wand, the proximal joint centre and
-the marker on the joint (the knee and ankle joint centres of :mod:`mocap.plugingait` and of
+the marker on the joint (the knee and ankle joint centres of :mod:`mocap.plugingait.model` and of
 the marker sets' ``joint_centre`` virtual markers), and the subject values it takes from a
 trial's PROCESSING group.
 """

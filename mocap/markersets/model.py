@@ -332,7 +332,7 @@ class MarkerSet:
                 continue  # not needed by any segment (check_trial passed)
             keep = None
             if v.type == "hip_joint_centre" and trial.metadata.get("filled"):
-                from mocap.gapfill import recorded_frames
+                from mocap.clean.gapfill import recorded_frames
                 keep = [recorded_frames(trial, sources(i)) for i in v.inputs]
             value = virtual_positions(v, get, trial, keep)
             if existing is not None and labels[existing] == v.name:

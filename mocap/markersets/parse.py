@@ -78,7 +78,7 @@ from typing import Any
 import numpy as np
 
 from mocap.errors import MocapError, reading
-from mocap.io.text_table import parse_toml
+from mocap.tomlfile import parse_toml
 from mocap.markersets.axes import AXIS_NAMES, axes_matrix
 from mocap.markersets.model import MarkerSet, Segment, VirtualMarker
 from mocap.markersets.virtual import HJC_METHODS, JOINT_CENTRES, VIRTUAL_TYPES

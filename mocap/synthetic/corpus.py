@@ -7,7 +7,7 @@ from typing import Sequence
 import numpy as np
 
 from mocap import io
-from mocap.angles import JointAngles, matrices_to_angles
+from mocap.rotations.angles import JointAngles, matrices_to_angles
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.io.angles_csv import write_angles_csv
@@ -120,7 +120,7 @@ def _add_gaps(points: np.ndarray, fraction: float, rng: np.random.Generator) -> 
 # --------------------------------------------------------------------------- corpus
 
 def truth_angles(truth: GroundTruth, sequence: str = "ZXY"):
-    """Ground-truth joint angles of a trial in ``sequence``, as a :class:`mocap.angles.JointAngles`."""
+    """Ground-truth joint angles of a trial in ``sequence``, as a :class:`mocap.rotations.angles.JointAngles`."""
     values = matrices_to_angles(truth.rotations, sequence)
     times = np.arange(truth.rotations.shape[0]) / truth.rate
     return JointAngles(times=times, values=values, segments=list(SEGMENT_NAMES),

@@ -8,11 +8,11 @@ from PIL import Image
 
 from mocap.io.angles_csv import read_angles_csv
 from mocap.cli import main
-from mocap.clinical import plugingait_angles
-from mocap.events import FOOT_STRIKE, detect_events, events_from_file
+from mocap.plugingait.clinical import plugingait_angles
+from mocap.plugingait.events import FOOT_STRIKE, detect_events, events_from_file
 from mocap.io import read, write
 from mocap.markersets.model import MissingMarkerWarning
-from mocap.plugingait import AnatomicalOffsetWarning
+from mocap.plugingait.model import AnatomicalOffsetWarning
 from mocap.trial import Trial
 from tests.conftest import realdata_path
 
@@ -139,8 +139,8 @@ def test_detected_events_agree_with_the_labelled_ones():
 def test_cycles_are_resampled_strike_to_strike_at_101_points():
     """A known answer: angles that ramp linearly in frames give, at p % of a cycle
     from strike a to strike b, exactly a + p (b - a) / 100."""
-    from mocap.angles import JointAngles
-    from mocap.events import FOOT_OFF, GaitEvent, normalise_cycles
+    from mocap.rotations.angles import JointAngles
+    from mocap.plugingait.events import FOOT_OFF, GaitEvent, normalise_cycles
 
     frames = 300
     ramp = np.arange(frames, dtype=float)

@@ -2,7 +2,7 @@
 
 scipy.spatial.transform costs about 0.4 s of CPU to import and numba 0.5 s to import and
 load its cache: together more than the whole angle computation of 100 000 frames × 15
-segments. Euler angles come from closed forms (:mod:`mocap.euler`) and large CSV tables are
+segments. Euler angles come from closed forms (:mod:`mocap.rotations.euler`) and large CSV tables are
 written by numpy (:func:`mocap.io.text_table._format_block`). A structural test, not a
 timed one.
 """
@@ -12,7 +12,7 @@ import warnings
 
 import numpy as np
 
-from mocap.angles import GimbalLockWarning, joint_angles
+from mocap.rotations.angles import GimbalLockWarning, joint_angles
 from mocap.io import read, write
 from mocap.io.angles_csv import read_angles_csv
 from mocap.markersets import load_markerset

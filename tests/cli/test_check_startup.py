@@ -2,8 +2,8 @@
 
 scipy.spatial.transform alone costs about 0.4 s of CPU to import (more than the whole
 check of a real walk without it), scipy.signal more, numba and matplotlib 0.3 s each; the
-check of a C3D trial needs none of them (quaternions in numpy, :mod:`mocap.quaternions`;
-the low-pass in numpy, :mod:`mocap.filtering`). A structural test, not a timed one.
+check of a C3D trial needs none of them (quaternions in numpy, :mod:`mocap.rotations.quaternions`;
+the low-pass in numpy, :mod:`mocap.clean.filtering`). A structural test, not a timed one.
 """
 from __future__ import annotations
 

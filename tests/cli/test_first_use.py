@@ -151,7 +151,7 @@ def test_convert_spells_the_output_unit_as_export_does(tmp_path, capsys):
 
 
 def test_cycle_plot_names_the_foot_off_lines_and_ticks_every_panel():
-    from mocap.events import Cycles, cycles_figure
+    from mocap.plugingait.events import Cycles, cycles_figure
 
     percent = np.linspace(0, 1, 101)[None, :, None, None]
     values = np.sin(2 * np.pi * percent) * np.ones((2, 101, 2, 3))       # one cycle a side

@@ -394,7 +394,7 @@ def test_check_names_torques_the_same_way_in_text_and_json(capsys):
 
 
 def test_angle_plots_have_time_ticks_on_every_panel():
-    from mocap.angles import JointAngles
+    from mocap.rotations.angles import JointAngles
     from mocap.plot import angles_figure
     angles = JointAngles(times=np.arange(20) / 10.0, values=np.zeros((20, 4, 3)),
                          segments=["a", "b", "c", "d"], sequence="ZXY", parents=[-1, 0, 1, 2])

@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from mocap.angles import JointAngles
+from mocap.rotations.angles import JointAngles
 from mocap.io.angles_csv import read_angles_csv, write_angles_csv
 from mocap.cli import main
 from tests.synthesis.test_model import SEGMENTS, multilinear_corpus

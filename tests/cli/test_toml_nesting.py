@@ -10,7 +10,7 @@ from dynamics.scenes.schema import read_scene_document
 from mocap.body.segments import read_joint_map
 from mocap.errors import MocapError
 from mocap.io.c3d.rotations import load_parents
-from mocap.io.text_table import TOML_MAX_DEPTH, parse_toml
+from mocap.tomlfile import TOML_MAX_DEPTH, parse_toml
 from mocap.markersets.parse import load_markerset
 
 READERS = {"scene": read_scene_document, "marker set": load_markerset,

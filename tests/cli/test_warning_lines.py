@@ -8,7 +8,7 @@ import warnings
 import numpy as np
 import scipy.signal
 
-from mocap.angles import GimbalLockWarning
+from mocap.rotations.angles import GimbalLockWarning
 from mocap.cli import _warning_printer
 from mocap.errors import MocapWarning
 
@@ -55,7 +55,7 @@ def test_commands_met_by_the_hostile_run_raise_no_numpy_warning(tmp_path, capsys
     import csv
 
     from mocap.cli import main
-    from mocap.filtering import butterworth_lowpass
+    from mocap.clean.filtering import butterworth_lowpass
     from tests.conftest import realdata_path
 
     trial = realdata_path("biomechzoo_sample_study", "HC002D", "Straight", "HC002D06.c3d")

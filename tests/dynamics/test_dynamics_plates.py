@@ -232,7 +232,7 @@ def test_a_step_up_stands_on_its_own_floor_level():
 def test_filters_match_scipy():
     from scipy.signal import butter, filtfilt, savgol_filter
 
-    from mocap.filtering import butterworth_lowpass, savgol
+    from mocap.clean.filtering import butterworth_lowpass, savgol
 
     x = np.cumsum(np.random.default_rng(0).normal(size=(300, 4, 3)), axis=0)
     for deriv in (0, 1, 2):

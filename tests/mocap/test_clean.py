@@ -144,7 +144,7 @@ def test_lowpass_errors_and_short_runs():
 def test_rigid_fill_keeps_a_fast_turning_segment_rigid():
     """A 30-frame gap in one marker of a segment spinning at 1.5 turns per second:
     its two donors keep it on the body (< 1 mm), a spline cuts the corner."""
-    from mocap.frames import segment_frames
+    from mocap.rotations.frames import segment_frames
     from mocap.markersets import load_markerset
 
     rate, frames = 100.0, 200

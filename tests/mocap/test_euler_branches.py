@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from mocap.angles import (SEQUENCES, GimbalLockWarning, angles_to_matrices, is_proper_euler,
+from mocap.rotations.angles import (SEQUENCES, GimbalLockWarning, angles_to_matrices, is_proper_euler,
                           joint_angles, unwrap_columns, unwrap_turns)
 from mocap.markersets import markerset_from_dict
 from mocap.trial import Trial

@@ -1,11 +1,11 @@
-"""The one home of the low-pass and smoothing filters (mocap.filtering), on known answers."""
+"""The one home of the low-pass and smoothing filters (mocap.clean.filtering), on known answers."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
 from mocap.errors import MocapError
-from mocap.filtering import butterworth_lowpass, savgol
+from mocap.clean.filtering import butterworth_lowpass, savgol
 
 RATE, CUTOFF = 100.0, 6.0
 

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from mocap.angles import SEQUENCES, GimbalLockWarning, JointAngles, angles_to_matrices, axis_names, is_proper_euler, joint_angles, matrices_to_angles, relative_rotations, unwrap_angles
+from mocap.rotations.angles import SEQUENCES, GimbalLockWarning, JointAngles, angles_to_matrices, axis_names, is_proper_euler, joint_angles, matrices_to_angles, relative_rotations, unwrap_angles
 from mocap.io.angles_csv import read_angles_csv, write_angles_csv
 from mocap.errors import MocapError
-from mocap.frames import segment_frames
+from mocap.rotations.frames import segment_frames
 from mocap.io import read
 from mocap.markersets import load_markerset, markerset_from_dict
 from mocap.trial import Trial
@@ -347,10 +347,10 @@ def test_plugingait_preset_with_psis_instead_of_sacrum():
 @pytest.fixture
 def tiny_blocks(monkeypatch):
     """Blocks of a few frames, so state must carry across many block edges."""
-    import mocap.angles
-    import mocap.frames
-    monkeypatch.setattr(mocap.frames, "BLOCK_FRAMES", 7)
-    monkeypatch.setattr(mocap.angles, "UNWRAP_BLOCK", 5)
+    import mocap.rotations.angles
+    import mocap.rotations.frames
+    monkeypatch.setattr(mocap.rotations.frames, "BLOCK_FRAMES", 7)
+    monkeypatch.setattr(mocap.rotations.angles, "UNWRAP_BLOCK", 5)
 
 
 @pytest.mark.parametrize("sequence", ["ZXY", "zyz"])

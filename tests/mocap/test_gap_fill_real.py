@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from mocap.clean import fill_gaps
-from mocap.clinical import fill_plugingait, plugingait_angles, plugingait_labels, prepare_subject
+from mocap.plugingait.clinical import fill_plugingait, plugingait_angles, plugingait_labels, prepare_subject
 from mocap.io import read
 from mocap.markersets import load_markerset
 from mocap.trial import Trial
@@ -46,7 +46,7 @@ def model_markers(trial: Trial) -> Trial:
 #: points whose axis the marker turns about freely (a thigh or tibia wand's turn, the
 #: knee marker about the thigh wand and hip centre, the toe about heel and ankle
 #: centre); the fill predicts that turn and its distances from the other markers and
-#: the segment's acceleration, averaging a few ridge models (mocap.donorfill.ENSEMBLE),
+#: the segment's acceleration, averaging a few ridge models (mocap.clean.donorfill.ENSEMBLE),
 #: but a wand's wobble over 0.2 s is not fully predictable: the bounds are what it
 #: measures here (worst KNE 1.38, THI 2.29, TIB 1.38, TOE 3.03 degrees) with a little
 #: room.  With one ridge model the worst were KNE 1.39, THI 2.54 and TOE 4.83 (RTHI of

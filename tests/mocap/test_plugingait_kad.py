@@ -17,12 +17,12 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from mocap.calibration import (calibrate, kad_markers, kad_thigh_rotation,
+from mocap.plugingait.calibration import (calibrate, kad_markers, kad_thigh_rotation,
                                kad_virtual_knee, static_markers)
-from mocap.clinical import plugingait_angles
+from mocap.plugingait.clinical import plugingait_angles
 from mocap.io import read
 from mocap.markersets.model import MissingMarkerWarning
-from mocap.plugingait import (SIDES, Subject, chord, clinical_angles, kinematics,
+from mocap.plugingait.model import (SIDES, Subject, chord, clinical_angles, kinematics,
                               markers_from_trial, rotate_about, subject_from_trial, _unit)
 from mocap.trial import Trial
 from tests.conftest import realdata_path

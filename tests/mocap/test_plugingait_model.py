@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from mocap.angles import angles_to_matrices
-from mocap.plugingait import (Subject, chord, clinical_angles, hip_joint_centres,
+from mocap.rotations.angles import angles_to_matrices
+from mocap.plugingait.model import (Subject, chord, clinical_angles, hip_joint_centres,
                               progression_frame, yxz_angles)
 
 

@@ -15,10 +15,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from mocap.calibration import calibrate, resolve_flat_foot
+from mocap.plugingait.calibration import calibrate, resolve_flat_foot
 from mocap.io import read
-from mocap.clinical import plugingait_angles
-from mocap.plugingait import JOINTS, PLANES, SIDES, AnatomicalOffsetWarning, subject_from_trial
+from mocap.plugingait.clinical import plugingait_angles
+from mocap.plugingait.model import JOINTS, PLANES, SIDES, AnatomicalOffsetWarning, subject_from_trial
 from tests.conftest import realdata_path
 
 #: (joint, plane) -> largest RMS against Vicon, degrees (issue 12).

@@ -1,4 +1,4 @@
-"""mocap.quaternions against scipy's Rotation (the reference it replaces on the check path)
+"""mocap.rotations.quaternions against scipy's Rotation (the reference it replaces on the check path)
 and against rotations worked out by hand."""
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from mocap.errors import MocapError
-from mocap.quaternions import matrices_to_quaternions, quaternions_to_matrices
+from mocap.rotations.quaternions import matrices_to_quaternions, quaternions_to_matrices
 
 
 def _rotations(count: int, seed: int) -> np.ndarray:

@@ -77,7 +77,7 @@ def test_motion_from_frames_fills_missing_frames_by_slerp():
 
 
 def test_motion_from_angles_round_trips_through_the_lab_frame():
-    from mocap.angles import JointAngles
+    from mocap.rotations.angles import JointAngles
 
     motion = _random_motion(20)
     lab, root = motion_to_lab(motion)

@@ -18,7 +18,7 @@ def test_same_seed_same_trial_other_seed_other_trial():
 
 @pytest.mark.parametrize("action", ACTIONS)
 def test_marker_frames_recover_the_ground_truth(action):
-    from mocap.frames import segment_frames
+    from mocap.rotations.frames import segment_frames
     from mocap.markersets import load_markerset
 
     trial, truth = synthesize_trial(2, action)
@@ -28,7 +28,7 @@ def test_marker_frames_recover_the_ground_truth(action):
 
 
 def test_extracted_angles_equal_ground_truth_csv(tmp_path):
-    from mocap.angles import joint_angles
+    from mocap.rotations.angles import joint_angles
     from mocap.io.angles_csv import read_angles_csv
     from mocap.markersets import load_markerset
 

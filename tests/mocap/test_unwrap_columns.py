@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mocap.angles import unwrap_columns
+from mocap.rotations.angles import unwrap_columns
 
 
 def test_unwrap_across_the_wrap_point_with_missing_samples():

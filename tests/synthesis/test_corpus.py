@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mocap.angles import JointAngles
+from mocap.rotations.angles import JointAngles
 from mocap.io.angles_csv import write_angles_csv
 from mocap.errors import MocapError
 from mocap.io.discovery import is_angle_csv, parse_trial_name

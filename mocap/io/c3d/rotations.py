@@ -27,7 +27,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mocap.errors import MocapError
-from mocap.io.text_table import parse_toml, read_text
+from mocap.io.text_table import read_text
+from mocap.tomlfile import parse_toml
 
 BLOCK = 512
 

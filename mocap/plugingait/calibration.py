@@ -13,7 +13,7 @@ fixes what a walk cannot tell:
   the angle about the shank's long axis between the knee flexion axis and the
   malleolar axis, when the subject file gives none;
 * the foot's offsets: the rotation from the uncorrected foot (toe → ankle
-  joint centre, see :mod:`mocap.plugingait`) to the foot along heel → toe,
+  joint centre, see :mod:`mocap.plugingait.model`) to the foot along heel → toe,
   as Plug-in Gait's StaticPlantFlex and StaticRotOff (the mean over the
   static's frames of the first two YXZ angles of that rotation).  With
   ``flat_foot`` the heel is taken at the toe's height (the sole on the floor);
@@ -44,7 +44,7 @@ import numpy as np
 
 from mocap.errors import MocapError
 from mocap.markersets.model import MissingMarkerWarning
-from mocap.plugingait import (MARKERS, SIDES, Subject, _side_sign,
+from mocap.plugingait.model import (MARKERS, SIDES, Subject, _side_sign,
                               anatomical_foot_frame, chord, hip_joint_centres, kinematics,
                               markers_from_trial, pelvis_frame, rotate_about,
                               subject_from_trial, yxz_angles, _unit)

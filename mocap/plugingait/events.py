@@ -194,7 +194,7 @@ def normalise_cycles(angles, events: list[GaitEvent], samples: int = CYCLE_SAMPL
     Cycles
         Linear interpolation in frames; a sample next to a missing frame is NaN.
     """
-    from mocap.angles import axis_names
+    from mocap.rotations.angles import axis_names
 
     sides: list[str] = []
     numbers: list[int] = []

@@ -3,7 +3,7 @@
 Three or more donors fix the marker's position; two leave one coordinate free, its
 turn about the donors' axis (predicted from the other markers of the trial on
 request); one leaves it on a sphere.  Every fill is corrected to meet the recorded
-trajectory at both edges of the gap.  The driver is :func:`mocap.gapfill.fill_gaps`.
+trajectory at both edges of the gap.  The driver is :func:`mocap.clean.gapfill.fill_gaps`.
 """
 from __future__ import annotations
 

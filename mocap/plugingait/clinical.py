@@ -1,7 +1,7 @@
 """Clinical gait angles of a walk with the Plug-in Gait model: the workflow.
 
-:mod:`mocap.plugingait` holds the model (joint centres, frames, angle
-conventions) and :mod:`mocap.calibration` the static calibration; this module
+:mod:`mocap.plugingait.model` holds the model (joint centres, frames, angle
+conventions) and :mod:`mocap.plugingait.calibration` the static calibration; this module
 puts them together for one walk: which subject values to use
 (:func:`prepare_subject`), gap filling that stays inside each rigid segment
 (:func:`fill_plugingait`), and the clinical angle table
@@ -17,13 +17,13 @@ import numpy as np
 
 from mocap.errors import MocapError
 from mocap.markersets.model import MissingMarkerWarning, _LabelIndex
-from mocap.plugingait import (JOINTS, MARKERS, PLANES, SIDES, AnatomicalOffsetWarning,
+from mocap.plugingait.model import (JOINTS, MARKERS, PLANES, SIDES, AnatomicalOffsetWarning,
                               MissingMeasurementError, Subject, clinical_angles, kinematics,
                               markers_from_trial, progression_frame, subject_from_trial)
 from mocap.trial import Trial
 
 if TYPE_CHECKING:
-    from mocap.gapfill import GapReport
+    from mocap.clean.gapfill import GapReport
 
 
 def _merge(primary: Subject, secondary: Subject) -> Subject:
@@ -49,7 +49,7 @@ def estimate_missing(subject: Subject, markers: dict, path: str | None = None,
     ASIS distance and the 95th percentile ASIS–lateral malleolus distance plus
     the marker radius (the leg extended) stand in for the measurements.
     ``keep`` maps marker names to bool (frames,) of frames no gap fill wrote
-    (:func:`mocap.gapfill.recorded_frames`): only those count.
+    (:func:`mocap.clean.gapfill.recorded_frames`): only those count.
     Raises MocapError when knee or ankle widths are unknown.
     """
     sub = replace(subject, leg_length=dict(subject.leg_length))
@@ -100,7 +100,7 @@ def prepare_subject(trial: Trial, subject: Subject | None = None, *,
 
     Measurements come from ``subject``, else the walk's PROCESSING group, then
     the static's; a ``static`` calibrates the offsets
-    (:func:`mocap.calibration.calibrate`); without one (and an uncalibrated
+    (:func:`mocap.plugingait.calibration.calibrate`); without one (and an uncalibrated
     ``subject``) an :class:`AnatomicalOffsetWarning` says the offsets are
     uncorrected.  What is still unknown is estimated from the walk's recorded
     (never gap-filled) frames (:func:`estimate_missing`).  An empty SACR with
@@ -118,7 +118,7 @@ def prepare_subject(trial: Trial, subject: Subject | None = None, *,
         if static is not None:
             subject = _merge(subject, subject_from_trial(static))
     if static is not None:
-        from mocap.calibration import calibrate, resolve_flat_foot
+        from mocap.plugingait.calibration import calibrate, resolve_flat_foot
 
         flat = resolve_flat_foot(static, subject, flat_foot, walk=trial)
         subject = calibrate(static, subject, flat_foot=flat)
@@ -129,7 +129,7 @@ def prepare_subject(trial: Trial, subject: Subject | None = None, *,
                       AnatomicalOffsetWarning, stacklevel=3)
     keep = None
     if trial.metadata.get("filled"):
-        from mocap.gapfill import recorded_frames
+        from mocap.clean.gapfill import recorded_frames
 
         index = _LabelIndex(trial.labels)
         keep = {name: recorded_frames(trial, [trial.labels[index.find(name)]])
@@ -156,7 +156,7 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
         :func:`prepare_subject` gives them; nothing is then warned about again.
     static : Trial, optional
         Standing trial of the same subject: calibrates the foot offsets
-        (:func:`mocap.calibration.calibrate`).  Without a static or a
+        (:func:`mocap.plugingait.calibration.calibrate`).  Without a static or a
         subject, an :class:`AnatomicalOffsetWarning` says the offsets are
         uncorrected.
     flat_foot : bool or "auto"
@@ -173,7 +173,7 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
         missing; columns of joints whose markers are absent are all NaN (with a
         :class:`MissingMarkerWarning`).
     """
-    from mocap.angles import JointAngles
+    from mocap.rotations.angles import JointAngles
 
     path = trial.path
     markers, _ = markers_from_trial(trial, MARKERS)
@@ -242,7 +242,7 @@ def fill_plugingait(trial: Trial, subject: Subject, max_gap_frames: int
     knee centre for the shank, the ankle centre for the foot.  The segments are
     filled from the pelvis down, so each joint centre comes from an already
     filled segment; the joint centres are not kept in the result.  See
-    :func:`mocap.gapfill.fill_gaps` for the methods and what stays unfilled.
+    :func:`mocap.clean.gapfill.fill_gaps` for the methods and what stays unfilled.
 
     Parameters
     ----------
@@ -257,7 +257,7 @@ def fill_plugingait(trial: Trial, subject: Subject, max_gap_frames: int
     Trial, GapReport
         Frames outside the gaps are bit-identical to the input's.
     """
-    from mocap.gapfill import GapReport, fill_gaps, filled_masks
+    from mocap.clean.gapfill import GapReport, fill_gaps, filled_masks
 
     labels = list(trial.labels)
     donors = plugingait_donors(labels)

@@ -3,7 +3,7 @@
 Gaps are filled from *donors* when some are given and seen throughout the gap (the
 other markers of the same rigid segment: the filled marker keeps its distances to them,
 so a long gap in a fast-turning segment keeps the segment's shape,
-:mod:`mocap.donorfill`), otherwise by a cubic spline through the marker's own samples.
+:mod:`mocap.clean.donorfill`), otherwise by a cubic spline through the marker's own samples.
 Nothing is invented where it cannot be known: gaps longer than the maximum, or at the
 start or end of a trajectory (which would need extrapolation), stay NaN and are
 reported.  Only the gap's frames are written, and the frames a fill wrote are
@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mocap.donorfill import rigid_fill
+from mocap.clean.donorfill import rigid_fill
 from mocap.errors import MocapError
 from mocap.trial import Trial, runs
 
@@ -116,7 +116,7 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
     donors : dict of str to list of str, optional
         Markers on the same rigid body as each marker (``MarkerSet.donors``).
         A gap is filled from the donors seen throughout the gap and on both edges,
-        keeping the marker rigid with them (see :func:`mocap.donorfill.rigid_fill`), unless
+        keeping the marker rigid with them (see :func:`mocap.clean.donorfill.rigid_fill`), unless
         (``rehearse``) the marker's own spline fills the same gap better where it
         can be rehearsed on recorded data next to it; otherwise by the spline.
     only : list of str, optional
@@ -132,9 +132,9 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
         along and from the axis) from the other markers seen throughout the
         gap, by a regression trained on the trial's recorded frames, and
         interpolate only the prediction's residual across the gap
-        (:func:`mocap.donorfill._predicted_coordinates`); otherwise
+        (:func:`mocap.clean.donorfill._predicted_coordinates`); otherwise
         interpolate the coordinates themselves.  Off by default:
-        measured on Plug-in Gait walks only (:func:`mocap.clinical.fill_plugingait`
+        measured on Plug-in Gait walks only (:func:`mocap.plugingait.clinical.fill_plugingait`
         turns it on for the limbs; docs/plugingait.md).
     rehearse : bool
         Let the marker's own spline replace the rigid fill when it fills the

@@ -1,9 +1,9 @@
 """Euler angles of rotation matrices in closed form, whole-array numpy.
 
 :func:`euler_from_components` is the one matrix → angles of the project (under
-:func:`mocap.angles.matrices_to_angles` and :func:`mocap.angles.joint_angles`): scipy's
+:func:`mocap.rotations.angles.matrices_to_angles` and :func:`mocap.rotations.angles.joint_angles`): scipy's
 ``Rotation.as_euler`` convention and principal values, from five matrix entries with three
-``arctan2`` per rotation, on the component-major arrays :mod:`mocap.frames` makes (no
+``arctan2`` per rotation, on the component-major arrays :mod:`mocap.rotations.frames` makes (no
 copy into (..., 3, 3) matrices, no quaternions): about five times faster than scipy on
 100 000 frames × 15 segments, and no scipy import unless a frame sits at gimbal lock.
 """

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from mocap.errors import MocapError
-from mocap.euler import euler_from_components
-from mocap.frames import iter_frame_blocks
+from mocap.rotations.euler import euler_from_components
+from mocap.rotations.frames import iter_frame_blocks
 from mocap.markersets import MarkerSet
 from mocap.trial import Trial
 

@@ -26,7 +26,7 @@ Frames, for both sides (x anterior, y left, z up when standing):
   torsion.
 * foot: origin TOE, ``z = unit(AJC - TOE)`` (backwards), ``x = y_ankle × z``
   (up), ``y = z × x``; then turned by the static plantar-flexion and rotation
-  offsets (:mod:`mocap.calibration`) so that it lies along heel → toe.
+  offsets (:mod:`mocap.plugingait.calibration`) so that it lies along heel → toe.
 
 Angles: Cardan ``YXZ`` (flexion, then ab/adduction, then axial rotation) of the
 distal frame relative to the proximal one (the pelvis relative to the
