@@ -5,7 +5,13 @@
 - ``synthesis`` never imports ``dynamics`` (both build on ``mocap`` only);
 - nothing imports ``mocap.cli`` (the shell sits on top; only ``mocap/__main__.py``, the
   ``python -m mocap`` entry point, starts it);
-- no two modules import each other, directly or around a longer circle.
+- no two modules import each other, directly or around a longer circle;
+- inside ``mocap``, the sub-packages are layers (:data:`MOCAP_LAYERS`: plumbing, containers,
+  cleaning, marker sets, rotations, the body, file formats, then the models and recipes, then
+  the shell) and no module imports a module of a higher layer;
+- the top of ``mocap/`` holds only the containers and the plumbing (:data:`LOOSE_MODULES`):
+  every other job lives in a sub-package named after it;
+- no module is longer than :data:`MAX_MODULE_LINES` lines.
 
 The checks are functions of an import graph, so the tests below run them both on the real
 tree and on graphs with a planted violation (each check must be able to fail).
@@ -79,6 +85,67 @@ def _inside(module: str, package: str) -> bool:
     return module == package or module.startswith(package + ".")
 
 
+#: The layers of ``mocap``, lowest first: a module may import its own layer and those below.
+MOCAP_LAYERS: tuple[tuple[str, ...], ...] = (
+    ("mocap.errors", "mocap.atomic", "mocap.progress", "mocap.tomlfile", "mocap.batch"),
+    ("mocap.trial", "mocap.skeleton"),
+    ("mocap.clean",),
+    ("mocap.markersets",),
+    ("mocap.rotations",),
+    ("mocap.body",),
+    ("mocap.io",),
+    ("mocap.plugingait", "mocap.synthetic", "mocap.pipeline", "mocap.summary", "mocap.plot"),
+    # the package's own namespace re-exports from every layer (``mocap.Trial``)
+    ("mocap.cli", "mocap.__main__", "mocap"),
+)
+
+#: The only modules allowed at the top of ``mocap/``: containers and plumbing.
+LOOSE_MODULES = frozenset({"__init__", "__main__", "trial", "skeleton", "errors", "atomic",
+                           "progress", "tomlfile", "batch", "pipeline", "summary", "plot"})
+
+#: The longest module allowed, lines.
+MAX_MODULE_LINES = 600
+
+
+def mocap_layer(module: str) -> int | None:
+    """Index of the :data:`MOCAP_LAYERS` entry ``module`` belongs to (None outside mocap or
+    in no listed layer)."""
+    for rank, members in enumerate(MOCAP_LAYERS):
+        if any(module == m or (m != "mocap" and module.startswith(m + "."))
+               for m in members):
+            return rank
+    return None
+
+
+def upward_imports(graph: dict[str, set[str]]) -> list[str]:
+    """Imports inside ``mocap`` from a lower layer to a higher one, and modules of
+    ``mocap`` that belong to no layer."""
+    problems = []
+    for module, targets in sorted(graph.items()):
+        if not _inside(module, "mocap"):
+            continue
+        rank = mocap_layer(module)
+        if rank is None:
+            problems.append(f"{module} belongs to no layer of MOCAP_LAYERS")
+            continue
+        for target in sorted(targets):
+            target_rank = mocap_layer(target)
+            if target_rank is not None and target_rank > rank:
+                problems.append(f"{module} imports {target}: a higher layer")
+    return problems
+
+
+def stray_modules(names: list[str]) -> list[str]:
+    """Files at the top of ``mocap/`` (stems) that are not containers or plumbing."""
+    return sorted(set(names) - LOOSE_MODULES)
+
+
+def long_modules(lengths: dict[str, int]) -> list[str]:
+    """Modules longer than :data:`MAX_MODULE_LINES`, with their length."""
+    return [f"{name}: {count} lines" for name, count in sorted(lengths.items())
+            if count > MAX_MODULE_LINES]
+
+
 def layer_violations(graph: dict[str, set[str]]) -> list[str]:
     """Every import that breaks the layering rules of the module docstring."""
     problems = []
@@ -140,6 +207,33 @@ def test_the_tree_keeps_its_layers():
 
 def test_no_two_modules_import_each_other():
     assert import_circles(import_graph()) == []
+
+
+def test_mocap_imports_only_downwards():
+    assert upward_imports(import_graph()) == []
+
+
+def test_the_top_of_mocap_holds_only_containers_and_plumbing():
+    assert stray_modules([p.stem for p in (ROOT / "mocap").glob("*.py")]) == []
+
+
+def test_no_module_is_too_long():
+    lengths = {name: len(path.read_text(encoding="utf-8").splitlines())
+               for name, path in project_modules().items()}
+    assert long_modules(lengths) == []
+
+
+def test_a_planted_upward_import_is_caught():
+    graph = import_graph()
+    graph["mocap.rotations.euler"] = graph["mocap.rotations.euler"] | {"mocap.io.bvh"}
+    assert any("mocap.rotations.euler imports mocap.io.bvh" in p for p in upward_imports(graph))
+    graph["mocap.newthing"] = set()
+    assert "mocap.newthing belongs to no layer of MOCAP_LAYERS" in upward_imports(graph)
+
+
+def test_a_planted_loose_module_and_a_long_one_are_caught():
+    assert stray_modules(["trial", "errors", "euler"]) == ["euler"]
+    assert long_modules({"mocap.trial": 600, "mocap.big": 601}) == ["mocap.big: 601 lines"]
 
 
 def test_the_graph_sees_imports_inside_functions():
