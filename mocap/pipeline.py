@@ -1,9 +1,13 @@
-"""The one recipe from a marker file to joint angles: read, keep what the marker set uses,
-fill gaps, low-pass, segment frames, relative rotations, Euler angles.
+"""The recipes from a marker file to joint angles.
+
+- :func:`marker_file_angles`: read, keep what the marker set uses, fill gaps, low-pass,
+  segment frames, relative rotations, Euler angles;
+- :func:`clinical_angles`: Plug-in Gait's clinical angles of a walk (with its static):
+  subject values, gap filling inside each rigid segment, low-pass, the model.
 
 ``mocap angles``, ``mocap batch``, the corpus reader of :mod:`synthesis` and the demo all
-call :func:`marker_file_angles`, so a trial gives the same angles whichever way it is
-analysed.
+call these, with the same defaults, so a trial gives the same angles whichever way it is
+analysed, from Python or from the command line.
 """
 from __future__ import annotations
 
@@ -127,3 +131,61 @@ def marker_file_angles(source: str | os.PathLike | Trial, markerset: MarkerSet,
     markerset.check_trial(trial)
     trial, report = clean_trial(used_markers(trial, markerset), markerset, cleaning)
     return AnglesResult(trial, joint_angles(trial, markerset, sequence), report)
+
+
+def clinical_angles(source: str | os.PathLike | Trial, static: str | os.PathLike | Trial | None = None,
+                    *, cleaning: Cleaning = Cleaning(), flat_foot: bool | str = "auto",
+                    subject=None) -> AnglesResult:
+    """Plug-in Gait clinical angles of a walk, as ``mocap angles -m plugingait-lower`` gives them.
+
+    The subject comes first (from the walk's recorded, never gap-filled, frames, its
+    PROCESSING group and the static), then gap filling inside each rigid segment of the
+    model, then the low-pass, then the model
+    (:func:`mocap.plugingait.clinical.plugingait_angles`).
+
+    Parameters
+    ----------
+    source : path-like or Trial
+        The walk (``.c3d``, ``.trc`` or ``.csv``), points in metres once read.
+    static : path-like or Trial, optional
+        Standing trial of the same subject: calibrates the foot offsets, the tibial
+        torsion, a knee alignment device and missing measurements.
+    cleaning : Cleaning
+        Gap filling (``max_gap_seconds`` or ``max_gap_frames``) and low-pass; none by
+        default, as on the command line.
+    flat_foot : bool or "auto"
+        Plug-in Gait's foot-flat static option; ``"auto"`` (the command line's default)
+        takes the choice a previous Plug-in Gait run stored in the files, else off.
+    subject : mocap.plugingait.model.Subject, optional
+        Measurements to use instead of the files' (see
+        :func:`mocap.plugingait.clinical.prepare_subject`).
+
+    Returns
+    -------
+    AnglesResult
+        ``angles`` with segments ``l_pelvis … r_ankle`` and axes ``flexion, adduction,
+        rotation`` (degrees, Vicon's ``<Side><Joint>Angles``); ``trial`` the cleaned
+        Plug-in Gait markers; ``gaps`` the gap report when gaps were filled.
+    """
+    import numpy as np
+
+    from mocap.plugingait.clinical import (fill_plugingait, plugingait_angles,
+                                           plugingait_labels, prepare_subject)
+
+    trial = source if isinstance(source, Trial) else read(source)
+    if static is not None and not isinstance(static, Trial):
+        static = read(static)
+    used = plugingait_labels(trial)
+    columns = [trial.labels.index(label) for label in used]
+    trial = Trial(used, trial.points[:, columns, :], trial.rate, trial.units, trial.path,
+                  trial.format, metadata=dict(trial.metadata))
+    subject = prepare_subject(trial, subject, static=static, flat_foot=flat_foot)
+    report = None
+    if cleaning.fills:
+        limit = (cleaning.max_gap_frames if cleaning.max_gap_seconds is None
+                 else int(np.floor(cleaning.max_gap_seconds * trial.rate + 1e-9)))
+        trial, report = fill_plugingait(trial, subject, limit)
+    if cleaning.lowpass_hz is not None:
+        trial = lowpass(trial, cleaning.lowpass_hz, order=cleaning.order,
+                        short_runs=cleaning.short_runs)
+    return AnglesResult(trial, plugingait_angles(trial, subject=subject), report)

@@ -261,28 +261,14 @@ def _angles_one(source: Path, target: Path, plot: Path | None, markerset,
 
 
 def _clinical_angles(trial, args: argparse.Namespace):
-    """Plug-in Gait angles of one walk: subject first (whole-trial values from the
-    recorded data, so no fill can change them), then fill, low-pass, angles."""
-    import numpy as np
+    """Plug-in Gait angles of one walk: the library's recipe with the command's options."""
+    from mocap.pipeline import Cleaning, clinical_angles
 
-    from mocap.clean import lowpass
-    from mocap.plugingait.clinical import (fill_plugingait, plugingait_angles, plugingait_labels,
-                                prepare_subject)
-    from mocap.trial import Trial
-
-    used = plugingait_labels(trial)
-    columns = [trial.labels.index(label) for label in used]
-    trial = Trial(used, trial.points[:, columns, :], trial.rate, trial.units, trial.path,
-                  trial.format, metadata=dict(trial.metadata))
     flat = {"on": True, "off": False}.get(args.flat_foot, "auto")
-    subject = prepare_subject(trial, static=args.static_trial, flat_foot=flat)
-    report = None
-    if args.fill_gaps is not None:
-        limit = int(np.floor(args.fill_gaps * trial.rate + 1e-9))
-        trial, report = fill_plugingait(trial, subject, limit)
-    if args.lowpass is not None:
-        trial = lowpass(trial, args.lowpass, order=args.order, short_runs=args.short_runs)
-    return plugingait_angles(trial, subject=subject), report
+    cleaning = Cleaning(max_gap_seconds=args.fill_gaps, lowpass_hz=args.lowpass,
+                        order=args.order, short_runs=args.short_runs)
+    result = clinical_angles(trial, args.static_trial, cleaning=cleaning, flat_foot=flat)
+    return result.angles, result.gaps
 
 
 def _write_cycles(cycles, source: Path, args: argparse.Namespace) -> None:

@@ -72,6 +72,10 @@ JOINT_CENTRES = {"knee": ("{S}KneeWidth", "{S}ThighRotation"),
                  "ankle": ("{S}AnkleWidth", "{S}ShankRotation")}
 #: Hip joint centre regressions.
 HJC_METHODS = ("davis", "bell", "harrington")
+#: Davis et al. (1991) hip regression angles theta and beta, radians: 0.5 and 0.314 as
+#: Plug-in Gait stores them (single precision).
+DAVIS_THETA = 0.500000178813934
+DAVIS_BETA = 0.314000427722931
 
 
 def _median_distance(a: np.ndarray, b: np.ndarray) -> float:
@@ -143,7 +147,8 @@ def pelvis_frame(rasi: np.ndarray, lasi: np.ndarray, sacr: np.ndarray
 def hip_joint_centre_offset(method: str, side: str, pelvis_width: float,
                             pelvis_depth: float | None = None,
                             leg_length: float | None = None,
-                            marker_diameter: float = 0.014) -> np.ndarray:
+                            marker_diameter: float = 0.014,
+                            asis_trochanter: float | None = None) -> np.ndarray:
     """Hip joint centre in the Plug-in Gait pelvis frame, metres, shape (3,).
 
     Parameters
@@ -156,9 +161,12 @@ def hip_joint_centre_offset(method: str, side: str, pelvis_width: float,
     pelvis_depth : float, optional
         Mid-ASIS to sacrum (or PSIS midpoint) distance, metres (harrington).
     leg_length : float, optional
-        Metres (davis).
+        Metres (davis): the mean of both legs in Plug-in Gait.
     marker_diameter : float
         Metres (davis).
+    asis_trochanter : float, optional
+        Measured ASIS-trochanter distance of this side, metres (davis); default the
+        regression ``0.1288 L - 48.56`` mm.
 
     Examples
     --------
@@ -176,11 +184,12 @@ def hip_joint_centre_offset(method: str, side: str, pelvis_width: float,
         length = leg_length * 1000.0
         radius = marker_diameter * 1000.0 / 2.0
         c = 0.115 * length - 15.3
-        asis_trochanter = 0.1288 * length - 48.56
-        theta, beta = 0.5, 0.314
-        x = c * np.cos(theta) * np.sin(beta) - (asis_trochanter + radius) * np.cos(beta)
+        at = (0.1288 * length - 48.56 if asis_trochanter is None
+              else asis_trochanter * 1000.0)
+        theta, beta = DAVIS_THETA, DAVIS_BETA
+        x = c * np.cos(theta) * np.sin(beta) - (at + radius) * np.cos(beta)
         y = -(c * np.sin(theta) - pelvis_width * 1000.0 / 2.0)
-        z = -c * np.cos(theta) * np.cos(beta) - (asis_trochanter + radius) * np.sin(beta)
+        z = -c * np.cos(theta) * np.cos(beta) - (at + radius) * np.sin(beta)
         x, y, z = x / 1000, y / 1000, z / 1000
     else:
         raise ValueError(f"unknown hip joint centre method {method!r}")

@@ -13,5 +13,19 @@ clinical
 events
     Gait events (from the file or detected) and gait cycles at 0–100 %.
 
+The recipe from a walk (and its static) to clinical angles, with the command line's
+defaults, is :func:`mocap.pipeline.clinical_angles`.
+
+Why a model of its own and not a marker set plus a clinical step: a marker set
+(``docs/formats/markerset-toml.md``) maps three markers to a segment frame and takes
+relative Euler angles. Plug-in Gait needs what such a table cannot say: subject
+measurements and a static calibration (foot offsets, tibial torsion, a knee alignment
+device), frames built from joint centres and wands with per-side conventions, and per-joint
+clinical signs and axis orders. The geometry it shares with marker sets has one home
+there: the pelvis frame and the Davis hip joint centre
+(:mod:`mocap.markersets.virtual`), the knee and ankle chord (:mod:`mocap.markersets.chord`);
+its Cardan angles are :func:`mocap.rotations.euler.euler_from_components` (intrinsic YXZ).
+The ``plugingait-lower`` preset is the same geometry as a marker set, for segment angles.
+
 Importing the package loads none of them; import the module you need.
 """

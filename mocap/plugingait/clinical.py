@@ -94,7 +94,7 @@ def estimate_missing(subject: Subject, markers: dict, path: str | None = None,
 
 
 def prepare_subject(trial: Trial, subject: Subject | None = None, *,
-                    static: Trial | None = None, flat_foot: bool | str = False,
+                    static: Trial | None = None, flat_foot: bool | str = "auto",
                     warn: bool = True) -> Subject:
     """The subject a walk is processed with: measurements, calibration, estimates.
 
@@ -143,7 +143,7 @@ def clinical_columns() -> list[str]:
 
 
 def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
-                      static: Trial | None = None, flat_foot: bool | str = False):
+                      static: Trial | None = None, flat_foot: bool | str = "auto"):
     """Plug-in Gait joint angles (clinical convention) of a walk.
 
     Parameters
@@ -160,9 +160,10 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
         subject, an :class:`AnatomicalOffsetWarning` says the offsets are
         uncorrected.
     flat_foot : bool or "auto"
-        Plug-in Gait's foot-flat static option; ``"auto"`` takes the option
-        that reproduces the offsets a previous Plug-in Gait run stored in the
-        walk or the static (PROCESSING StaticPlantFlex), else off.
+        Plug-in Gait's foot-flat static option; ``"auto"`` (the default, as on the
+        command line) takes the option that reproduces the offsets a previous
+        Plug-in Gait run stored in the walk or the static (PROCESSING
+        StaticPlantFlex), else off.
 
     Returns
     -------

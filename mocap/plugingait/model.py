@@ -44,11 +44,12 @@ import numpy as np
 from mocap.errors import MocapError
 from mocap.markersets.chord import _unit, chord, rotate_about  # noqa: F401 (re-exported)
 from mocap.markersets.model import _LabelIndex
+from mocap.markersets.virtual import DAVIS_BETA, DAVIS_THETA  # noqa: F401 (re-exported)
+from mocap.markersets.virtual import hip_joint_centre_offset
+from mocap.markersets.virtual import pelvis_frame as pelvis_axes
+from mocap.rotations.euler import euler_from_components
 from mocap.trial import Trial
 
-#: Davis et al. (1991) hip regression angles, radians (Plug-in Gait's values).
-DAVIS_THETA = 0.500000178813934
-DAVIS_BETA = 0.314000427722931
 #: Joints of the clinical output, in column order.
 JOINTS = ("pelvis", "hip", "knee", "ankle")
 #: Planes of the clinical output (Vicon's X, Y, Z components of <Side><Joint>Angles).
@@ -244,34 +245,30 @@ def pelvis_frame(m: dict, path: str | None = None, warn: bool = True
         else:
             raise MocapError("Plug-in Gait needs a SACR marker or both LPSI and RPSI "
                              "with data", path)
-    origin = (m["RASI"] + m["LASI"]) / 2.0
-    y = _unit(m["LASI"] - m["RASI"])
-    b1 = origin - sacrum
-    x = _unit(b1 - np.sum(b1 * y, axis=-1, keepdims=True) * y)
-    z = np.cross(x, y)
-    return frame_from_axes(x, y, z), origin, sacrum
+    rotation, origin = pelvis_axes(m["RASI"], m["LASI"], sacrum)
+    return rotation, origin, sacrum
 
 
 def hip_joint_centres(rotation: np.ndarray, origin: np.ndarray, subject: Subject
                       ) -> dict[str, np.ndarray]:
-    """Davis hip joint centres (frames, 3) per side, millimetres."""
+    """Davis hip joint centres (frames, 3) per side, millimetres.
+
+    The one Davis regression (:func:`mocap.markersets.virtual.hip_joint_centre_offset`)
+    with Plug-in Gait's inputs: the mean leg length of both sides, each side's
+    ASIS-trochanter distance (measured, else regressed from that side's leg).
+    """
     legs = [subject.leg_length[s] for s in SIDES]
     if any(v is None for v in legs):
         raise MocapError("leg lengths must be known (calibrate or give them)")
     mean_leg = float(np.mean(legs))
-    c = mean_leg * 0.115 - 15.3
-    half_iad = subject.inter_asis / 2.0
     out = {}
-    for side, sign in (("l", -1.0), ("r", 1.0)):
+    for side, name in (("l", "left"), ("r", "right")):
         at = subject.asis_trochanter[side]
         if at is None:
             at = 0.1288 * subject.leg_length[side] - 48.56
-        local = np.array([
-            (-at - subject.radius) * np.cos(DAVIS_BETA)
-            + c * np.cos(DAVIS_THETA) * np.sin(DAVIS_BETA),
-            sign * (c * np.sin(DAVIS_THETA) - half_iad),
-            (-at - subject.radius) * np.sin(DAVIS_BETA)
-            - c * np.cos(DAVIS_THETA) * np.cos(DAVIS_BETA)])
+        local = 1000.0 * hip_joint_centre_offset(
+            "davis", name, subject.inter_asis / 1000.0, leg_length=mean_leg / 1000.0,
+            marker_diameter=2.0 * subject.radius / 1000.0, asis_trochanter=at / 1000.0)
         out[side] = origin + rotation @ local
     return out
 
@@ -440,11 +437,8 @@ def yxz_angles(proximal: np.ndarray, distal: np.ndarray) -> np.ndarray:
     (-180, 180]; NaN where either rotation is NaN.
     """
     r = np.einsum("...ji,...jk->...ik", proximal, distal)
-    with np.errstate(invalid="ignore"):
-        a2 = np.arcsin(np.clip(-r[..., 1, 2], -1.0, 1.0))
-    a1 = np.arctan2(r[..., 0, 2], r[..., 2, 2])
-    a3 = np.arctan2(r[..., 1, 0], r[..., 1, 1])
-    return np.degrees(np.stack([a1, a2, a3], axis=-1))
+    # the one Euler/Cardan decomposition: intrinsic YXZ
+    return euler_from_components(np.moveaxis(r, (-2, -1), (0, 1)), "YXZ")
 
 
 #: Clinical sign of (a1, a2, a3) per joint and side, and an offset of a1 (degrees):

@@ -187,9 +187,11 @@ def test_pelvis_frame_and_hip_regressions_known_values():
     # Davis 1991 / Plug-in Gait, leg length 0.9 m, 14 mm markers, by hand:
     # C = 88.2, AT = 67.36, r = 7
     c, at, r = 0.115 * 900 - 15.3, 0.1288 * 900 - 48.56, 7.0
-    x = c * np.cos(0.5) * np.sin(0.314) - (at + r) * np.cos(0.314)
-    y = -(c * np.sin(0.5) - 120.0)
-    z = -c * np.cos(0.5) * np.cos(0.314) - (at + r) * np.sin(0.314)
+    # theta = 0.5, beta = 0.314 rad as Plug-in Gait stores them (single precision)
+    theta, beta = 0.500000178813934, 0.314000427722931
+    x = c * np.cos(theta) * np.sin(beta) - (at + r) * np.cos(beta)
+    y = -(c * np.sin(theta) - 120.0)
+    z = -c * np.cos(theta) * np.cos(beta) - (at + r) * np.sin(beta)
     davis = hip_joint_centre_offset("davis", "left", 0.24, leg_length=0.9,
                                     marker_diameter=0.014)
     np.testing.assert_allclose(davis * 1000, [x, y, z])
