@@ -23,8 +23,7 @@ from mocap.body.retarget import motion_from_trial, reduce_to_segments
 from mocap.cli import options
 from mocap.cli.commands import Subparsers, summary
 from mocap.errors import MocapError
-from mocap.io import read, suffixes
-from mocap.io.discovery import is_angle_csv
+from mocap.io import file_kind, read, suffixes
 from mocap.markersets import load_markerset
 
 
@@ -171,9 +170,8 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
         ``joint_torques`` per frame, rounded) and ``note`` (the unit a BVH or ASF file
         was read in, "" for others).
     """
-    suffix = Path(path).suffix.lower()
     trial, note = None, ""
-    if suffix in suffixes("markers") and not (suffix == ".csv" and _is_angle_file(path)):
+    if Path(path).suffix.lower() in suffixes("markers") and _kind(path) == "markers":
         if not Path(path).exists():
             raise MocapError("file not found", path)
         if not markerset:
@@ -301,8 +299,10 @@ def _stored_mass(trial) -> float | None:
     return mass if 5.0 <= mass <= 300.0 else None
 
 
-def _is_angle_file(path) -> bool:
-    return Path(path).exists() and is_angle_csv(Path(path))
+def _kind(path) -> str:
+    """:func:`mocap.io.file_kind` of an existing file ("markers" for one not found, whose
+    reader then names the problem)."""
+    return file_kind(path) if Path(path).exists() else "markers"
 
 
 def _print_check(path, report, summary) -> None:

@@ -111,6 +111,52 @@ def suffixes(kind: str | None = None) -> tuple[str, ...]:
                         if f.reader is not None and (kind is None or f.kind == kind)))
 
 
+def motion_suffixes() -> tuple[str, ...]:
+    """Suffixes (with the dot) of files holding a skeleton's joint motion, sorted.
+
+    >>> motion_suffixes()
+    ('.amc', '.bvh')
+    """
+    return tuple(sorted({*suffixes("motion"), ".amc"}))
+
+
+def file_kind(path: str | os.PathLike) -> str:
+    """What a file holds, decided once for every command: by its suffix, and for a
+    ``.csv`` by its header (a joint-angle CSV, ``docs/formats/angles-csv.md``, or markers).
+
+    Returns
+    -------
+    str
+        ``"markers"`` (a marker trial: :func:`read` gives a Trial), ``"motion"`` (a BVH or
+        AMC skeleton motion), ``"angles"`` (a joint-angle CSV) or ``"skeleton"`` (an ASF
+        skeleton without motion).
+
+    Raises
+    ------
+    MocapError
+        For a suffix no reader knows.
+
+    Examples
+    --------
+    >>> file_kind("walk.C3D"), file_kind("dance.bvh"), file_kind("run.amc")
+    ('markers', 'motion', 'motion')
+    """
+    suffix = Path(path).suffix.lower()
+    if suffix in motion_suffixes():
+        return "motion"
+    if suffix == ".asf":
+        return "skeleton"
+    if suffix == ".csv":
+        from mocap.io.discovery import is_angle_csv    # deferred: csv, re
+        if is_angle_csv(path):
+            return "angles"
+    if suffix in suffixes("markers"):
+        return "markers"
+    known = sorted({*suffixes(), ".amc", ".asf"})
+    what = f"suffix {suffix!r}" if suffix else "no suffix"
+    raise MocapError(f"cannot read files with {what} (known: {', '.join(known)})", path)
+
+
 def _resolve(function: str | Callable) -> Callable:
     if callable(function):
         return function

@@ -11,11 +11,11 @@ from mocap.body.angles import motion_from_angles
 from mocap.body.retarget import motion_from_trial
 from mocap.body.segments import BODY_SEGMENTS, map_segments, read_joint_map
 from mocap.errors import MocapError, MocapWarning
-from mocap.io import read, suffixes
+from mocap.io import file_kind, motion_suffixes, read, suffixes
 from mocap.io.angles_csv import read_angles_csv
 from mocap.io.asfamc import read_asf_amc
 from mocap.io.bvh import read_bvh
-from mocap.io.discovery import find_asf, is_angle_csv
+from mocap.io.discovery import find_asf
 from mocap.markersets import load_markerset
 from mocap.skeleton import Motion
 
@@ -23,7 +23,7 @@ from mocap.skeleton import Motion
 #: registry's marker formats).
 MARKER_SUFFIXES = suffixes("markers")
 #: Suffixes :func:`read_motion` reads directly as motions.
-MOTION_SUFFIXES = (".bvh", ".amc")
+MOTION_SUFFIXES = motion_suffixes()
 
 
 def read_motion(path: str | os.PathLike, asf: str | os.PathLike | None = None,
@@ -89,6 +89,10 @@ def _read(path: Path, asf: str | os.PathLike | None, units: str | None,
     if not path.is_file():
         raise MocapError("not a regular file (a pipe or device cannot be read)", path)
     suffix = path.suffix.lower()
+    try:
+        kind = file_kind(path)
+    except MocapError:
+        kind = None                 # the last line below says what a motion can be
     if suffix == ".bvh":
         return read_bvh(path, units=units)
     if suffix == ".amc":
@@ -96,10 +100,10 @@ def _read(path: Path, asf: str | os.PathLike | None, units: str | None,
         if not skeleton.is_file():
             raise MocapError("ASF file not found", skeleton)
         return read_asf_amc(skeleton, path, rate=rate, units=units)
-    if suffix == ".asf":
+    if kind == "skeleton":
         raise MocapError("an ASF file is the skeleton only: give the AMC motion (and this "
                          "file with asf=)", path)
-    if suffix == ".csv" and is_angle_csv(path):
+    if kind == "angles":
         angles = read_angles_csv(path)
         foreign = [s for s in angles.segments if s not in BODY_SEGMENTS]
         if foreign:
@@ -108,7 +112,7 @@ def _read(path: Path, asf: str | os.PathLike | None, units: str | None,
                              + ", ".join(foreign[:6]) + (" …" if len(foreign) > 6 else "")
                              + " (mocap.body.segments.reduce_to_segments gives one)", path)
         return motion_from_angles(angles)
-    if suffix in MARKER_SUFFIXES:
+    if kind == "markers":
         if not markerset:
             raise MocapError("a marker trial needs markerset= (e.g. synthetic15) to build "
                              "the skeleton", path)

@@ -156,3 +156,20 @@ def test_asf_channels_must_be_known(old, new, message, tmp_path, capsys):
     error = _one_error_line(capsys)
     assert str(asf) in error and f"line {line}" in error
 
+
+
+def test_file_kind_is_decided_once_by_suffix_and_csv_header(tmp_path):
+    """One decision of what a file holds (mocap.io.file_kind), used by every command."""
+    from mocap.errors import MocapError
+    from mocap.io import file_kind
+
+    angles = tmp_path / "walk.csv"
+    angles.write_text("time,pelvis.Z,pelvis.X,pelvis.Y\n0,1,2,3\n")
+    markers = tmp_path / "markers.csv"
+    markers.write_text("time,LASI_x,LASI_y,LASI_z\n0,1,2,3\n")
+    assert file_kind(angles) == "angles"
+    assert file_kind(markers) == "markers"
+    assert file_kind(tmp_path / "subject.ASF") == "skeleton"
+    assert file_kind(tmp_path / "run.amc") == "motion"
+    with pytest.raises(MocapError, match=r"notes.txt: cannot read files with suffix '\.txt'"):
+        file_kind(tmp_path / "notes.txt")
