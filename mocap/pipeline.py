@@ -88,9 +88,7 @@ def used_markers(trial: Trial, markerset: MarkerSet) -> Trial:
     used = markerset.used_labels(trial.labels)
     if list(used) == list(trial.labels):        # all of them: share the array, no copy
         return trial
-    columns = [trial.labels.index(label) for label in used]
-    return Trial(used, trial.points[:, columns, :], trial.rate, trial.units, trial.path,
-                 trial.format, metadata=dict(trial.metadata))
+    return trial.select(used)
 
 
 def clean_trial(trial: Trial, markerset: MarkerSet, cleaning: Cleaning = Cleaning()
@@ -175,10 +173,7 @@ def clinical_angles(source: str | os.PathLike | Trial, static: str | os.PathLike
     trial = source if isinstance(source, Trial) else read(source)
     if static is not None and not isinstance(static, Trial):
         static = read(static)
-    used = plugingait_labels(trial)
-    columns = [trial.labels.index(label) for label in used]
-    trial = Trial(used, trial.points[:, columns, :], trial.rate, trial.units, trial.path,
-                  trial.format, metadata=dict(trial.metadata))
+    trial = trial.select(plugingait_labels(trial))
     subject = prepare_subject(trial, subject, static=static, flat_foot=flat_foot)
     report = None
     if cleaning.fills:

@@ -137,8 +137,40 @@ class Trial:
 
     def with_points(self, points: np.ndarray) -> "Trial":
         """A copy of this trial with other marker positions (same labels and rate)."""
-        return Trial(self.labels, points, self.rate, self.units, self.path, self.format,
-                     self.analogs, self.analog_labels, self.analog_rate, dict(self.metadata))
+        return self.with_markers(self.labels, points)
+
+    def with_markers(self, labels: list[str], points: np.ndarray) -> "Trial":
+        """A copy of this trial with other markers, keeping everything else.
+
+        The one way to rebuild a trial: rate, units, path, format, the analog channels
+        and a copy of ``metadata`` (events, force plates, subject measurements …) travel
+        with it.
+
+        Parameters
+        ----------
+        labels : list of str
+        points : ndarray, shape (frames, len(labels), 3), metres
+            The same frames as this trial.
+        """
+        points = np.asarray(points, dtype=float)
+        if points.shape[:1] != self.points.shape[:1]:
+            raise ValueError(f"points must keep the trial's {self.frames} frames, got "
+                             f"{points.shape[0]}")
+        return Trial(list(labels), points, self.rate, self.units, self.path, self.format,
+                     self.analogs, list(self.analog_labels), self.analog_rate,
+                     dict(self.metadata))
+
+    def select(self, labels: list[str]) -> "Trial":
+        """A copy holding only the markers ``labels`` (in that order), keeping everything
+        else (:meth:`with_markers`); KeyError names a label the trial does not have.
+
+        >>> trial = Trial(["A", "B"], np.zeros((2, 2, 3)), 100.0, analog_rate=1000.0)
+        >>> picked = trial.select(["B"])
+        >>> picked.labels, picked.points.shape, picked.analog_rate
+        (['B'], (2, 1, 3), 1000.0)
+        """
+        columns = [self.index(label) for label in labels]
+        return self.with_markers(labels, self.points[:, columns, :])
 
 
 def runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -212,9 +212,7 @@ class MarkerSet:
             self.check_trial(trial)
         points = np.concatenate([trial.points, np.full((trial.frames, len(missing), 3),
                                                        np.nan)], axis=1)
-        padded = Trial(list(trial.labels) + missing, points, trial.rate, trial.units,
-                       trial.path, trial.format, trial.analogs, trial.analog_labels,
-                       trial.analog_rate, dict(trial.metadata))
+        padded = trial.with_markers(list(trial.labels) + missing, points)
         return padded, missing, empty
 
     def used_labels(self, labels: list[str]) -> list[str]:
@@ -350,9 +348,7 @@ class MarkerSet:
                 if added else points.copy()
             for column, value in replaced.items():
                 points[:, column, :] = value
-        return Trial(labels, points, trial.rate, trial.units, trial.path, trial.format,
-                     trial.analogs, trial.analog_labels, trial.analog_rate,
-                     dict(trial.metadata))
+        return trial.with_markers(labels, points)
 
     def marker_columns(self, labels: list[str]) -> np.ndarray:
         """Columns of each segment's markers in ``labels``, shape (segments, 4), int.

@@ -304,11 +304,9 @@ def fill_plugingait(trial: Trial, subject: Subject, max_gap_frames: int
         only = [label for label in stage_donors]
         work = current
         if extra_labels:
-            work = Trial(labels + extra_labels,
-                         np.concatenate([current.points, np.stack(extra_points, axis=1)],
-                                        axis=1),
-                         current.rate, current.units, current.path, current.format,
-                         metadata=dict(current.metadata))
+            work = current.with_markers(
+                labels + extra_labels,
+                np.concatenate([current.points, np.stack(extra_points, axis=1)], axis=1))
         filled, stage = fill_gaps(work, max_gap_frames=max_gap_frames, donors=stage_donors,
                                   only=only, references=references,
                                   correlate=not is_pelvis, rehearse=is_pelvis)
