@@ -1,7 +1,7 @@
 """Gap-filling accuracy on real Plug-in Gait walks (issue 12): a measurement, never asserts.
 
 Every Plug-in Gait walk in ../shared/realdata with Vicon's angles and a static of the
-same subject (the walks of tests/mocap/test_plugingait_vicon.py) has each model marker
+same subject (the walks of tests/mocap/plugingait/test_clinical.py) has each model marker
 blanked for ``--gap`` frames at each ``--at`` fraction of the trial, filled with
 :func:`mocap.plugingait.clinical.fill_plugingait`, and its clinical angles compared with those of
 the recorded data.  Prints, per marker, the median, 90th percentile and worst over walks
@@ -30,7 +30,7 @@ from mocap.clean.filtering import lowpass
 from mocap.io import read
 from mocap.trial import Trial
 from tests.conftest import REALDATA
-from tests.mocap.test_plugingait_vicon import plugingait_pairs
+from tests.mocap.plugingait.test_clinical import plugingait_pairs
 
 
 def model_markers(trial: Trial) -> Trial:

@@ -397,7 +397,7 @@ def _tibial_torsion(kin, markers: dict, medial: np.ndarray, side: str) -> float:
     # With the right malleolar axis reversed above (both axes then point left),
     # Plug-in Gait's sign is the opposite of this angle on the left and this angle
     # on the right: checked against the LTibialTorsion / RTibialTorsion Vicon
-    # stored for 7 real statics with medial malleoli (tests/mocap/test_plugingait_vicon.py)
+    # stored for 7 real statics with medial malleoli (tests/mocap/plugingait/test_clinical.py)
     return -value if side == "l" else value
 
 

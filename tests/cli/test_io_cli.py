@@ -12,7 +12,7 @@ import pytest
 from mocap.cli import main
 from mocap.io import read, write
 from tests.conftest import realdata_path
-from tests.mocap.test_io_roundtrip import synthetic_trial
+from tests.mocap.io.test_roundtrip import synthetic_trial
 
 ROOT = Path(__file__).resolve().parents[2]
 

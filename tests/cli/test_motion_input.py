@@ -12,7 +12,7 @@ from mocap.cli import main
 from mocap.io.bvh import read_bvh
 from mocap.body.retarget import reduce_to_segments
 from mocap.body.segments import BODY_SEGMENTS
-from tests.mocap.test_bvh_hostile import SMALL
+from tests.mocap.io.test_bvh_hostile import SMALL
 
 DATA = Path(__file__).resolve().parents[1] / "data"
 #: A rig whose names say nothing (b0 … b6).

@@ -20,10 +20,10 @@ import pytest
 from mocap.errors import MocapError
 from mocap.io import read, write
 from tests.conftest import realdata_path
-from tests.mocap.io_damage import bit_flip_variants, header_field_variants, truncation_variants
-from tests.mocap.test_io_roundtrip import synthetic_trial
+from tests.mocap.io.damage import bit_flip_variants, header_field_variants, truncation_variants
+from tests.mocap.io.test_roundtrip import synthetic_trial
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 #: Seconds for one child process to read all variants of one source file.
 TIMEOUT = 120
 
@@ -49,7 +49,7 @@ def _read_in_child(paths: list[Path]) -> list[dict]:
     """Results of reading ``paths`` in a child process; fails on a crash or hang."""
     try:
         completed = subprocess.run(
-            [sys.executable, "-m", "tests.mocap.io_damage", *map(str, paths)],
+            [sys.executable, "-m", "tests.mocap.io.damage", *map(str, paths)],
             cwd=ROOT, capture_output=True, text=True, timeout=TIMEOUT)
     except subprocess.TimeoutExpired as expired:
         started = [json.loads(line)["start"] for line in (expired.stdout or b"").decode()

@@ -28,7 +28,7 @@ from mocap.markersets.parse import markerset_from_dict
 from mocap.synthetic import synthesize_trial
 from mocap.trial import Trial
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 PRESET = ROOT / "mocap" / "markersets" / "presets" / "synthetic15.toml"
 
 FUZZ = settings(max_examples=60, derandomize=True, deadline=None, database=None,

@@ -12,10 +12,10 @@ from mocap.io.bvh import UNIT_SCALES, read_bvh, write_bvh
 from mocap.body.retarget import reduce_to_segments
 from mocap.body.segments import BODY_SEGMENTS
 from tests.conftest import realdata_path, require_module
-from tests.mocap.spec_fk import (acclaim_positions, bvh_world_positions, parse_amc, parse_asf,
+from tests.mocap.io.spec_fk import (acclaim_positions, bvh_world_positions, parse_amc, parse_asf,
                                  parse_bvh)
 
-DATA = Path(__file__).resolve().parents[1] / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 #: 0.01 mm, in metres.
 TOLERANCE = 1e-5
 

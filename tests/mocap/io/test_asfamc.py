@@ -12,7 +12,7 @@ import pytest
 from mocap.errors import MocapError, MocapWarning
 from mocap.io.asfamc import read_asf_amc
 
-DATA = Path(__file__).resolve().parents[1] / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 ASF = (DATA / "cmu_lambada.asf").read_text()
 AMC = (DATA / "cmu_lambada.amc").read_text()
 

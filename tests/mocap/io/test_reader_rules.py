@@ -17,7 +17,7 @@ from mocap.io import read
 from mocap.io.asfamc import read_asf
 from tests.conftest import realdata_path
 
-DATA = Path(__file__).resolve().parents[1] / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 
 
 def _one_error_line(capsys) -> str:

@@ -29,7 +29,7 @@ from tests.conftest import realdata_path
 
 ZOO = "biomechzoo_sample_study"
 #: HC036A's subject file was re-calibrated after its static was saved (the walks
-#: store other wand rotations than the static; see test_plugingait_vicon.py).
+#: store other wand rotations than the static; see test_clinical.py).
 STATICS = ["HC002D/Static/HC002D02.c3d", "HC030A/Static/HC030A01.c3d",
            "HC031A/Static/HC031A01.c3d", "HC032A/Static/HC032A01.c3d",
            "HC033A/Static/HC033A01.c3d", "HC038A/Static/HC038A01.c3d",

@@ -15,7 +15,7 @@ from mocap.body.retarget import reduce_to_segments
 from mocap.body.segments import BODY_SEGMENTS, default_skeleton
 from mocap.skeleton import Motion
 
-DATA = Path(__file__).resolve().parents[1] / "data"
+DATA = Path(__file__).resolve().parents[2] / "data"
 
 CMU_STYLE = """HIERARCHY
 ROOT Hips

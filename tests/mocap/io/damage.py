@@ -1,10 +1,10 @@
 """Seeded damage of C3D files, and a worker that reads files in a child process.
 
-Used by tests/mocap/test_io_c3d_damage.py. The worker runs in a subprocess so that a
+Used by tests/mocap/io/test_c3d_damage.py. The worker runs in a subprocess so that a
 crash (segmentation fault) or a hang of a reader is seen as a test failure
 instead of killing pytest:
 
-    python -m tests.mocap.io_damage FILE...     # one JSON line per file on stdout
+    python -m tests.mocap.io.damage FILE...     # one JSON line per file on stdout
 """
 from __future__ import annotations
 
