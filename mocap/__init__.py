@@ -1,24 +1,46 @@
-"""mocap: marker data in, joint angles out.
+"""mocap: motion capture analysis, synthesis and dynamics — marker data in, angles out.
 
 Read C3D/CSV/TRC marker files into a :class:`~mocap.trial.Trial`, fill gaps and
 filter, build segment frames from three markers per segment and extract joint
-angles in any Euler sequence.
+angles in any Euler sequence, or Plug-in Gait's clinical angles.
+
+The everyday calls are here at the top:
+
+>>> import mocap
+>>> sorted(name for name in mocap.__all__ if name[0].islower())   # doctest: +NORMALIZE_WHITESPACE
+['clinical_angles', 'file_kind', 'fill_gaps', 'joint_angles', 'load_markerset', 'lowpass',
+ 'marker_file_angles', 'read', 'read_motion', 'write']
 
 ``import mocap`` is light (numpy and the readers load on first use), so the ``mocap``
 command starts quickly and Ctrl-C at start-up is caught by it.
 """
-__all__ = ["MocapError", "MocapWarning", "Trial"]
+#: Public name -> module that defines it (imported on first use).
+_HOMES = {
+    "MocapError": "mocap.errors",
+    "MocapWarning": "mocap.errors",
+    "Trial": "mocap.trial",
+    "read": "mocap.io",
+    "write": "mocap.io",
+    "file_kind": "mocap.io",
+    "read_motion": "mocap.io.motion",
+    "load_markerset": "mocap.markersets",
+    "joint_angles": "mocap.rotations.angles",
+    "fill_gaps": "mocap.clean.gapfill",
+    "lowpass": "mocap.clean.filtering",
+    "marker_file_angles": "mocap.pipeline",
+    "clinical_angles": "mocap.pipeline",
+    "Cleaning": "mocap.pipeline",
+}
+
+__all__ = sorted(_HOMES)
 
 
 def __getattr__(name: str):
-    if name in ("MocapError", "MocapWarning"):
-        # deferred too: ``import mocap`` imports nothing, so the ``mocap`` command's
-        # Ctrl-C handler (mocap/__main__.py) is in place before any import can be cut
-        import mocap.errors
-        return getattr(mocap.errors, name)
-    if name == "Trial":
-        from mocap.trial import Trial
-        return Trial
+    # deferred: ``import mocap`` imports nothing, so the ``mocap`` command's Ctrl-C
+    # handler (mocap/__main__.py) is in place before any import can be cut
+    if name in _HOMES:
+        import importlib
+        return getattr(importlib.import_module(_HOMES[name]), name)
     if name == "__version__":
         from importlib.metadata import PackageNotFoundError, version
         try:

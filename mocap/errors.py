@@ -79,7 +79,7 @@ class MocapWarning(UserWarning):
 @contextlib.contextmanager
 def reading(path: str | os.PathLike, what: str = "file",
             missing: str = "no such file") -> Iterator[None]:
-    """Turn the operating system's refusals while reading ``path`` into one-line
+    r"""Turn the operating system's refusals while reading ``path`` into one-line
     :class:`MocapError`\ s naming the file: ``missing`` for a file that is not there, "is a
     directory, not a <what>", "cannot read <what>: <reason>" (unreadable, undecodable).
 
@@ -99,3 +99,14 @@ def reading(path: str | os.PathLike, what: str = "file",
     except (OSError, UnicodeDecodeError) as error:
         reason = getattr(error, "strerror", None) or error
         raise MocapError(f"cannot read {what}: {reason}", path) from None
+
+
+def import_pandas():
+    """pandas, which the ``to_dataframe`` methods need and the core install leaves out;
+    its absence is an ImportError that says how to install it."""
+    try:
+        import pandas
+    except ImportError:
+        raise ImportError('tables as DataFrames need pandas: pip install "mocap-toolkit[tables]" '
+                          '(or pip install pandas)') from None
+    return pandas

@@ -177,6 +177,21 @@ class Cycles:
     joints: list
     axes: list
 
+    def to_dataframe(self):
+        """The cycles as a tidy pandas DataFrame, as the cycles CSV: columns ``side``,
+        ``cycle``, ``percent`` (0-100) then ``<joint>.<axis>`` in degrees, one row per
+        sample of each cycle. Needs pandas (the ``tables`` extra)."""
+        from mocap.errors import import_pandas
+
+        pandas = import_pandas()
+        count, samples = self.values.shape[:2]
+        table = pandas.DataFrame(self.values.reshape(count * samples, -1),
+                                 columns=[f"{j}.{a}" for j in self.joints for a in self.axes])
+        table.insert(0, "percent", np.tile(np.linspace(0.0, 100.0, samples), count))
+        table.insert(0, "cycle", np.repeat(np.asarray(self.number, dtype=int), samples))
+        table.insert(0, "side", np.repeat(np.asarray(self.side, dtype=object), samples))
+        return table
+
 
 def normalise_cycles(angles, events: list[GaitEvent], samples: int = CYCLE_SAMPLES
                      ) -> Cycles:

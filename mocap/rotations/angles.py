@@ -92,6 +92,17 @@ class JointAngles:
         except ValueError:
             raise KeyError(name) from None
 
+    def to_dataframe(self):
+        """The angles as a pandas DataFrame: index ``time`` (s), one column per
+        ``<segment>.<axis>`` in degrees (the CSV's header, ``docs/formats/angles-csv.md``),
+        NaN where unknown. Needs pandas (the ``tables`` extra)."""
+        from mocap.errors import import_pandas
+
+        pandas = import_pandas()
+        index = pandas.Index(np.asarray(self.times, dtype=float), name="time")
+        return pandas.DataFrame(self.values.reshape(self.frames, -1), index=index,
+                                columns=self.columns[1:])
+
 
 def check_sequence(sequence: str) -> str:
     """Return ``sequence`` if scipy accepts it, else raise MocapError."""

@@ -25,3 +25,19 @@ def test_the_recipes_keep_the_analog_channels_and_metadata():
         assert result.trial.analog_labels == walk.analog_labels
         assert result.trial.analog_rate == walk.analog_rate
         assert result.trial.metadata.get("parameters") is walk.metadata.get("parameters")
+
+
+def test_the_everyday_calls_are_at_the_top_of_mocap():
+    """``mocap.read``, ``mocap.clinical_angles`` … are the library's own functions (one
+    home each), reachable without knowing the sub-packages."""
+    import mocap
+    from mocap import io, pipeline
+    from mocap.rotations import angles
+
+    assert mocap.read is io.read and mocap.write is io.write
+    assert mocap.clinical_angles is pipeline.clinical_angles
+    assert mocap.joint_angles is angles.joint_angles
+    walk = mocap.read(realdata_path(*WALK))
+    assert isinstance(walk, mocap.Trial) and walk.rate == 100.0
+    with np.testing.assert_raises(AttributeError):
+        mocap.no_such_thing  # noqa: B018

@@ -132,6 +132,19 @@ class PlateForces:
     def times(self) -> np.ndarray:
         return np.arange(self.samples) / self.rate
 
+    def to_dataframe(self):
+        """The samples as a pandas DataFrame: index ``time`` (s), columns ``force_x``
+        … ``force_z`` (N), ``moment_*`` (N·m about the lab origin), ``cop_*`` (m),
+        ``free_moment_*`` (N·m), lab frame. Needs pandas (the ``tables`` extra)."""
+        from mocap.errors import import_pandas
+
+        pandas = import_pandas()
+        parts = {"force": self.force, "moment": self.moment, "cop": self.cop,
+                 "free_moment": self.free_moment}
+        columns = {f"{name}_{axis}": values[:, i] for name, values in parts.items()
+                   for i, axis in enumerate("xyz")}
+        return pandas.DataFrame(columns, index=pandas.Index(self.times, name="time"))
+
 
 def _param(group: dict, name: str):
     value = group.get(name)
