@@ -145,6 +145,9 @@ def run_angles(args: argparse.Namespace) -> int:
                    or output.is_dir() or args.output.endswith(os.sep))
     args.cycles_folder = folder_mode and args.cycles is not None
     if not folder_mode:
+        if output.suffix.lower() != ".csv":
+            raise MocapError("the angles are written as CSV: name the output .csv (or a "
+                             "folder, ending in /, for several inputs)", output)
         jobs = [(files[0], output, Path(args.plot) if args.plot else None)]
     else:
         if output.exists() and not output.is_dir():
@@ -174,6 +177,8 @@ def run_angles(args: argparse.Namespace) -> int:
     if failures:
         print(f"mocap angles: {failures} of {len(jobs)} input(s) failed", file=sys.stderr)
         return 2
+    done = (f"{jobs[0][1]}" if len(jobs) == 1 else f"{len(jobs)} angle files to {output}")
+    print(f"wrote {done}", file=sys.stderr)
     return 0
 
 

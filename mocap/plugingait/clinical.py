@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mocap.errors import MocapError
+from mocap.errors import MocapError, MocapWarning
 from mocap.markersets.model import MissingMarkerWarning, _LabelIndex
 from mocap.plugingait.model import (JOINTS, MARKERS, PLANES, SIDES, AnatomicalOffsetWarning,
                               MissingMeasurementError, Subject, clinical_angles, kinematics,
@@ -120,6 +120,8 @@ def prepare_subject(trial: Trial, subject: Subject | None = None, *,
     if static is not None:
         from mocap.plugingait.calibration import calibrate, resolve_flat_foot
 
+        _warn_if_moving(static)
+
         flat = resolve_flat_foot(static, subject, flat_foot, walk=trial)
         subject = calibrate(static, subject, flat_foot=flat)
     elif warn and not subject.calibrated:
@@ -135,6 +137,28 @@ def prepare_subject(trial: Trial, subject: Subject | None = None, *,
         keep = {name: recorded_frames(trial, [trial.labels[index.find(name)]])
                 for name in markers if index.find(name) is not None}
     return estimate_missing(subject, markers, path, keep)
+
+
+#: Horizontal travel of the ASIS midpoint beyond which a "static" trial is not one,
+#: metres: standing sway is a few centimetres, one walking step is 0.5-0.8 m.
+STATIC_TRAVEL_M = 0.25
+
+
+def _warn_if_moving(static: Trial) -> None:
+    """A MocapWarning when the static's pelvis travels like a walk's (its offsets would
+    be averaged over a gait, not taken from a standing pose)."""
+    markers, _ = markers_from_trial(static, ("LASI", "RASI"))
+    if len(markers) < 2:
+        return
+    origin = (markers["LASI"] + markers["RASI"])[:, :2] / 2000.0          # metres
+    origin = origin[np.isfinite(origin).all(axis=1)]
+    if len(origin) < 2:
+        return
+    travel = float(np.max(np.ptp(origin, axis=0)))
+    if travel > STATIC_TRAVEL_M:
+        warnings.warn(f"{static.path or 'static'}: the pelvis travels {travel:.2f} m during "
+                      f"the static trial (standing sway is a few cm): is it a walk? Its "
+                      f"calibration is averaged over the movement", MocapWarning, stacklevel=4)
 
 
 def clinical_columns() -> list[str]:

@@ -138,3 +138,17 @@ def test_help_explains_every_option():
                    "--short-runs", "--output", "--plot", "--clinical", "--static",
                    "--flat-foot", "--cycles"):
         assert option in text
+
+
+def test_a_non_csv_output_is_refused_and_success_is_said(tmp_path, capsys):
+    """``-o angles.xlsx`` wrote CSV text into an .xlsx file; a success printed nothing."""
+    from mocap.cli import main
+
+    walk = realdata_path("biomechzoo_sample_study", "HC030A", "Straight", "HC030A05.c3d")
+    target = tmp_path / "angles.xlsx"
+    assert main(["angles", str(walk), "-m", "plugingait-lower", "-o", str(target)]) == 2
+    err = capsys.readouterr().err
+    assert "angles.xlsx: the angles are written as CSV" in err and not target.exists()
+    good = tmp_path / "angles.csv"
+    assert main(["angles", str(walk), "-m", "plugingait-lower", "-o", str(good)]) == 0
+    assert f"wrote {good}" in capsys.readouterr().err and good.exists()

@@ -187,3 +187,17 @@ def test_the_python_recipe_gives_the_command_lines_angles(tmp_path, capsys):
         ok = np.isfinite(vicon) & np.isfinite(ours)
         assert ok.sum() > 100
         assert np.sqrt(np.mean((ours[ok] - vicon[ok]) ** 2)) < 0.5
+
+
+def test_a_walk_given_as_static_is_a_warning(tmp_path, capsys):
+    """A walk passed to --static was calibrated from without a word; a real static is not
+    warned about (its pelvis sways a few cm, the walk's travels > 1 m)."""
+    out = tmp_path / "walk.csv"
+    status, _, err = run(capsys, "angles", realdata_path(*WALK), "-m", "plugingait-lower",
+                         "--static", realdata_path(*WALK), "-o", out)
+    assert status == 0, err
+    assert "during the static trial (standing sway is a few cm): is it a walk?" in err
+    assert len([line for line in err.splitlines() if "is it a walk" in line]) == 1
+    status, _, err = run(capsys, "angles", realdata_path(*WALK), "-m", "plugingait-lower",
+                         "--static", realdata_path(*STATIC), "-o", out)
+    assert status == 0 and "is it a walk" not in err
