@@ -56,10 +56,10 @@ def summarise(trial: Trial) -> dict:
     }
     if "reader" in trial.metadata:
         summary["reader"] = trial.metadata["reader"]
-    if "modelled" in trial.metadata:
-        summary["modelled_points"] = list(trial.metadata["modelled"]["labels"])
-    if "events" in trial.metadata:
-        summary["events"] = trial.metadata["events"]
+    if trial.modelled is not None:
+        summary["modelled_points"] = list(trial.modelled["labels"])
+    if trial.events:
+        summary["events"] = trial.events
     if trial.poses is not None:
         summary["rotations"] = list(trial.poses.labels)
         summary["rotation_rate"] = trial.poses.rate

@@ -1,7 +1,8 @@
 """The :class:`Trial` container: marker trajectories of one capture."""
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -33,7 +34,33 @@ class Trial:
     analog_rate : float or None
         Hz.
     metadata : dict
-        Anything else worth keeping (manufacturer, first frame, reader used).
+        Anything else worth keeping (the reader used, the manufacturer, the reader's
+        ``warnings`` …); what every reader produces has a typed field below.
+
+    first_frame : int
+        Number of the first frame in the source file (C3D header, TRC Frame#), 1-based.
+    start_time : float or None
+        Time of the first frame on the source file's clock, seconds (TRC/CSV time column);
+        None: ``(first_frame - 1) / rate``.
+    frame_numbers, frame_times : ndarray, shape (frames,), or None
+        A TRC file's Frame# and Time columns as read (kept when the trial is written again).
+    events : list of dict
+        Gait events of the file (C3D EVENT group): ``label``, ``context``, ``time`` (s),
+        ``frame`` (0-based index into ``points``).
+    parameters : dict
+        The C3D parameter groups, ``group → name → value`` (force plates in
+        ``FORCE_PLATFORM``, subject measurements in ``PROCESSING``); empty for other files.
+    poses : SegmentPoses or None
+        Segment poses of a markerless C3D file (ROTATION group,
+        :class:`mocap.io.c3d.rotations.SegmentPoses`: ``labels``, ``rotations``
+        (frames, segments, 3, 3), ``positions`` (frames, segments, 3) in metres).
+    modelled : dict or None
+        Model outputs a C3D stores as points (Vicon's angles, forces, moments, powers …),
+        kept apart from the markers: ``labels``, ``kinds``, ``values`` (frames, outputs, 3)
+        in the file's units.
+    filled : dict or None
+        Marker label → boolean mask (frames,) of the samples gap filling made up
+        (:func:`mocap.clean.gapfill.fill_gaps`), so whole-trial estimates skip them.
     """
 
     labels: list[str]
@@ -46,6 +73,15 @@ class Trial:
     analog_labels: list[str] = field(default_factory=list)
     analog_rate: float | None = None
     metadata: dict = field(default_factory=dict)
+    first_frame: int = field(default=1, kw_only=True)
+    start_time: float | None = field(default=None, kw_only=True)
+    frame_numbers: np.ndarray | None = field(default=None, kw_only=True)
+    frame_times: np.ndarray | None = field(default=None, kw_only=True)
+    events: list[dict] = field(default_factory=list, kw_only=True)
+    parameters: dict[str, dict[str, Any]] = field(default_factory=dict, kw_only=True)
+    poses: Any = field(default=None, kw_only=True)
+    modelled: dict | None = field(default=None, kw_only=True)
+    filled: dict[str, np.ndarray] | None = field(default=None, kw_only=True)
 
     def __post_init__(self) -> None:
         self.labels = [str(label) for label in self.labels]
@@ -81,22 +117,12 @@ class Trial:
                              f"{self.frames} frames are unknown", self.path)
         return np.arange(self.frames) / self.rate
 
-    @property
-    def poses(self):
-        """Segment poses of a markerless C3D file (ROTATION group), or None.
-
-        :class:`mocap.io.c3d.rotations.SegmentPoses`: ``labels``, ``rotations``
-        (frames, segments, 3, 3), ``positions`` (frames, segments, 3) in metres.
-        """
-        return self.metadata.get("rotations")
-
     def time_base(self) -> tuple[np.ndarray, np.ndarray]:
         """Frame numbers and times of the frames as the source file numbered them.
 
         A trial read from a TRC file keeps its Frame# and Time columns
-        (``metadata["frame_numbers"]``, ``metadata["frame_times"]``); a C3D trial
-        starts at ``metadata["first_frame"]`` with frame 1 at 0 s (the C3D
-        convention). Other trials, or a trial whose frame count changed since it was
+        (``frame_numbers``, ``frame_times``); a C3D trial starts at ``first_frame``
+        with frame 1 at 0 s (the C3D convention). Other trials, or a trial whose frame count changed since it was
         read, count from frame ``first_frame`` (default 1) at ``start_time``
         (default: (first_frame − 1) / rate).
 
@@ -105,13 +131,12 @@ class Trial:
         frame_numbers : ndarray, shape (frames,), int
         times : ndarray, shape (frames,), seconds
         """
-        numbers = self.metadata.get("frame_numbers")
-        times = self.metadata.get("frame_times")
+        numbers, times = self.frame_numbers, self.frame_times
         if numbers is not None and times is not None and len(numbers) == self.frames \
                 and len(times) == self.frames:
             return np.asarray(numbers, dtype=np.int64), np.asarray(times, dtype=float)
-        first = int(self.metadata.get("first_frame", 1) or 1)
-        start = self.metadata.get("start_time")
+        first = int(self.first_frame or 1)
+        start = self.start_time
         if start is None or not np.isfinite(start):
             start = (first - 1) / self.rate if self.rate > 0 else 0.0
         numbers = first + np.arange(self.frames, dtype=np.int64)
@@ -156,9 +181,10 @@ class Trial:
         if points.shape[:1] != self.points.shape[:1]:
             raise ValueError(f"points must keep the trial's {self.frames} frames, got "
                              f"{points.shape[0]}")
-        return Trial(list(labels), points, self.rate, self.units, self.path, self.format,
-                     self.analogs, list(self.analog_labels), self.analog_rate,
-                     dict(self.metadata))
+        return replace(self, labels=list(labels), points=points,
+                       analog_labels=list(self.analog_labels), metadata=dict(self.metadata),
+                       events=list(self.events),
+                       filled=None if self.filled is None else dict(self.filled))
 
     def select(self, labels: list[str]) -> "Trial":
         """A copy holding only the markers ``labels`` (in that order), keeping everything

@@ -7,7 +7,7 @@ so a long gap in a fast-turning segment keeps the segment's shape,
 Nothing is invented where it cannot be known: gaps longer than the maximum, or at the
 start or end of a trajectory (which would need extrapolation), stay NaN and are
 reported.  Only the gap's frames are written, and the frames a fill wrote are
-recorded (``Trial.metadata["filled"]``) so that whole-trial estimates skip them.
+recorded (``Trial.filled``) so that whole-trial estimates skip them.
 """
 from __future__ import annotations
 
@@ -216,7 +216,7 @@ def fill_gaps(trial: Trial, max_gap_frames: int | None = None,
                     points[s:s + n, m] = spline(all_frames[s:s + n])
                     report.filled.append(Gap(label, s, n, method="spline"))
     out = trial.with_points(points)
-    out.metadata["filled"] = filled_masks(trial, report)
+    out.filled = filled_masks(trial, report)
     return out, report
 
 
@@ -224,10 +224,10 @@ def filled_masks(trial: Trial, report: GapReport) -> dict[str, np.ndarray]:
     """Per label, the frames a fill wrote (bool (frames,)), merged with earlier fills.
 
     Whole-trial estimates (leg length, pelvis width, joint-centre offsets) skip
-    these frames, so a fill never changes them (``Trial.metadata["filled"]``).
+    these frames, so a fill never changes them (``Trial.filled``).
     """
     masks = {label: np.array(mask, dtype=bool)
-             for label, mask in (trial.metadata.get("filled") or {}).items()}
+             for label, mask in ((trial.filled or {})).items()}
     for gap in report.filled:
         mask = masks.setdefault(gap.label, np.zeros(trial.frames, dtype=bool))
         mask[gap.start:gap.start + gap.length] = True
@@ -236,7 +236,7 @@ def filled_masks(trial: Trial, report: GapReport) -> dict[str, np.ndarray]:
 
 def recorded_frames(trial: Trial, labels) -> np.ndarray:
     """Frames where none of ``labels`` was written by a gap fill, bool (frames,)."""
-    masks = trial.metadata.get("filled") or {}
+    masks = (trial.filled or {})
     keep = np.ones(trial.frames, dtype=bool)
     for label in labels:
         mask = masks.get(label)

@@ -291,7 +291,7 @@ def _stored_mass(trial) -> float | None:
     """PROCESSING:BODYMASS of a C3D trial (kg), when stored and plausible."""
     if trial is None:
         return None
-    value = trial.metadata.get("parameters", {}).get("PROCESSING", {}).get("BODYMASS")
+    value = trial.parameters.get("PROCESSING", {}).get("BODYMASS")
     try:
         mass = float(value.reshape(-1)[0])
     except (AttributeError, IndexError, TypeError, ValueError):

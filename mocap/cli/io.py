@@ -214,8 +214,8 @@ def run_convert(args: argparse.Namespace) -> int:
     dropped = []
     if trial.analog_labels and target_format.name != "c3d":
         dropped.append(f"{len(trial.analog_labels)} analog channels")
-    if "modelled" in source_trial.metadata:
-        dropped.append(f"{len(source_trial.metadata['modelled']['labels'])} modelled points "
+    if source_trial.modelled is not None:
+        dropped.append(f"{len(source_trial.modelled['labels'])} modelled points "
                        f"(angles, forces …)")
     if target_format.name == "csv" and trial.frames < 2 and trial.rate > 0:
         # a CSV's only clock is its time column: one row cannot carry a rate

@@ -115,8 +115,9 @@ def _read_plain(first_line: str, body: bytes, path) -> Trial:
     if np.isfinite(sample).any() and infer_unit_factor(sample)[0] == "mm":
         warnings.append("coordinates look like millimetres, but this CSV layout is in "
                         "metres: check the file")
-    metadata = {"start_time": float(times[0]) if times.size else 0.0, "warnings": warnings}
-    return Trial(labels, points, rate, "m", os.fspath(path), "csv", metadata=metadata)
+    return Trial(labels, points, rate, "m", os.fspath(path), "csv",
+                 metadata={"warnings": warnings},
+                 start_time=float(times[0]) if times.size else 0.0)
 
 
 def _read_vicon(lines: list[str], path) -> Trial:
@@ -143,10 +144,9 @@ def _read_vicon(lines: list[str], path) -> Trial:
     if factor is None:
         guess, factor = infer_unit_factor(points)
         warnings.append(f"units {units!r}; {guess} inferred from the coordinates' magnitude")
-    metadata = {"first_frame": int(table[0, 0]) if len(table) and np.isfinite(table[0, 0])
-                else 1, "warnings": warnings, "layout": "vicon-nexus"}
+    first = int(table[0, 0]) if len(table) and np.isfinite(table[0, 0]) else 1
     return Trial(labels, points * factor, rate, units, os.fspath(path), "csv",
-                 metadata=metadata)
+                 metadata={"warnings": warnings, "layout": "vicon-nexus"}, first_frame=first)
 
 
 def write_csv(trial: Trial, path: str | os.PathLike, precision: int | None = None) -> None:

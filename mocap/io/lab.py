@@ -8,6 +8,8 @@ distances, angles and handedness are kept.
 """
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from mocap.errors import MocapError
@@ -43,7 +45,7 @@ def rotate_trial(trial, up: str):
     -------
     Trial
         The same trial when ``up == "z"``; otherwise a copy whose points, ROTATION
-        segment poses (``metadata["rotations"]``) and force-plate corners
+        segment poses (``poses``) and force-plate corners
         (``FORCE_PLATFORM:CORNERS``, lab coordinates) are turned, and whose
         ``metadata["up"]`` says so. Modelled points are not turned (angles are not
         vectors) and are dropped from the copy.
@@ -53,11 +55,8 @@ def rotate_trial(trial, up: str):
         return trial
     metadata = dict(trial.metadata)
     metadata["up"] = up
-    metadata.pop("modelled", None)
-    poses = metadata.get("rotations")
-    if poses is not None:
-        metadata["rotations"] = poses.rotated(turn)
-    parameters = metadata.get("parameters")
+    poses = trial.poses.rotated(turn) if trial.poses is not None else None
+    parameters = trial.parameters
     if parameters and "FORCE_PLATFORM" in parameters:
         plates = dict(parameters["FORCE_PLATFORM"])
         corners = plates.get("CORNERS")
@@ -65,7 +64,6 @@ def rotate_trial(trial, up: str):
             plates["CORNERS"] = np.einsum("ij,j...->i...", turn, corners.astype(float))
         parameters = dict(parameters)
         parameters["FORCE_PLATFORM"] = plates
-        metadata["parameters"] = parameters
-    copy = trial.with_points(trial.points @ turn.T)
-    copy.metadata = metadata
+    copy = replace(trial.with_points(trial.points @ turn.T), metadata=metadata, poses=poses,
+                   parameters=parameters, modelled=None)
     return copy

@@ -136,16 +136,16 @@ def read_trc(path: str | os.PathLike) -> Trial:
                           warnings)
     frames, times = table[:, 0], table[:, 1]
     metadata: dict = {"header": header, "warnings": warnings}
+    clock: dict = {}
     problem = _time_column_problem(times, rate)
     if problem:
         warnings.append(problem)
     elif times.size:
-        metadata["frame_times"] = times.copy()
-        metadata["start_time"] = float(times[0])
+        clock.update(frame_times=times.copy(), start_time=float(times[0]))
     if frames.size and np.isfinite(frames).all() and (frames == np.round(frames)).all():
-        metadata["frame_numbers"] = frames.astype(np.int64)
-        metadata["first_frame"] = int(frames[0])
-    return Trial(labels, points, rate, units, os.fspath(path), "trc", metadata=metadata)
+        clock.update(frame_numbers=frames.astype(np.int64), first_frame=int(frames[0]))
+    return Trial(labels, points, rate, units, os.fspath(path), "trc", metadata=metadata,
+                 **clock)
 
 
 def _time_column_problem(times: np.ndarray, rate: float) -> str | None:

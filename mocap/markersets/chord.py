@@ -11,7 +11,7 @@ import numpy as np
 def processing_number(trial, name: str) -> float | None:
     """A number of the trial's PROCESSING group (Vicon's subject values), by name in any
     case; None when absent, not a number or 0 (Vicon's "not measured")."""
-    parameters = (getattr(trial, "metadata", None) or {}).get("parameters") or {}
+    parameters = getattr(trial, "parameters", None) or {}
     group = {str(k).upper(): v for k, v in (parameters.get("PROCESSING") or {}).items()}
     try:
         value = float(np.ravel(group.get(name.upper()))[0])

@@ -329,7 +329,7 @@ class MarkerSet:
             if any(index.find(m) is None for m in v.inputs):
                 continue  # not needed by any segment (check_trial passed)
             keep = None
-            if v.type == "hip_joint_centre" and trial.metadata.get("filled"):
+            if v.type == "hip_joint_centre" and trial.filled:
                 from mocap.clean.gapfill import recorded_frames
                 keep = [recorded_frames(trial, sources(i)) for i in v.inputs]
             value = virtual_positions(v, get, trial, keep)

@@ -130,7 +130,7 @@ def prepare_subject(trial: Trial, subject: Subject | None = None, *,
                       f"give --static for Plug-in Gait's calibration)",
                       AnatomicalOffsetWarning, stacklevel=3)
     keep = None
-    if trial.metadata.get("filled"):
+    if trial.filled:
         from mocap.clean.gapfill import recorded_frames
 
         index = _LabelIndex(trial.labels)
@@ -344,5 +344,5 @@ def fill_plugingait(trial: Trial, subject: Subject, max_gap_frames: int
         report.filled += stage.filled
         report.unfilled += stage.unfilled
         current = filled
-    current.metadata["filled"] = filled_masks(trial, report)
+    current.filled = filled_masks(trial, report)
     return current, report

@@ -45,7 +45,7 @@ class GaitEvent:
 def events_from_file(trial: Trial) -> list[GaitEvent]:
     """Foot strikes and foot offs of the C3D EVENT group, by frame."""
     out = []
-    for event in trial.metadata.get("events", []) or []:
+    for event in trial.events:
         label = str(event.get("label", "")).strip().lower()
         context = str(event.get("context", "")).strip().lower()
         side = {"left": "l", "right": "r"}.get(context)

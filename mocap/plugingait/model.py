@@ -120,7 +120,7 @@ def subject_from_trial(trial: Trial, *, offsets: bool = False) -> Subject:
     Parameters
     ----------
     trial : Trial
-        Read from a C3D (``metadata["parameters"]["PROCESSING"]``); other
+        Read from a C3D (``parameters["PROCESSING"]``); other
         formats give the defaults.
     offsets : bool
         Also take the static offsets (plant-flexion, rotation) stored there by
@@ -132,7 +132,7 @@ def subject_from_trial(trial: Trial, *, offsets: bool = False) -> Subject:
     Subject
         A measurement of 0 (Vicon's "not measured") becomes None.
     """
-    parameters = trial.metadata.get("parameters") or {}
+    parameters = trial.parameters
     group = {str(k).upper(): v for k, v in (parameters.get("PROCESSING") or {}).items()}
 
     def number(name: str) -> float | None:

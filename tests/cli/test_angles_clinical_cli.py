@@ -39,7 +39,7 @@ def test_clinical_angles_with_static_and_cycles(tmp_path, capsys):
     assert angles.axes == ["flexion", "adduction", "rotation"]
     # the CSV's knee flexion is Vicon's LKneeAngles X within the lab's 2 degrees
     trial = read(realdata_path(*WALK))
-    modelled = trial.metadata["modelled"]
+    modelled = trial.modelled
     vicon = modelled["values"][:, modelled["labels"].index("LKneeAngles"), 0]
     ours = angles.segment("l_knee")[:, 0]
     ok = np.isfinite(vicon) & np.isfinite(ours)
@@ -74,7 +74,8 @@ def test_empty_sacrum_falls_back_to_the_psis_midpoint(tmp_path, capsys):
     trial = read(realdata_path(*PYCGM))
     labels = trial.labels + ["SACR"]
     points = np.concatenate([trial.points, np.full((trial.frames, 1, 3), np.nan)], axis=1)
-    empty = Trial(labels, points, trial.rate, path="nosacr.c3d", metadata=trial.metadata)
+    empty = trial.with_markers(labels, points)
+    empty.path = "nosacr.c3d"
     # the clinical angles: a warning, and the same angles as from the PSIS alone
     with pytest.warns(MissingMarkerWarning, match="SACR has no data"), \
             pytest.warns(AnatomicalOffsetWarning):
@@ -180,7 +181,7 @@ def test_the_python_recipe_gives_the_command_lines_angles(tmp_path, capsys):
     np.testing.assert_allclose(result.angles.values, written.values, atol=1e-5,
                                equal_nan=True)          # the CSV keeps 6 decimals
     # and both are Vicon's: the ankle flexion (the foot-flat option's plane)
-    modelled = read(walk).metadata["modelled"]
+    modelled = read(walk).modelled
     for side in "LR":
         vicon = modelled["values"][:, modelled["labels"].index(f"{side}AnkleAngles"), 0]
         ours = result.angles.segment(f"{side.lower()}_ankle")[:, 0]

@@ -33,7 +33,7 @@ MASS = 75.0
 
 
 def _mass(trial) -> float:
-    return float(trial.metadata["parameters"]["PROCESSING"]["BODYMASS"][0])
+    return float(trial.parameters["PROCESSING"]["BODYMASS"][0])
 
 
 @pytest.fixture(scope="module")
@@ -86,7 +86,7 @@ def stance_moments(walks):
     rows = {k: [] for k in LITERATURE}
     for local, trial, humanoid, report, plates, comparison in walks:
         torques, _, loaded = plate_joint_torques(report, humanoid, plates)
-        modelled = trial.metadata.get("modelled", {})
+        modelled = (trial.modelled or {})
         for stance in comparison["stances"]:
             side = stance["foot"][0]
             start = int(round(stance["start_s"] * report.rate))

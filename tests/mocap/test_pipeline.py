@@ -24,7 +24,7 @@ def test_the_recipes_keep_the_analog_channels_and_metadata():
         np.testing.assert_array_equal(result.trial.analogs, walk.analogs)
         assert result.trial.analog_labels == walk.analog_labels
         assert result.trial.analog_rate == walk.analog_rate
-        assert result.trial.metadata.get("parameters") is walk.metadata.get("parameters")
+        assert result.trial.parameters is walk.parameters
 
 
 def test_the_everyday_calls_are_at_the_top_of_mocap():

@@ -167,7 +167,7 @@ def force_plates(trial) -> list[ForcePlate]:
         A plate of an unsupported type, missing corners, channels or (type 4) calibration,
         or channels the file does not hold.
     """
-    params = trial.metadata.get("parameters", {}) if trial.metadata else {}
+    params = trial.parameters
     group = params.get("FORCE_PLATFORM", {})
     used = _param(group, "USED")
     count = int(used.reshape(-1)[0]) if used is not None else 0
@@ -250,7 +250,7 @@ def force_plates(trial) -> list[ForcePlate]:
 def _moment_factor(trial, plate: ForcePlate) -> float:
     """N·m per moment-channel unit."""
     if plate.type in (2, 4):
-        labels = trial.metadata.get("parameters", {}).get("ANALOG", {}).get("UNITS")
+        labels = trial.parameters.get("ANALOG", {}).get("UNITS")
         if isinstance(labels, list) and len(labels) > plate.channels[3]:
             unit = str(labels[plate.channels[3]]).strip().lower().replace(" ", "")
             if unit in _MOMENT:
@@ -287,7 +287,7 @@ def _plate_wrench(trial, plate: ForcePlate, data: np.ndarray) -> tuple[np.ndarra
 
 def _baseline(trial, plate: ForcePlate, data: np.ndarray, threshold: float) -> np.ndarray:
     """Channel offsets of an unloaded plate (see the module docstring)."""
-    group = trial.metadata.get("parameters", {}).get("FORCE_PLATFORM", {})
+    group = trial.parameters.get("FORCE_PLATFORM", {})
     zero = _param(group, "ZERO")
     per_frame = max(int(round((trial.analog_rate or trial.rate) / trial.rate)), 1)
     if zero is not None and zero.size >= 2:
@@ -340,7 +340,7 @@ def plate_forces(trial, rate: str = "analog", baseline: bool = False,
     Parameters
     ----------
     trial : Trial
-        Read from a C3D file (its ``metadata["parameters"]`` and analogs).
+        Read from a C3D file (its ``parameters`` and analogs).
     rate : {"analog", "marker"}
         Keep the analog samples, or resample to the marker frames (a centred moving average
         over one marker frame, then the sample at each frame's time; the COP and free moment

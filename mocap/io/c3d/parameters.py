@@ -75,7 +75,7 @@ def _set(c3d, group: str, name: str, value) -> None:
 
 
 def carry_parameters(c3d, trial, analogs_written: bool, events: bool = False) -> list[str]:
-    """Copy the parameter groups of ``trial.metadata["parameters"]`` onto an ezc3d object.
+    """Copy the parameter groups of ``trial.parameters`` onto an ezc3d object.
 
     Parameters
     ----------
@@ -87,14 +87,14 @@ def carry_parameters(c3d, trial, analogs_written: bool, events: bool = False) ->
         Whether the trial's analog channels went into the file as read.
     events : bool
         Copy the EVENT group as it was (the frames are those read); otherwise the
-        writer has built it from ``metadata["events"]``.
+        writer has built it from ``events``.
 
     Returns
     -------
     list of str
         What could not be kept, one short phrase each (empty when everything was).
     """
-    parameters = trial.metadata.get("parameters") or {}
+    parameters = trial.parameters
     notes: list[str] = []
     failed: list[str] = []
     source_channels = len(trial.analog_labels) if trial.analogs is not None else 0
@@ -136,7 +136,7 @@ def carry_parameters(c3d, trial, analogs_written: bool, events: bool = False) ->
     point = parameters.get("POINT", {})
     descriptions = point.get("DESCRIPTIONS")
     if isinstance(descriptions, list) and len(descriptions) == len(trial.labels) \
-            and "modelled" not in trial.metadata:
+            and trial.modelled is None:
         try:
             _set(c3d, "POINT", "DESCRIPTIONS", descriptions)
         except Exception:

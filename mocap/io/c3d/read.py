@@ -37,13 +37,13 @@ NaN where the residual is negative, the coordinates are not finite, or the
 point sits exactly at (0, 0, 0) (how some Qualisys files mark gaps). Points that
 a modelling package computed (POINT:ANGLES, FORCES, MOMENTS, POWERS, SCALARS,
 REACTIONS, such as Plug-in Gait's ``LKneeAngles``) are not markers: they are
-kept in ``trial.metadata["modelled"]`` instead (``labels``, ``kinds`` and
+kept in ``trial.modelled`` instead (``labels``, ``kinds`` and
 ``values`` of shape (frames, n, 3) in the file's units for each kind, e.g.
-degrees for angles, NaN where invalid). ``metadata["parameters"]`` holds every
+degrees for angles, NaN where invalid). ``trial.parameters`` holds every
 C3D parameter (``{group: {name: value}}``, e.g. FORCE_PLATFORM for the analogs),
-``metadata["events"]`` the EVENT group (label, context, time, frame), and
-``metadata["rotations"]`` the segment poses of a markerless file's ROTATION group
-(:class:`mocap.io.c3d.rotations.SegmentPoses`, also ``trial.poses``).
+``trial.events`` the EVENT group (label, context, time, frame), and
+``trial.poses`` the segment poses of a markerless file's ROTATION group
+(:class:`mocap.io.c3d.rotations.SegmentPoses`).
 
 Units: POINT:UNITS ``mm``/``cm``/``m`` (and their long spellings) are honoured.
 When the file has no usable unit, the unit is inferred from the magnitude of
@@ -315,9 +315,10 @@ def read_c3d(path: str | os.PathLike, engine: str = "mocap") -> Trial:
     -------
     Trial
         ``points`` (frames, markers, 3) in metres; ``units`` as stored in the
-        file (``""`` when absent); ``metadata`` holds ``reader`` (``"mocap"`` or
-        ``"ezc3d"``), ``processor``, ``first_frame``, ``warnings`` (list of str)
-        and ``modelled`` (computed points, see the module docstring).
+        file (``""`` when absent); ``first_frame``, ``events``, ``parameters``,
+        ``poses`` and ``modelled`` (computed points, see the module docstring);
+        ``metadata`` holds ``reader`` (``"mocap"`` or ``"ezc3d"``), ``processor`` and
+        ``warnings`` (list of str).
 
     Raises
     ------
@@ -417,21 +418,17 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
     metadata = {
         "reader": reader,
         "processor": layout.processor,
-        "first_frame": layout.first_frame,
         "c3d_frames": layout.frames,
         "warnings": notes,
-        "parameters": layout.parameters,
     }
+    modelled = None
     if is_modelled.any():
         columns = np.flatnonzero(is_modelled)
-        metadata["modelled"] = {
+        modelled = {
             "labels": [raw_labels[i] for i in columns],
             "kinds": [modelled_names[raw_labels[i]] for i in columns],
             "values": points[:, columns, :],
         }
-    events = _events(layout)
-    if events:
-        metadata["events"] = events
     from mocap.io.c3d.layout import decode_floats
     from mocap.io.c3d.rotations import read_rotations
 
@@ -439,8 +436,6 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
     pose_factor = (unit_factor(units) if units else None) or \
         (factor if np.isfinite(markers).any() else 1e-3)
     poses = read_rotations(layout, decode_floats, pose_factor)
-    if poses is not None:
-        metadata["rotations"] = poses
     for group, key in (("MANUFACTURER", "COMPANY"), ("MANUFACTURER", "SOFTWARE"),
                        ("SUBJECTS", "NAMES")):
         value = layout.parameters.get(group, {}).get(key)
@@ -454,7 +449,9 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
         analog_labels = []
         analog_rate = None
     return Trial(labels, markers, layout.rate, units, layout.path, "c3d",
-                 analogs if analog_labels else None, analog_labels, analog_rate, metadata)
+                 analogs if analog_labels else None, analog_labels, analog_rate, metadata,
+                 first_frame=layout.first_frame, events=_events(layout),
+                 parameters=layout.parameters, poses=poses, modelled=modelled)
 
 
 def _events(layout: C3DLayout) -> list[dict]:

@@ -71,9 +71,9 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> list[
 
     Missing samples are written as residual -1 with zero coordinates, the C3D
     convention; the data are stored as 32-bit floats (POINT:SCALE -1). Analogs
-    (when their rate is a whole multiple of the point rate), ``metadata["events"]``
+    (when their rate is a whole multiple of the point rate), ``events``
     (at their times from the capture's start), the first frame
-    (``metadata["first_frame"]``) and every parameter group of a C3D source that
+    (``first_frame``) and every parameter group of a C3D source that
     the written data still match are written too.
     """
     import ezc3d   # deferred: reading C3D needs no ezc3d, only writing does
@@ -103,12 +103,12 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> list[
     first_frame = int(trial.time_base()[0][0])
     if not 1 <= first_frame <= 65535:
         first_frame = 1
-    source = trial.metadata.get("parameters") or {}
+    source = trial.parameters
     # The trial's frames are those read: its EVENT group is kept as it was (events
     # outside the stored frames included); otherwise it is built from the events.
     verbatim_events = ("EVENT" in source and trial.metadata.get("c3d_frames") == frames
-                       and trial.metadata.get("first_frame") == first_frame)
-    for event in [] if verbatim_events else trial.metadata.get("events", []):
+                       and trial.first_frame == first_frame)
+    for event in [] if verbatim_events else trial.events:
         # EVENT:TIMES count from the capture's start (frame 1 at 0 s).
         frame = int(event.get("frame", round(float(event.get("time", 0.0)) * trial.rate)))
         if 0 <= frame < frames:
@@ -175,7 +175,7 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> list[
         c3d.add_parameter("ANALOG", "SCALE", scale)
         c3d.add_parameter("ANALOG", "GEN_SCALE", np.array([1.0]))
         notes.append(f"ANALOG:SCALE of {int(unusable.sum())} channel(s) that was 0 (set to 1)")
-    poses = trial.metadata.get("rotations")
+    poses = trial.poses
     if poses is not None:
         notes += poses.write_to(c3d, 1.0 / factor)
     with atomic_path(path) as tmp:

@@ -85,7 +85,7 @@ def _synthetic_plate(kind: int, channels: np.ndarray, origin=(0.0, 0.0, -40.0),
         params["FORCE_PLATFORM"]["CAL_MATRIX"] = cal.reshape(6, 6, 1)
     return Trial(["a"], np.zeros((len(channels) // 10, 1, 3)), 100.0, "mm",
                  analogs=channels, analog_labels=[f"c{i}" for i in range(channels.shape[1])],
-                 analog_rate=1000.0, metadata={"parameters": params})
+                 analog_rate=1000.0, parameters=params)
 
 
 def test_type2_hand_calculation():

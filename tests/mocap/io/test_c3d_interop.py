@@ -95,7 +95,7 @@ def test_rewritten_c3d_keeps_groups_plates_analog_parameters_first_frame_and_eve
         copy = tmp_path / "copy.c3d"
         write(trial, copy)
         back = read(copy)
-        before, after = trial.metadata["parameters"], back.metadata["parameters"]
+        before, after = trial.parameters, back.parameters
         assert set(before) <= set(after), (path, set(before) - set(after))
         for name, value in before["FORCE_PLATFORM"].items():
             np.testing.assert_array_equal(np.asarray(after["FORCE_PLATFORM"][name]),
@@ -116,15 +116,15 @@ def test_rewritten_c3d_keeps_groups_plates_analog_parameters_first_frame_and_eve
                 # ezc3d writes a list of one string as a plain string, [] as '': the same text
                 assert np.array_equal(_strings(after[group][name]), _strings(value)), \
                     (path, group, name)
-        assert back.metadata["first_frame"] == trial.metadata["first_frame"], path
+        assert back.first_frame == trial.first_frame, path
         assert back.analog_labels == trial.analog_labels
         np.testing.assert_allclose(back.analogs, trial.analogs, rtol=1e-6, atol=1e-6)
         if "EVENT" in before:
             np.testing.assert_allclose(after["EVENT"]["TIMES"], before["EVENT"]["TIMES"],
                                        rtol=1e-6)
-            assert back.metadata.get("events") == trial.metadata.get("events") or \
-                [e["frame"] for e in back.metadata["events"]] == \
-                [e["frame"] for e in trial.metadata["events"]]
+            assert back.events == trial.events or \
+                [e["frame"] for e in back.events] == \
+                [e["frame"] for e in trial.events]
 
 
 def _strings(value):

@@ -80,7 +80,7 @@ def test_real_trc_written_again_keeps_frames_and_times_for_opensim(tmp_path, ope
         target = tmp_path / "copy.trc"
         write(trial, target, units=trial.units if trial.units in ("mm", "m") else "mm")
         numbers, times = read(target).time_base()
-        np.testing.assert_array_equal(numbers, trial.metadata["frame_numbers"])
+        np.testing.assert_array_equal(numbers, trial.frame_numbers)
         try:
             labels, original_times, original = _opensim_markers(opensim, path)
         except RuntimeError:

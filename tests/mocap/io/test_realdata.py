@@ -128,7 +128,7 @@ def test_mac_sample_uses_the_header_scale_that_gives_human_proportions():
 
 def test_modelled_points_are_kept_apart_from_markers():
     trial = read(realdata_path("c3dorg_via_c3dio/sample_04/sub_labels.c3d"))
-    modelled = trial.metadata["modelled"]
+    modelled = trial.modelled
     assert len(trial.labels) == 86 and len(modelled["labels"]) == 28
     assert "Matt:LKneeAngles" in modelled["labels"]
     assert modelled["values"].shape == (333, 28, 3)
@@ -245,7 +245,7 @@ def test_the_six_processor_and_number_formats_of_one_capture_agree():
 
 def test_gait_events_are_indexed_from_the_trial_start():
     trial = read(realdata_path("biomechzoo_sample_study/HC002D/Straight/HC002D06.c3d"))
-    events = trial.metadata["events"]
+    events = trial.events
     # EVENT:TIMES 2.28 s (Left Foot Strike) at 100 Hz is capture frame 229; the
     # trial starts at capture frame 125, so it is points[104], 1.04 s in.
     strike = next(e for e in events if e["context"] == "Left" and e["label"] == "Foot Strike")
@@ -259,8 +259,8 @@ def test_events_survive_a_c3d_rewrite(tmp_path):
     trial = read(realdata_path("biomechzoo_sample_study/HC002D/Straight/HC002D06.c3d"))
     write(trial, tmp_path / "copy.c3d")
     copy = read(tmp_path / "copy.c3d")
-    assert [(e["label"], e["context"], e["frame"]) for e in copy.metadata["events"]] == \
-        [(e["label"], e["context"], e["frame"]) for e in trial.metadata["events"]]
+    assert [(e["label"], e["context"], e["frame"]) for e in copy.events] == \
+        [(e["label"], e["context"], e["frame"]) for e in trial.events]
 
 
 @pytest.mark.parametrize("local", ["c3dorg_via_c3dio/sample_06/MACsample.c3d",

@@ -86,7 +86,7 @@ def test_unlabelled_trc_columns_are_named_not_dropped(tmp_path):
 def test_c3d_to_trc_keeps_the_first_frame_and_up_y_turns_the_lab(tmp_path):
     source = realdata_path("pycgm", "Test_Files", "Movement_trial.c3d")
     trial = read(source)
-    assert trial.metadata["first_frame"] == 695
+    assert trial.first_frame == 695
     assert main(["convert", str(source), str(tmp_path / "z.trc")]) == 0
     assert main(["convert", str(source), str(tmp_path / "y.trc"), "--up", "y"]) == 0
     z, y = read(tmp_path / "z.trc"), read(tmp_path / "y.trc")
@@ -105,8 +105,8 @@ def test_c3d_rewrite_says_in_one_line_what_it_could_not_keep(tmp_path, capsys):
     notes = [line for line in capsys.readouterr().err.splitlines() if line.startswith("note")]
     assert notes == ["note: not kept in copy.c3d: 80 modelled points (angles, forces …)"]
     back = read(tmp_path / "copy.c3d")
-    assert back.metadata["first_frame"] == 695
-    assert int(back.metadata["parameters"]["FORCE_PLATFORM"]["USED"][0]) == 4
+    assert back.first_frame == 695
+    assert int(back.parameters["FORCE_PLATFORM"]["USED"][0]) == 4
 
 
 def test_compiled_and_python_paths_agree(monkeypatch):

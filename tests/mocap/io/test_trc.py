@@ -43,8 +43,8 @@ def test_a_time_column_that_cannot_be_the_frames_times_warns_and_is_replaced(
     write(trial, tmp_path / "out.trc")
     again = read(tmp_path / "out.trc")
     assert again.metadata["warnings"] == []
-    frames = again.metadata["frame_numbers"]
-    np.testing.assert_allclose(again.metadata["frame_times"], (frames - 1) / 60.0, atol=1e-9)
+    frames = again.frame_numbers
+    np.testing.assert_allclose(again.frame_times, (frames - 1) / 60.0, atol=1e-9)
     np.testing.assert_allclose(again.points, read(source).points, atol=1e-9)   # 1 nm places
 
 
@@ -58,4 +58,4 @@ def test_every_real_trc_keeps_its_time_column_without_a_time_warning():
         rows = [re.split("[\t,]", line) for line in path.read_text().splitlines()[5:]]
         rows = [row for row in rows if len(row) > 1 and row[1].strip()]
         times = np.array([float(row[1]) for row in rows])
-        np.testing.assert_array_equal(trial.metadata["frame_times"], times[:trial.frames])
+        np.testing.assert_array_equal(trial.frame_times, times[:trial.frames])

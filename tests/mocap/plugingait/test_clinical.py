@@ -40,7 +40,7 @@ def _subject_name(trial) -> str | None:
 
 def _vicon_outputs(trial) -> dict:
     """Vicon's modelled outputs by bare name (a subject prefix "Name:" dropped)."""
-    modelled = trial.metadata.get("modelled", {})
+    modelled = (trial.modelled or {})
     return {label.rpartition(":")[2]: modelled["values"][:, k]
             for k, label in enumerate(modelled.get("labels", []))}
 

@@ -292,8 +292,8 @@ def test_read_angles_csv_rejects_bad_files(tmp_path):
 
 def vicon_output(trial: Trial, label: str) -> np.ndarray:
     """A Plug-in Gait model output Vicon stored in the file (angles in degrees),
-    kept by mocap.io.read in ``metadata["modelled"]``; shape (frames, 3)."""
-    modelled = trial.metadata["modelled"]
+    kept by mocap.io.read in ``Trial.modelled``; shape (frames, 3)."""
+    modelled = trial.modelled
     return modelled["values"][:, modelled["labels"].index(label), :]
 
 
