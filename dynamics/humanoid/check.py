@@ -53,6 +53,10 @@ from dynamics.humanoid.inverse import contact_joint_torques, rnea_batch
 from dynamics.humanoid.kinematics import centre_of_mass, motion_kinematics
 from dynamics.humanoid.model import GRAVITY, Humanoid, build_humanoid
 
+#: Low-pass (Hz) of the motion before the inverse dynamics when none is given: Winter's
+#: customary cutoff for walking kinematics, the one the real Plug-in Gait walks and their
+#: force plates were compared at. Motions sampled at twice this or less are not filtered.
+DEFAULT_LOWPASS = 6.0
 #: Floor tolerance (m) for penetration and floating, as in the motion-synthesis literature.
 FLOOR_TOLERANCE = 0.005
 #: Length (m) between newtons and newton-metres in the contact solve's misfit
@@ -141,6 +145,7 @@ class CheckReport:
     segment_poses: tuple | None = None              # (world_r, world_p) of the smoothed motion
     contact_torques: np.ndarray | None = None       # (F, J-1, 3) the contacts' share, N·m
     calibration: object = None                      # humanoid_contact.ContactCalibration
+    lowpass_hz: float | None = None                 # the low-pass the motion was given
 
     @property
     def weight(self) -> float:
@@ -187,7 +192,7 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
                  contact_speed: float = 1.0, smoothing: float = 0.1,
                  thresholds: Thresholds | None = None, threads: int = 1,
                  humanoid: Humanoid | None = None, floor: float | str = 0.0,
-                 lowpass: float | None = None, torque_length: float = TORQUE_LENGTH,
+                 lowpass: float | None = DEFAULT_LOWPASS, torque_length: float = TORQUE_LENGTH,
                  prefer_com: bool = True, rollover: bool = True) -> CheckReport:
     """Check a motion for physical plausibility (DESIGN 3.5).
 
@@ -217,7 +222,9 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
         is not at y = 0). The check then works with the floor at 0.
     lowpass : float, Hz, optional
         Low-pass the motion before differentiating (:func:`motion_kinematics`), and the
-        estimated contact forces (hence the joint torques) after the solve.
+        estimated contact forces (hence the joint torques) after the solve; default
+        :data:`DEFAULT_LOWPASS` (as ``mocap check``), which a motion sampled at twice
+        that or less does not get; None or 0: off. ``CheckReport.lowpass_hz`` says what was used.
     rollover : bool
         Share the torque with the heel-to-toe roll-over prior (module docstring, step 4);
         False keeps the forces the dynamics alone choose.
@@ -241,6 +248,11 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
         body = Motion(body.skeleton, body.root_translation - [0.0, floor_height, 0.0],
                       body.rotations, body.rate, dict(body.metadata))
     frames, rate = body.frames, body.rate
+    # The same band for every motion, whatever its frame rate: differentiated twice, an
+    # unfiltered 30 Hz capture keeps everything up to 15 Hz, a 100 Hz one ~11 Hz.
+    if lowpass == DEFAULT_LOWPASS and rate <= 2.0 * DEFAULT_LOWPASS:
+        lowpass = None
+    lowpass = float(lowpass) if lowpass else None
     kin = motion_kinematics(body, smoothing, lowpass)
     tau = rnea_batch(humanoid, kin.q, kin.v, kin.a, threads)
 
@@ -289,7 +301,7 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
         # switching of contact points would otherwise put steps into them (and into the
         # joint torques) that the filtered motion cannot know of. The residual stays the
         # misfit of the unfiltered solve.
-        forces = butterworth_lowpass(forces, lowpass, rate)
+        forces = butterworth_lowpass(forces, lowpass, rate, ends="curvature")
 
     contact_torques = contact_joint_torques(humanoid, world_r, world_p, contact_world, forces)
     joint_torques = tau[:, 6:].reshape(frames, -1, 3) - contact_torques
@@ -350,7 +362,7 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
         thresholds=thresholds, lumped_segments=[name for name, _, _ in humanoid.lumped],
         floor_m=floor_height, contact_positions=contact_world, contact_segments=segments,
         centre_of_mass=com, segment_poses=(world_r, world_p),
-        contact_torques=contact_torques, calibration=calibration)
+        contact_torques=contact_torques, calibration=calibration, lowpass_hz=lowpass)
 
 
 def _sagittal_towards(com: np.ndarray, points: np.ndarray, pelvis: np.ndarray) -> np.ndarray:

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from dynamics.humanoid.check import Thresholds, check_motion
+from dynamics.humanoid.check import DEFAULT_LOWPASS, Thresholds, check_motion
 from dynamics.humanoid.model import JOINT_OF_SEGMENT, build_humanoid
 from mocap.body.anthropometry import segment_kind
 from mocap.body.retarget import motion_from_trial, reduce_to_segments
@@ -27,11 +27,6 @@ from mocap.io import read, suffixes
 from mocap.io.discovery import is_angle_csv
 from mocap.markersets import load_markerset
 
-
-#: Low-pass (Hz) of the motion before the inverse dynamics when none is given: Winter's
-#: customary cutoff for walking kinematics, the one the real Plug-in Gait walks and their
-#: force plates were compared at.
-DEFAULT_LOWPASS = 6.0
 
 
 def _motion_options(parser: argparse.ArgumentParser) -> None:
@@ -190,11 +185,8 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
         from mocap.io.motion import read_motion
         motion = read_motion(path, asf=asf, units=units, rate=rate, joint_map=joint_map)
         note = (units_note(motion) or "").replace("units=", "--units")
-    if lowpass is None:
-        # The same band for every motion, whatever its frame rate: differentiated twice,
-        # an unfiltered 30 Hz capture keeps everything up to 15 Hz (the Savitzky-Golay
-        # window of 0.1 s is then 3 frames, no smoothing at all), a 100 Hz one ~11 Hz.
-        lowpass = DEFAULT_LOWPASS if motion.rate > 2.0 * DEFAULT_LOWPASS else 0.0
+    if lowpass is None:                 # the library's default (check_motion's)
+        lowpass = DEFAULT_LOWPASS
     mass_source = "given"
     if mass is None:
         stored = _stored_mass(trial)
@@ -213,6 +205,7 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
             raise MocapError(error.problem, error.path or path) from None
 
     humanoid, report = run(mass)
+    lowpass = report.lowpass_hz         # what the check used (none at 12 Hz or less)
     if plates and mass_source == "default":
         weighed = _weigh_on_plates(trial, report, lowpass)
         if weighed:
