@@ -240,13 +240,14 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
                          f"{body.frames}")
     if humanoid is None:
         humanoid = build_humanoid(body.skeleton, body_mass, sex)
-    # A rig's feet end at joints: their soles lie below, under the stance normal.
-    points, sole_up = rig_soles(body, humanoid)
-    floor_height = estimate_floor(body, humanoid, points=points) if floor == "auto" \
-        else float(floor)
+    # A rig's feet end at joints: their soles lie below, under the stance normal, as far
+    # as the trial shows the feet standing above the floor (rig_soles).
+    floor_height = estimate_floor(body, humanoid, points=rig_soles(body, humanoid)[0]) \
+        if floor == "auto" else float(floor)
     if floor_height:
         body = Motion(body.skeleton, body.root_translation - [0.0, floor_height, 0.0],
                       body.rotations, body.rate, dict(body.metadata))
+    points, sole_up, sole_lowest = rig_soles(body, humanoid)
     frames, rate = body.frames, body.rate
     # The same band for every motion, whatever its frame rate: differentiated twice, an
     # unfiltered 30 Hz capture keeps everything up to 15 Hz, a 100 Hz one ~11 Hz.
@@ -271,7 +272,8 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
              for name, shift in body.metadata.get("sole_calibration_m", {}).items()
              if name in names}
     calibration = calibrate_contacts(points, segments, world_r, world_p, rate,
-                                     prior_shift=prior, sole_up=sole_up)
+                                     prior_shift=prior, sole_up=sole_up,
+                                     sole_lowest=sole_lowest)
     contact_world = points_in_world(calibration.points, segments, world_r, world_p)
     heights = contact_world[:, :, 1] - calibration.floors
     speed = np.linalg.norm(np.gradient(contact_world, 1.0 / rate, axis=0), axis=2)
