@@ -45,6 +45,7 @@ from mocap.quaternions import quaternions_to_matrices
 from mocap.skeleton import Motion
 
 from dynamics.humanoid.contact import (ballistic_runs, calibrate_contacts, estimate_floor,
+                                       flight_accelerations,
                                        foot_skate, points_in_world, rig_soles,
                                        rollover_centres)
 from dynamics.humanoid.contact_forces import (contact_columns, preference_weights,
@@ -330,18 +331,31 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
     # Off the floor: the toe tip counts here — a body on its toes stands on the floor.
     resting = np.minimum(lowest, (raw_contacts[..., 1] - calibration.floors).min(axis=1))
     above = resting > FLOOR_TOLERANCE
-    floating_mm = 1000.0 * float(resting[above].mean()) if above.any() else 0.0
     residual_pct = 100.0 * np.linalg.norm(residual[:, :3], axis=1) / humanoid.weight
     # Free fall judged on the captured (unfiltered) centre of mass: a low-pass spreads the
     # landing's deceleration over the flight before it (at 6 Hz, a 0.15 s running flight
     # falls at well under g in the filtered motion though the capture falls at g).
     airborne = ~active.any(axis=1)
-    ballistic = ballistic_runs(centre_of_mass(humanoid, raw_r, raw_p), airborne, rate)
+    raw_com = centre_of_mass(humanoid, raw_r, raw_p)
+    ballistic = ballistic_runs(raw_com, airborne, rate)
+    if lowpass:
+        # In flight nothing but gravity may move the body, and the capture shows whether
+        # it does: the residual force of a flight (off the floor in the capture, no
+        # point in reach of it) is that of its captured parabola, not the filter's spread
+        # of the take-off and landing into it.
+        aloft = above & ~(heights < contact_height).any(axis=1)
+        flight = flight_accelerations(raw_com, aloft, rate, shortest=3)
+        known = np.isfinite(flight[:, 0])
+        residual[known, :3] = humanoid.mass * (flight[known] - [0.0, -GRAVITY, 0.0])
+        residual_pct = 100.0 * np.linalg.norm(residual[:, :3], axis=1) / humanoid.weight
     # Floating: off the floor with no contact point in reach, needing support that no
     # free fall explains (a frame whose feet are in contact but cannot supply the wrench
     # counts in the residual).
     unsupported = above & airborne & (residual_pct > thresholds.floating_residual_pct_bw) \
         & ~ballistic
+    # Floating: how high the unsupported frames hang (a jump's free flight is not
+    # floating, whatever its height).
+    floating_mm = 1000.0 * float(resting[unsupported].mean()) if unsupported.any() else 0.0
 
     torque_rms = _rms(np.linalg.norm(residual_torque, axis=1))
     torque_limit = thresholds.residual_torque_rms_nm * humanoid.mass / 75.0

@@ -192,7 +192,11 @@ def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndar
         # would put a foot still on its toes, heel up, above its step).
         level = np.array([float(np.median(sole[a:b, :, 1].min(axis=1))) for a, b in runs])
         off = level - floor
-        other = ((off >= step) | (several & (off <= -step))) & grounded
+        # A level is stood on longer than a body in free flight stays still: its speed is
+        # below still_speed for 2·still_speed/g around a jump's apex (and a frame more).
+        lasting = np.array([b - a for a, b in runs]) / rate > 2.0 * still_speed / 9.81 \
+            + 1.0 / rate
+        other = ((off >= step) | (several & (off <= -step))) & grounded & lasting
         run_floor = np.where(other, level, floor)
         ends = _open_ends(sole, runs, run_floor, rate, still_speed, step) \
             if several and grounded else None
@@ -438,24 +442,35 @@ def _open_ends(world: np.ndarray, runs: list[tuple[int, int]], levels: np.ndarra
     return before, after
 
 
+def flight_accelerations(com: np.ndarray, airborne: np.ndarray, rate: float,
+                         shortest: int = 5) -> np.ndarray:
+    """The captured centre of mass's acceleration over each flight phase (frames, 3).
+
+    For each run of airborne frames (no contact point active) of at least ``shortest``
+    frames, a parabola per axis fitted to the centre of mass's position over the whole
+    run: its (constant) second derivative, m/s². The fit uses positions, so it is not
+    spoiled by a low-pass that spreads the landing's deceleration over the flight before
+    it; NaN outside such runs.
+    """
+    out = np.full((airborne.shape[0], 3), np.nan)
+    for a, b in _runs(airborne, shortest):
+        t = np.arange(b - a) / rate
+        out[a:b] = 2.0 * np.polyfit(t, com[a:b], 2)[0]
+    return out
+
+
 def ballistic_runs(com: np.ndarray, airborne: np.ndarray, rate: float,
                    gravity: float = 9.81) -> np.ndarray:
     """Frames of flight phases whose centre of mass falls freely (bool, frames).
 
-    For each run of airborne frames (no contact point active) of at least 5 frames, a
-    parabola fitted to the centre of mass's height gives its vertical acceleration: the
-    run is ballistic when that is within half of g of −g (a body held up has 0). Shorter
-    runs are too short to tell and count as ballistic. The fit uses positions over the
-    whole run, so it is not spoiled by the smoothing of accelerations across touchdown.
+    A run of airborne frames of at least 5 frames is ballistic when the vertical
+    acceleration of its parabola (:func:`flight_accelerations`) is within half of g of −g
+    (a body held up has 0). Shorter runs are too short to tell and count as ballistic.
     """
-    result = np.zeros(airborne.shape[0], bool)
-    for a, b in _runs(airborne, 1):
-        if b - a < 5:
-            result[a:b] = True
-            continue
-        t = np.arange(b - a) / rate
-        curvature = np.polyfit(t, com[a:b, 1], 2)[0]
-        result[a:b] = abs(2.0 * curvature + gravity) < 0.5 * gravity
+    result = airborne.copy()
+    fitted = flight_accelerations(com, airborne, rate)[:, 1]
+    known = np.isfinite(fitted)
+    result[known] = np.abs(fitted[known] + gravity) < 0.5 * gravity
     return result
 
 
