@@ -73,3 +73,109 @@ def test_check_command_and_library_agree(tmp_path, capsys):
                 "floating_mm", "foot_skate_mm", "verdict"):
         assert cli[key] == library[key], key
     assert _check(path, lowpass=None) != library                  # the filter matters
+
+
+# ---------------------------------------------------------------------------------------
+# Every kind of rig, moved along known root paths
+# ---------------------------------------------------------------------------------------
+#: rig → its frame rate (Hz)
+RIGS = {"bvh joints on the floor": 60.0, "bvh joints above the floor": 60.0,
+        "asf/amc skeleton": 120.0, "marker body": 100.0}
+
+
+def _still(rig: str, tmp_path):
+    """The rig's still motion (rest pose) standing with its lowest point on y = 0, and
+    the height of the lowest point of its feet's rig points (ankle, toe) at rest."""
+    from mocap.body.segments import default_skeleton
+    from mocap.skeleton import Motion
+
+    rate = RIGS[rig]
+    if rig.startswith("bvh"):
+        heights = (0.0, 0.0) if "on the floor" in rig else (8.0, 2.0)
+        path = cmu_like_bvh(tmp_path / "rig.bvh", root_path("still", 1.0, rate), rate,
+                            *heights)
+        return read_motion(path), heights[1] / 100.0
+    if rig == "asf/amc skeleton":
+        from pathlib import Path
+
+        amc = read_motion(Path(__file__).resolve().parents[1] / "data" / "cmu_lambada.amc")
+        still = Motion.still(amc.skeleton, int(rate), rate)
+        still.metadata.update(amc.metadata)
+    else:
+        still = Motion.still(default_skeleton(1.75), int(rate), rate)
+    world_r, world_p = still.forward_kinematics()
+    _, ends = still.end_site_positions((world_r, world_p))
+    lowest = min(world_p[0, :, 1].min(), ends[0, :, 1].min())
+    still.root_translation[:, 1] -= lowest
+    return still, 0.0
+
+
+def _moved(still, kind: str, seconds: float):
+    from mocap.skeleton import Motion
+
+    path = root_path(kind, seconds, still.rate) / 100.0 - [0.0, 0.95, 0.0]
+    return Motion(still.skeleton, still.root_translation[:1] + path,
+                  np.repeat(still.rotations[:1], len(path), axis=0), still.rate,
+                  dict(still.metadata))
+
+
+@pytest.fixture(scope="module", params=list(RIGS))
+def rig(request, tmp_path_factory):
+    return request.param, *_still(request.param, tmp_path_factory.mktemp("rig"))
+
+
+def _summary(motion):
+    return check_motion(reduce_to_segments(motion, partial=True), body_mass=MASS).summary()
+
+
+def test_still(rig):
+    """Standing still: plausible, no residual, no penetration, no floating (a rig whose
+    ankle and toe joints touch the floor read 'penetrates the floor by 66 mm': its
+    sole was put 7 cm under the ankle, a Bandai-shaped prior)."""
+    _, still, _ = rig
+    summary = _summary(_moved(still, "still", 2.0))
+    assert summary["verdict"] == "plausible", summary["reasons"]
+    assert summary["residual_force_rms_pct_bw"] < 1.0
+    assert summary["penetration_mm"] < 5.0 and summary["floating_mm"] < 5.0
+
+
+def test_raised(rig):
+    """Held 30 cm up: the whole weight is residual and the rig floats by 30 cm plus what
+    its own lowest foot point stands above its rest (the joints-on-floor rig read
+    229 mm: its sole was invented 7 cm below the joints)."""
+    _, still, lowest = rig
+    summary = _summary(_moved(still, "raised", 2.0))
+    assert summary["residual_force_rms_pct_bw"] == pytest.approx(100.0, abs=0.5)
+    assert summary["floating_mm"] == pytest.approx(300.0 + 1000.0 * lowest, abs=1.0)
+    assert any(r.startswith("floating") for r in summary["reasons"])
+
+
+def test_free_fall(rig):
+    """Falling from rest for 0.3 s: gravity explains it all; the flight is not
+    floating."""
+    _, still, _ = rig
+    summary = _summary(_moved(still, "free fall", 0.3))
+    assert summary["residual_force_rms_pct_bw"] < 1.0
+    assert summary["floating_mm"] == 0.0 and summary["penetration_mm"] == 0.0
+    assert summary["verdict"] == "plausible", summary["reasons"]
+
+
+def test_sliding(rig):
+    """Gliding at 1 m/s on planted feet: skating, 1000 / rate mm per frame."""
+    _, still, _ = rig
+    summary = _summary(_moved(still, "sliding", 2.0))
+    assert summary["foot_skate_mm"] == pytest.approx(1000.0 / still.rate, rel=1e-3)
+    assert any("skate" in r for r in summary["reasons"])
+    assert summary["penetration_mm"] == 0.0
+
+
+def test_ballistic_jump(rig):
+    """Standing, 0.3 s of flight at g (11 cm high), standing: the take-off and landing
+    are the floor's, the flight gravity's: no residual, no floating (the BVH rig with
+    its joints above the floor read 24 % BW: the low-pass spread the take-off and
+    landing into the flight, and its apex was taken for a 105 mm platform)."""
+    _, still, _ = rig
+    summary = _summary(_moved(still, "jump", 1.5))
+    assert summary["residual_force_rms_pct_bw"] < 1.0
+    assert summary["floating_mm"] == 0.0 and summary["penetration_mm"] == 0.0
+    assert summary["verdict"] == "plausible", summary["reasons"]
