@@ -29,8 +29,10 @@ For a motion on the floor y = 0 (world Y up):
    0.90-0.91 over 1-2).
 5. Joint torques with those contact forces taken off, foot skating, penetration, floating
    (no foot point in contact, flight phases whose captured centre of mass falls freely
-   excepted), and a verdict with reasons against
-   :class:`Thresholds` calibrated on real captured walks.
+   excepted; a flight's residual force is its captured parabola's), and a verdict with
+   reasons against each trial's own limits (:mod:`dynamics.humanoid.limits`: what its
+   noise, filter, inertial parameters and the contact model can leave) and
+   :class:`Thresholds` for the geometry.
 """
 from __future__ import annotations
 

@@ -81,11 +81,12 @@ def register(subparsers: Subparsers) -> None:
     check.add_argument("--max-residual", type=options.real(above=0, maximum=1000),
                        metavar="PCT",
                        help="RMS residual force above which the motion is implausible, in %% "
-                            "of body weight (default: the calibrated 8 %%, see the README's "
-                            "thresholds)")
+                            "of body weight (default: the trial's own limit, from its "
+                            "measurement noise, filter and segment parameters; --json "
+                            "'limits' shows it)")
     check.add_argument("--max-penetration", type=options.real(0, 10000), metavar="MM",
-                       help="deepest floor penetration allowed, mm (default: the calibrated "
-                            "threshold)")
+                       help="deepest floor penetration allowed beyond the 5 mm tolerance, "
+                            "mm (default 25: heel pad and shoe sole compress)")
     check.add_argument("--floor", type=options.real_or("auto", -1000, 1000), default=0.0,
                        metavar="Y|auto",
                        help="height of the floor in the motion file, metres along the up "
