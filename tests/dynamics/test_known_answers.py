@@ -179,3 +179,62 @@ def test_ballistic_jump(rig):
     assert summary["residual_force_rms_pct_bw"] < 1.0
     assert summary["floating_mm"] == 0.0 and summary["penetration_mm"] == 0.0
     assert summary["verdict"] == "plausible", summary["reasons"]
+
+
+# ---------------------------------------------------------------------------------------
+# The trial's own limits (dynamics.humanoid.limits)
+# ---------------------------------------------------------------------------------------
+def test_noise_is_measured_where_the_feet_stand_still():
+    """1 mm of white noise on points that stand still a quarter of the time and swing fast
+    (up to 5 m/s: at 30 Hz, a fourth difference of centimetres) the rest: the still frames
+    give the noise back within 10 %; all frames would read the swing as noise."""
+    from dynamics.humanoid.limits import measured_noise
+
+    rate, frames = 30.0, 600
+    t = np.arange(frames) / rate
+    rng = np.random.default_rng(1)
+    swing = (t % 2.0) >= 0.5
+    path = np.where(swing, 0.4 * np.sin(2 * np.pi * 2.0 * t), 0.0)
+    points = np.stack([path, path, path], axis=1)[:, None, :] \
+        + rng.normal(0.0, 1e-3, (frames, 2, 3))
+    assert measured_noise(points, rate) == pytest.approx(1e-3, rel=0.1)
+    everything = np.median(np.abs(np.diff(points, 4, axis=0))) / (0.6745 * np.sqrt(70.0))
+    assert everything > 1.4e-3
+
+
+def test_noise_gain_is_the_pipelines_on_white_noise():
+    """The gain from position noise to the check's acceleration noise, computed on an
+    impulse, equals the spread of the pipeline's output on long white noise (2 %)."""
+    from dynamics.humanoid.limits import noise_gain
+    from mocap.filtering import savgol
+
+    rate, window, order = 100.0, 11, 3
+    noise = np.random.default_rng(2).normal(0.0, 1.0, 200_000)
+    out = savgol(butterworth_lowpass(noise, 6.0, rate), window, order, deriv=2,
+                 delta=1.0 / rate)
+    assert noise_gain(rate, 6.0, window, order) == pytest.approx(out[500:-500].std(),
+                                                                 rel=0.02)
+    out = savgol(noise, window, order, deriv=2, delta=1.0 / rate)
+    assert noise_gain(rate, None, window, order) == pytest.approx(out[500:-500].std(),
+                                                                  rel=0.02)
+
+
+def test_limits_and_margins_are_in_the_json(tmp_path, capsys):
+    """``--json`` carries each judged figure with its trial limit, margin and ratio, and
+    the parts of the expected residual: a still rig with no noise and no acceleration is
+    held to the contact model's resolution (3.1 × 1 % BW), a raised one fails it by its
+    weight."""
+    path = cmu_like_bvh(tmp_path / "still.bvh", root_path("still", 2.0))
+    assert main(["check", str(path), "--json", "--mass", str(MASS)]) == 0
+    limits = json.loads(capsys.readouterr().out)["limits"]
+    force = limits["residual_force_rms_pct_bw"]
+    assert force["limit"] == pytest.approx(3.1, abs=0.01) and force["source"] == "trial"
+    assert force["margin"] == pytest.approx(force["limit"] - force["value"], abs=1e-3)
+    assert set(limits["expected"]["force_N"]) == {"noise", "inertial", "filter", "resolution"}
+    assert limits["noise_mm"] == 0.0
+    path = cmu_like_bvh(tmp_path / "raised.bvh", root_path("raised", 2.0))
+    assert main(["check", str(path), "--json", "--mass", str(MASS),
+                 "--max-residual", "50"]) == 0
+    force = json.loads(capsys.readouterr().out)["limits"]["residual_force_rms_pct_bw"]
+    assert force["source"] == "given" and force["limit"] == 50.0
+    assert force["margin"] == pytest.approx(-50.0, abs=0.1)
