@@ -30,8 +30,8 @@ each trial's own numbers bound:
 Their standard deviations add in quadrature into the expected residual; the limit is
 :data:`COVERAGE` times it (the normal quantile that calls one physical trial in a
 thousand implausible on these sources alone), for a peak ``COVERAGE + sqrt(2 ln N)``
-times its RMS (the largest of N normal samples). The JSON reports each limit,
-what it is made of and the margin (``limits``).
+times its RMS (the largest of N normal samples), reported but not judged. The JSON reports
+each limit, what it is made of and the margin (``limits``).
 """
 from __future__ import annotations
 
