@@ -29,8 +29,10 @@ For a motion on the floor y = 0 (world Y up):
    0.90-0.91 over 1-2).
 5. Joint torques with those contact forces taken off, foot skating, penetration, floating
    (no foot point in contact, flight phases whose captured centre of mass falls freely
-   excepted), and a verdict with reasons against
-   :class:`Thresholds` calibrated on real captured walks.
+   excepted; a flight's residual force is its captured parabola's), and a verdict with
+   reasons against each trial's own limits (:mod:`dynamics.humanoid.limits`: what its
+   noise, filter, inertial parameters and the contact model can leave) and
+   :class:`Thresholds` for the geometry.
 """
 from __future__ import annotations
 
@@ -45,14 +47,28 @@ from mocap.rotations.quaternions import quaternions_to_matrices
 from mocap.skeleton import Motion
 
 from dynamics.humanoid.contact import (ballistic_runs, calibrate_contacts, estimate_floor,
+                                       flight_accelerations,
                                        foot_skate, points_in_world, rig_soles,
                                        rollover_centres)
 from dynamics.humanoid.contact_forces import (contact_columns, preference_weights,
                                               solve_contact_forces)
 from dynamics.humanoid.inverse import contact_joint_torques, rnea_batch
-from dynamics.humanoid.kinematics import centre_of_mass, motion_kinematics
+from dynamics.humanoid.kinematics import _window, centre_of_mass, motion_kinematics
+from dynamics.humanoid.limits import (COVERAGE, LUMPED_SPREAD, MASS_SPREAD, expected_residual,
+                                      filter_change, inertial_spread, measured_noise,
+                                      noise_gain)
+from mocap.body.anthropometry import leg_length
 from dynamics.humanoid.model import GRAVITY, Humanoid, build_humanoid
 
+#: Low-pass (Hz) of the motion before the inverse dynamics when none is given: Winter's
+#: customary cutoff for walking kinematics, the one the real Plug-in Gait walks and their
+#: force plates were compared at. Motions sampled at twice this or less are not filtered.
+DEFAULT_LOWPASS = 6.0
+#: A residual force limit (RMS, % body weight) at or above which the residual is not
+#: judged: a limit of the body weight cannot tell a body held up from one on its feet
+#: (at 30 Hz with the 6 Hz low-pass, a run's impacts: its verdict is then implausible,
+#: never plausible for want of a residual the check could see).
+UNJUDGED_PCT_BW = 100.0
 #: Floor tolerance (m) for penetration and floating, as in the motion-synthesis literature.
 FLOOR_TOLERANCE = 0.005
 #: Length (m) between newtons and newton-metres in the contact solve's misfit
@@ -70,26 +86,24 @@ ROLLOVER_LENGTH = 2.0
 class Thresholds:
     """Limits above which the check calls a motion implausible.
 
-    Calibrated on the real captured walks of the project's corpus (18 Vicon Plug-in Gait
-    walks and turns with force plates, checked with their stored body mass and the default
-    6 Hz low-pass; the README lists the distributions): every limit lies above the largest
-    value of a real walk with the full-body marker set (the 100th percentile), with room
-    for lower-body marker sets, whose rigid head-arms-trunk leaves more residual; and far
-    below what the synthetic faults give (held up 100 % BW, sliding 0.5 m/s, sunk 50 mm).
+    The residual's limits are not fixed numbers: left at None, each trial gets its own,
+    :data:`dynamics.humanoid.limits.COVERAGE` times what its measurement noise (through
+    the filter and the double derivative at its rate), its segments' inertial parameters
+    (within their published spread) and the contact model's resolution can leave
+    (:mod:`dynamics.humanoid.limits`); a number given here replaces the trial's own.
 
     Attributes
     ----------
-    residual_rms_pct_bw : float
-        RMS residual force, % body weight. Real walks: median 0.9, 95th percentile 1.9,
-        largest 4.9 (full body); lower-body sets up to 6.8. A static 20° lean gives ~7.
-    residual_peak_pct_bw : float
-        Peak residual force, % body weight (real walks: median 5, largest 14).
-    residual_torque_rms_nm : float
-        RMS residual torque about the centre of mass, N·m, for a 75 kg body (scaled in
-        proportion to body mass); real walks: median 7, largest 37; OpenSim's guidance
-        for captured data is below 50 N·m.
+    residual_rms_pct_bw : float, optional
+        RMS residual force, % body weight. A static 20° lean gives ~7.
+    residual_peak_pct_bw : float, optional
+        Peak residual force, % body weight.
+    residual_torque_rms_nm : float, optional
+        RMS residual torque about the centre of mass, N·m.
     penetration_mm : float
-        Deepest point below the floor (real walks: median 5, 95th percentile 14).
+        Deepest point below the floor beyond the 5 mm tolerance: the heel pad and a
+        shoe's sole compress by up to about 1 cm each under the body's weight, and a
+        joint centre or marker sits a few millimetres off.
     skate_speed : float, m/s
         Mean horizontal speed of foot points in contact (real walks 0.07–0.12).
     floating_fraction : float
@@ -97,9 +111,9 @@ class Thresholds:
         ``floating_residual_pct_bw``) that counts as floating (real walks: at most 0.005).
     """
 
-    residual_rms_pct_bw: float = 8.0
-    residual_peak_pct_bw: float = 30.0
-    residual_torque_rms_nm: float = 50.0
+    residual_rms_pct_bw: float | None = None
+    residual_peak_pct_bw: float | None = None
+    residual_torque_rms_nm: float | None = None
     penetration_mm: float = 25.0
     skate_speed: float = 0.2
     floating_fraction: float = 0.1
@@ -141,6 +155,8 @@ class CheckReport:
     segment_poses: tuple | None = None              # (world_r, world_p) of the smoothed motion
     contact_torques: np.ndarray | None = None       # (F, J-1, 3) the contacts' share, N·m
     calibration: object = None                      # humanoid_contact.ContactCalibration
+    lowpass_hz: float | None = None                 # the low-pass the motion was given
+    limits: dict = field(default_factory=dict)      # each judged figure: value, limit, margin
 
     @property
     def weight(self) -> float:
@@ -171,6 +187,7 @@ class CheckReport:
             "reasons": list(self.reasons),
             "lumped_segments": list(self.lumped_segments),
             "floor_m": _r(self.floor_m),
+            "limits": self.limits,
         }
 
 
@@ -187,7 +204,7 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
                  contact_speed: float = 1.0, smoothing: float = 0.1,
                  thresholds: Thresholds | None = None, threads: int = 1,
                  humanoid: Humanoid | None = None, floor: float | str = 0.0,
-                 lowpass: float | None = None, torque_length: float = TORQUE_LENGTH,
+                 lowpass: float | None = DEFAULT_LOWPASS, torque_length: float = TORQUE_LENGTH,
                  prefer_com: bool = True, rollover: bool = True) -> CheckReport:
     """Check a motion for physical plausibility (DESIGN 3.5).
 
@@ -217,7 +234,9 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
         is not at y = 0). The check then works with the floor at 0.
     lowpass : float, Hz, optional
         Low-pass the motion before differentiating (:func:`motion_kinematics`), and the
-        estimated contact forces (hence the joint torques) after the solve.
+        estimated contact forces (hence the joint torques) after the solve; default
+        :data:`DEFAULT_LOWPASS` (as ``mocap check``), which a motion sampled at twice
+        that or less does not get; None or 0: off. ``CheckReport.lowpass_hz`` says what was used.
     rollover : bool
         Share the torque with the heel-to-toe roll-over prior (module docstring, step 4);
         False keeps the forces the dynamics alone choose.
@@ -233,14 +252,20 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
                          f"{body.frames}")
     if humanoid is None:
         humanoid = build_humanoid(body.skeleton, body_mass, sex)
-    # A rig's feet end at joints: their soles lie below, under the stance normal.
-    points, sole_up = rig_soles(body, humanoid)
-    floor_height = estimate_floor(body, humanoid, points=points) if floor == "auto" \
-        else float(floor)
+    # A rig's feet end at joints: their soles lie below, under the stance normal, as far
+    # as the trial shows the feet standing above the floor (rig_soles).
+    floor_height = estimate_floor(body, humanoid, points=rig_soles(body, humanoid)[0]) \
+        if floor == "auto" else float(floor)
     if floor_height:
         body = Motion(body.skeleton, body.root_translation - [0.0, floor_height, 0.0],
                       body.rotations, body.rate, dict(body.metadata))
+    points, sole_up, sole_lowest = rig_soles(body, humanoid)
     frames, rate = body.frames, body.rate
+    # The same band for every motion, whatever its frame rate: differentiated twice, an
+    # unfiltered 30 Hz capture keeps everything up to 15 Hz, a 100 Hz one ~11 Hz.
+    if lowpass == DEFAULT_LOWPASS and rate <= 2.0 * DEFAULT_LOWPASS:
+        lowpass = None
+    lowpass = float(lowpass) if lowpass else None
     kin = motion_kinematics(body, smoothing, lowpass)
     tau = rnea_batch(humanoid, kin.q, kin.v, kin.a, threads)
 
@@ -259,7 +284,8 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
              for name, shift in body.metadata.get("sole_calibration_m", {}).items()
              if name in names}
     calibration = calibrate_contacts(points, segments, world_r, world_p, rate,
-                                     prior_shift=prior, sole_up=sole_up)
+                                     prior_shift=prior, sole_up=sole_up,
+                                     sole_lowest=sole_lowest)
     contact_world = points_in_world(calibration.points, segments, world_r, world_p)
     heights = contact_world[:, :, 1] - calibration.floors
     speed = np.linalg.norm(np.gradient(contact_world, 1.0 / rate, axis=0), axis=2)
@@ -289,7 +315,7 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
         # switching of contact points would otherwise put steps into them (and into the
         # joint torques) that the filtered motion cannot know of. The residual stays the
         # misfit of the unfiltered solve.
-        forces = butterworth_lowpass(forces, lowpass, rate)
+        forces = butterworth_lowpass(forces, lowpass, rate, ends="curvature")
 
     contact_torques = contact_joint_torques(humanoid, world_r, world_p, contact_world, forces)
     joint_torques = tau[:, 6:].reshape(frames, -1, 3) - contact_torques
@@ -316,27 +342,37 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
     # Off the floor: the toe tip counts here — a body on its toes stands on the floor.
     resting = np.minimum(lowest, (raw_contacts[..., 1] - calibration.floors).min(axis=1))
     above = resting > FLOOR_TOLERANCE
-    floating_mm = 1000.0 * float(resting[above].mean()) if above.any() else 0.0
     residual_pct = 100.0 * np.linalg.norm(residual[:, :3], axis=1) / humanoid.weight
     # Free fall judged on the captured (unfiltered) centre of mass: a low-pass spreads the
     # landing's deceleration over the flight before it (at 6 Hz, a 0.15 s running flight
     # falls at well under g in the filtered motion though the capture falls at g).
     airborne = ~active.any(axis=1)
-    ballistic = ballistic_runs(centre_of_mass(humanoid, raw_r, raw_p), airborne, rate)
+    raw_com = centre_of_mass(humanoid, raw_r, raw_p)
+    ballistic = ballistic_runs(raw_com, airborne, rate)
+    if lowpass:
+        # In flight nothing but gravity may move the body, and the capture shows whether
+        # it does: the residual force of a flight (off the floor in the capture, no
+        # point in reach of it) is that of its captured parabola, not the filter's spread
+        # of the take-off and landing into it.
+        aloft = above & ~(heights < contact_height).any(axis=1)
+        flight = flight_accelerations(raw_com, aloft, rate, shortest=3)
+        known = np.isfinite(flight[:, 0])
+        residual[known, :3] = humanoid.mass * (flight[known] - [0.0, -GRAVITY, 0.0])
+        residual_pct = 100.0 * np.linalg.norm(residual[:, :3], axis=1) / humanoid.weight
     # Floating: off the floor with no contact point in reach, needing support that no
     # free fall explains (a frame whose feet are in contact but cannot supply the wrench
     # counts in the residual).
     unsupported = above & airborne & (residual_pct > thresholds.floating_residual_pct_bw) \
         & ~ballistic
+    # Floating: how high the unsupported frames hang (a jump's free flight is not
+    # floating, whatever its height).
+    floating_mm = 1000.0 * float(resting[unsupported].mean()) if unsupported.any() else 0.0
 
-    torque_rms = _rms(np.linalg.norm(residual_torque, axis=1))
-    torque_limit = thresholds.residual_torque_rms_nm * humanoid.mass / 75.0
-    reasons = _reasons(residual_pct, penetration_mm, skate_mm * rate / 1000.0,
+    limits = trial_limits(humanoid, world_r, world_p, raw_p, com, raw_com, rate, lowpass,
+                          smoothing, residual_pct, np.linalg.norm(residual_torque, axis=1),
+                          thresholds)
+    reasons = _reasons(limits, residual_pct, penetration_mm, skate_mm * rate / 1000.0,
                        unsupported, floating_mm, thresholds)
-    if torque_rms > torque_limit:
-        after_force = sum(r.startswith("residual force") for r in reasons)
-        reasons.insert(after_force, f"residual torque RMS {torque_rms:.0f} N·m "
-                       f"(limit {torque_limit:.0f} N·m)")
     names = body.skeleton.names
     return CheckReport(
         mass_kg=float(humanoid.mass), frames=frames, rate=rate, times=body.times,
@@ -350,7 +386,8 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
         thresholds=thresholds, lumped_segments=[name for name, _, _ in humanoid.lumped],
         floor_m=floor_height, contact_positions=contact_world, contact_segments=segments,
         centre_of_mass=com, segment_poses=(world_r, world_p),
-        contact_torques=contact_torques, calibration=calibration)
+        contact_torques=contact_torques, calibration=calibration, lowpass_hz=lowpass,
+        limits=limits)
 
 
 def _sagittal_towards(com: np.ndarray, points: np.ndarray, pelvis: np.ndarray) -> np.ndarray:
@@ -365,22 +402,100 @@ def _sagittal_towards(com: np.ndarray, points: np.ndarray, pelvis: np.ndarray) -
     return towards - np.einsum("fpk,fk->fp", towards, left)[..., None] * left[:, None, :]
 
 
-def _reasons(residual_pct: np.ndarray, penetration_mm: float, skate_speed: float,
-             unsupported: np.ndarray, floating_mm: float, limits: Thresholds) -> list[str]:
-    reasons = []
-    rms = _rms(residual_pct)
-    if rms > limits.residual_rms_pct_bw:
-        reasons.append(f"residual force RMS {rms:.1f} % body weight "
-                       f"(limit {limits.residual_rms_pct_bw:g} %)")
-    if residual_pct.size and residual_pct.max() > limits.residual_peak_pct_bw:
-        reasons.append(f"residual force peak {residual_pct.max():.1f} % body weight "
-                       f"(limit {limits.residual_peak_pct_bw:g} %)")
-    if penetration_mm > limits.penetration_mm:
+def _reasons(limits: dict, residual_pct: np.ndarray, penetration_mm: float,
+             skate_speed: float, unsupported: np.ndarray, floating_mm: float,
+             thresholds: Thresholds) -> list[str]:
+    reasons: list[str] = []
+    unjudged = limits["residual_force_rms_pct_bw"]["limit"] >= UNJUDGED_PCT_BW
+    if unjudged:
+        filtered = limits["expected"]["force_N"]["filter"]
+        weight = limits["weight_N"]
+        reasons.append(f"residual not judged: its limit is {limits['residual_force_rms_pct_bw']['limit']:.0f} "
+                       f"% body weight at {limits['rate_hz']:g} Hz (the low-pass takes "
+                       f"{100 * filtered / weight:.0f} % BW of the motion's own acceleration "
+                       f"out): it cannot tell a body on its feet from one held up")
+    # The peak is reported with its limit but not judged: one frame's residual rests on
+    # one frame's contact switching and, at a trial's edge, on what the filter knows of
+    # the motion beyond it; the RMS figures judge the trial.
+    for key, text, unit in () if unjudged else (
+            ("residual_force_rms_pct_bw", "residual force RMS", "% body weight"),
+            ("residual_torque_rms_Nm", "residual torque RMS", "N·m")):
+        judged = limits[key]
+        if judged["value"] > judged["limit"]:
+            digits = 0 if unit == "N·m" else 1
+            short = "N·m" if unit == "N·m" else "%"
+            reasons.append(f"{text} {judged['value']:.{digits}f} {unit} (limit "
+                           f"{judged['limit']:.{digits}f} {short})")
+    if penetration_mm > thresholds.penetration_mm:
         reasons.append(f"penetrates the floor by {penetration_mm:.0f} mm")
-    if skate_speed > limits.skate_speed:
+    if skate_speed > thresholds.skate_speed:
         reasons.append(f"feet skate: {skate_speed:.2f} m/s while in contact "
-                       f"(limit {limits.skate_speed:g} m/s)")
-    if unsupported.size and unsupported.mean() > limits.floating_fraction:
+                       f"(limit {thresholds.skate_speed:g} m/s)")
+    if unsupported.size and unsupported.mean() > thresholds.floating_fraction:
         reasons.append(f"floating: {floating_mm:.0f} mm above the floor without support in "
                        f"{100 * unsupported.mean():.0f} % of frames")
     return reasons
+
+
+def trial_limits(humanoid: Humanoid, world_r: np.ndarray, world_p: np.ndarray,
+                 raw_p: np.ndarray, com: np.ndarray, raw_com: np.ndarray, rate: float,
+                 lowpass: float | None,
+                 smoothing: float, residual_pct: np.ndarray, residual_torque: np.ndarray,
+                 thresholds: Thresholds) -> dict:
+    """The residual's limits of this trial (:mod:`dynamics.humanoid.limits`) and how each
+    judged figure stands against its own: ``{figure: {value, limit, margin, ratio,
+    source}}`` plus ``noise_mm`` (the position noise measured on the trial), the parts
+    of the expected residual and ``coverage``.
+
+    ``world_r``, ``world_p`` are the smoothed segment poses, ``raw_p`` the captured
+    segment origins (frames, segments, 3), ``com`` the smoothed centre of mass and
+    ``raw_com`` the captured one (frames, 3); ``residual_pct`` (% BW) and ``residual_torque`` (N·m) the per-frame norms.
+    """
+    frames = com.shape[0]
+    parts = [(i, s, MASS_SPREAD) for i, s in enumerate(humanoid.inertias)]
+    parts += [(host, s, LUMPED_SPREAD) for _, host, s in humanoid.lumped]
+    owners = [i for i, _, _ in parts]
+    masses = np.array([s.mass for _, s, _ in parts])
+    spreads = np.array([spread for _, _, spread in parts])
+    centres = world_p[:, owners] + np.einsum("fsij,sj->fsi", world_r[:, owners],
+                                             np.stack([s.com for _, s, _ in parts]))
+    dt = 1.0 / rate
+    accelerations = np.gradient(np.gradient(centres, dt, axis=0), dt, axis=0)
+    com_acceleration = np.einsum("s,fsi->fi", masses, accelerations) / masses.sum()
+    inertial_force, inertial_torque = inertial_spread(
+        masses, spreads, centres, accelerations, com, com_acceleration,
+        np.array([0.0, -GRAVITY, 0.0]))
+    feet = sorted(set(humanoid.contact_segments))
+    sigma = measured_noise(raw_p[:, feet], rate)
+    window, order = _window(frames, rate, smoothing)
+    noise_force = humanoid.mass * sigma * noise_gain(rate, lowpass, window, order) \
+        * np.sqrt(3.0)
+    filtered = humanoid.mass * filter_change(raw_com, rate, lowpass, window, order)
+    expected = expected_residual(humanoid.weight, noise_force, leg_length(humanoid.skeleton),
+                                 inertial_force, inertial_torque, filtered)
+    peak_factor = COVERAGE + np.sqrt(2.0 * np.log(max(frames, 2)))
+    force_pct = 100.0 * expected["force_N"] / humanoid.weight
+    worst = int(np.argmax(residual_pct)) if frames else 0
+
+    def judged(value, derived, given):
+        limit = float(derived if given is None else given)
+        return {"value": _r(value), "limit": _r(limit), "margin": _r(limit - value),
+                "ratio": _r(value / limit) if limit > 0 else None,
+                "source": "trial" if given is None else "given"}
+
+    return {
+        "residual_force_rms_pct_bw": judged(_rms(residual_pct), COVERAGE * _rms(force_pct),
+                                            thresholds.residual_rms_pct_bw),
+        "residual_force_peak_pct_bw": judged(
+            float(residual_pct[worst]) if frames else 0.0, peak_factor * _rms(force_pct),
+            thresholds.residual_peak_pct_bw),
+        "residual_torque_rms_Nm": judged(_rms(residual_torque),
+                                         COVERAGE * _rms(expected["torque_Nm"]),
+                                         thresholds.residual_torque_rms_nm),
+        "noise_mm": _r(1000.0 * sigma),
+        "expected": {kind: {k: _r(v) for k, v in part.items()}
+                     for kind, part in expected["parts"].items()},
+        "coverage": COVERAGE,
+        "weight_N": _r(humanoid.weight),
+        "rate_hz": rate,
+    }

@@ -50,16 +50,16 @@ MAX_PITCH_DEG = 30.0
 #: Stances whose sole normal differs more than this from the longest stance's are not
 #: flat (a foot still on its toes) and do not set the sole's pitch.
 STANCE_AGREEMENT_DEG = 10.0
-#: A rig's sole below its toe point, in leg lengths, by what the point is: the middle of
-#: the range each can be, so that :func:`calibrate_contacts`'s 3 cm step reaches all of
-#: it. A toe joint (the metatarsophalangeal joint centre) stands about 2 cm above the
-#: sole barefoot and 4-6 cm in shoes: 4 cm for a 0.86 m leg (Bandai's stand 4.0-5.8 cm
-#: above the floor in stance). A toe-tip end site lies 0-2 cm above it: 1 cm.
-SOLE_BELOW_TOE = {"toe joint": 0.047, "end site": 0.012}
-#: A rig's sole at least this far below its ankle joint centre, in leg lengths: the
-#: lateral malleolus height 0.039 of the stature over the hip-to-ankle 0.491 (Winter
-#: 2009, Fig. 4.1), 6.8 cm for a 0.86 m leg.
-SOLE_BELOW_ANKLE = 0.079
+#: How far a rig's sole may lie below the lowest of its foot's points (ankle, toe), in
+#: leg lengths, by what that point is: the most a foot's anatomy and a shoe put between
+#: them, so that a trial whose feet stand further above the floor than this floats. A toe
+#: joint (the metatarsophalangeal joint centre) stands about 2-2.5 cm above the sole
+#: barefoot, and a running shoe's forefoot adds up to 4.5 cm: 7 cm, 0.085 of a 0.82 m
+#: leg (Bandai's stand 4.0-5.8 cm above the floor in stance); a toe-tip end site lies
+#: on the toe, 0-2 cm above the sole, and the shoe's 3 cm at the toe: 0.06; an ankle
+#: joint centre the lateral malleolus height 0.039 of the stature (Winter 2009,
+#: Fig. 4.1) over the hip-to-ankle 0.491, 6.8 cm, and a shoe's heel 3 cm: 0.115.
+SOLE_BELOW_LOWEST = {"toe joint": 0.085, "end site": 0.06, "ankle": 0.115}
 #: The toes (phalanges) beyond a rig's toe joint, in leg lengths: 0.27 of the foot length
 #: (the metatarsal heads at 0.73 of it from the heel), the foot 0.152 of the stature
 #: (Winter 2009), i.e. 0.041 of the stature over the hip-to-ankle 0.491.
@@ -106,8 +106,8 @@ def _runs(mask: np.ndarray, shortest: int) -> list[tuple[int, int]]:
 def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndarray,
                        world_p: np.ndarray, rate: float, floor: float = 0.0,
                        still_speed: float = 0.2, step: float = 0.03,
-                       prior_shift: dict | None = None, sole_up: dict | None = None
-                       ) -> ContactCalibration:
+                       prior_shift: dict | None = None, sole_up: dict | None = None,
+                       sole_lowest: dict | None = None) -> ContactCalibration:
     """Calibrate soles and find the floor under each foot (module docstring).
 
     Parameters
@@ -131,6 +131,9 @@ def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndar
     sole_up : dict, optional
         Foot segment index → the direction (foot frame) the sole normal is kept near
         (default the foot's Y; :func:`joint_soles` gives a rig's feet theirs).
+    sole_lowest : dict, optional
+        Foot segment index → the least offset ``d`` of its sole (:func:`joint_soles`: the
+        sole no higher than the rig's lowest point, whatever the stances).
     """
     frames = world_p.shape[0]
     segments = np.asarray(segments)
@@ -174,6 +177,7 @@ def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndar
         d0 = -float(np.median(points[mine] @ normal))
         ground = np.abs(heights - d0 - floor) < step
         d = float(np.median(heights[ground] - floor)) if ground.any() else d0
+        d = max(d, (sole_lowest or {}).get(int(foot), -np.inf))
         found.append((foot, mine, runs, heights, normal, d0, d, ground))
     # Stances on other levels, only when a foot stands on the floor in the trial (a body
     # that never touches it is held up, not on a stage): above the floor (a step, stairs, a
@@ -188,7 +192,11 @@ def calibrate_contacts(points: np.ndarray, segments: list[int], world_r: np.ndar
         # would put a foot still on its toes, heel up, above its step).
         level = np.array([float(np.median(sole[a:b, :, 1].min(axis=1))) for a, b in runs])
         off = level - floor
-        other = ((off >= step) | (several & (off <= -step))) & grounded
+        # A level is stood on longer than a body in free flight stays still: its speed is
+        # below still_speed for 2·still_speed/g around a jump's apex (and a frame more).
+        lasting = np.array([b - a for a, b in runs]) / rate > 2.0 * still_speed / 9.81 \
+            + 1.0 / rate
+        other = ((off >= step) | (several & (off <= -step))) & grounded & lasting
         run_floor = np.where(other, level, floor)
         ends = _open_ends(sole, runs, run_floor, rate, still_speed, step) \
             if several and grounded else None
@@ -254,18 +262,25 @@ def _stance_runs(world: np.ndarray, rate: float, still_speed: float) -> list[tup
 
 
 def joint_soles(humanoid: Humanoid, feet: dict[str, str], world_r: np.ndarray,
-                world_p: np.ndarray) -> tuple[np.ndarray, dict]:
+                world_p: np.ndarray, rate: float, floor: float = 0.0,
+                still_speed: float = 0.2) -> tuple[np.ndarray, dict, dict]:
     """Contact points under the feet of a rig whose foot ends at a joint (module docstring).
 
-    A skeleton's ankle and toe are joint centres on the foot's bones, and its foot frame
-    need not be anatomical (Bandai's X runs along the bone, pitched 40° down). The sole's
-    normal in the foot frame is the floor's normal seen from the foot when it is flat
-    (:func:`_flat_foot_normal`: orientation only, whatever the floor's height); the
-    contact points are laid out
-    across and along it (:func:`mocap.body.anthropometry.foot_points` with that ``up``)
-    on the plane :data:`SOLE_BELOW_TOE` leg lengths below the toe point and at least
-    :data:`SOLE_BELOW_ANKLE` below the ankle. :func:`calibrate_contacts` then fits the
-    sole's height to the stances within its ``step`` of this plane.
+    A skeleton's ankle and toe are points of the rig on the foot's bones: joint centres
+    inside the foot (a captured skeleton: Bandai's toe joint 42 mm above its floor), or
+    points on the sole itself (game and tool rigs whose ankle and toe joints touch the
+    floor). Which one is found from the trial, with no constant of any dataset: where the
+    foot stands still, its lowest rig point stands ``h`` above ``floor`` (median over
+    those frames); the sole lies ``h`` below that point when ``0 ≤ h ≤``
+    :data:`SOLE_BELOW_LOWEST` (what a foot's anatomy and a shoe can put between them), and
+    at the point itself otherwise: a trial standing higher floats, one standing lower
+    penetrates, by what the rig's own points show (nothing is invented below them). The
+    sole's normal in the foot frame is the floor's normal seen from the foot when it is
+    flat (:func:`_flat_foot_normal`; Bandai's foot X runs along the bone, pitched 40°
+    down); the contact points are laid out across and along it
+    (:func:`mocap.body.anthropometry.foot_points` with that ``up``).
+    :func:`calibrate_contacts` then fits the sole's height to the stances, never above
+    the rig's lowest point (``sole_lowest``).
 
     Parameters
     ----------
@@ -275,6 +290,11 @@ def joint_soles(humanoid: Humanoid, feet: dict[str, str], world_r: np.ndarray,
         ``"toe joint"`` (the toes, :data:`TOE_LENGTH`, are added beyond it) or
         ``"end site"`` (the rig's toe tip); the others keep their points.
     world_r, world_p : segment poses, (frames, segments, 3, 3) and (frames, segments, 3)
+    rate : float, Hz
+    floor : float, m
+        The floor's height (Y up).
+    still_speed : float, m/s
+        A foot whose rig points are all slower stands still.
 
     Returns
     -------
@@ -283,18 +303,30 @@ def joint_soles(humanoid: Humanoid, feet: dict[str, str], world_r: np.ndarray,
     normals : dict
         Foot segment index → sole normal in its frame (the ``sole_up`` of
         :func:`calibrate_contacts`).
+    lowest : dict
+        Foot segment index → the sole's offset ``d`` (``n·x = −d``) through the rig's
+        lowest point: the least the sole lies below the foot's origin.
     """
     skeleton = humanoid.skeleton
     segments = np.asarray(humanoid.contact_segments)
     points = np.array(humanoid.contact_points, dtype=float)
-    normals = {}
+    normals, lowest = {}, {}
     leg = leg_length(skeleton)
     for name, kind in feet.items():
         foot = skeleton.index(name)
         mine = np.flatnonzero(segments == foot)
         toe = skeleton.end_sites[foot]
         normal = _flat_foot_normal(world_r[:, foot], world_p[:, foot], toe)
-        level = min(toe @ normal - SOLE_BELOW_TOE[kind] * leg, -SOLE_BELOW_ANKLE * leg)
+        # The rig's points in the world: ankle (the foot's origin) and toe.
+        rig = np.stack([world_p[:, foot], world_p[:, foot] + world_r[:, foot] @ toe], axis=1)
+        speed = np.linalg.norm(np.gradient(rig, 1.0 / rate, axis=0), axis=2) \
+            if rig.shape[0] > 1 else np.zeros(rig.shape[:2])
+        still = (speed < still_speed).all(axis=1)
+        h = float(np.median(rig[still, :, 1].min(axis=1))) - floor if still.any() \
+            else np.nan
+        low = min(0.0, float(toe @ normal))
+        bound = SOLE_BELOW_LOWEST[kind if toe @ normal < 0.0 else "ankle"] * leg
+        level = low - (h if 0.0 <= h <= bound else 0.0)
         laid = foot_points(toe, up=normal)
         if kind == "toe joint":
             # The toes beyond the toe joint (phalanges), which push off after the heel
@@ -308,10 +340,12 @@ def joint_soles(humanoid: Humanoid, feet: dict[str, str], world_r: np.ndarray,
         laid = np.array(list(laid.values()))
         points[mine] = laid - np.outer(laid @ normal - level, normal)
         normals[int(foot)] = normal
-    return points, normals
+        lowest[int(foot)] = -low
+    return points, normals, lowest
 
 
-def rig_soles(body: Motion, humanoid: Humanoid) -> tuple[np.ndarray, dict]:
+def rig_soles(body: Motion, humanoid: Humanoid, floor: float = 0.0
+              ) -> tuple[np.ndarray, dict, dict]:
     """The contact points of a body: the humanoid's, with :func:`joint_soles` under the
     feet its rig ends at joints (``body.metadata["feet_at_joints"]``, set by
     :func:`mocap.body.retarget.reduce_to_segments`). The check and the physics replay
@@ -322,6 +356,8 @@ def rig_soles(body: Motion, humanoid: Humanoid) -> tuple[np.ndarray, dict]:
     body : Motion
         The reduced body motion the soles are seen in.
     humanoid : Humanoid
+    floor : float, m
+        The floor's height in the motion (Y up).
 
     Returns
     -------
@@ -329,12 +365,15 @@ def rig_soles(body: Motion, humanoid: Humanoid) -> tuple[np.ndarray, dict]:
         Contact points in their foot's frame (``humanoid.contact_points`` order).
     normals : dict
         Foot segment index → sole normal in its frame (empty without rig feet).
+    lowest : dict
+        Foot segment index → the sole offset through the rig's lowest point
+        (:func:`joint_soles`; empty without rig feet).
     """
     feet = {n: kind for n, kind in body.metadata.get("feet_at_joints", {}).items()
             if n in body.skeleton.names}
     if not feet:
-        return humanoid.contact_points, {}
-    return joint_soles(humanoid, feet, *body.forward_kinematics())
+        return humanoid.contact_points, {}, {}
+    return joint_soles(humanoid, feet, *body.forward_kinematics(), body.rate, floor)
 
 
 def _floor_under(runs: list[tuple[int, int]], levels: np.ndarray, frames: int,
@@ -403,24 +442,35 @@ def _open_ends(world: np.ndarray, runs: list[tuple[int, int]], levels: np.ndarra
     return before, after
 
 
+def flight_accelerations(com: np.ndarray, airborne: np.ndarray, rate: float,
+                         shortest: int = 5) -> np.ndarray:
+    """The captured centre of mass's acceleration over each flight phase (frames, 3).
+
+    For each run of airborne frames (no contact point active) of at least ``shortest``
+    frames, a parabola per axis fitted to the centre of mass's position over the whole
+    run: its (constant) second derivative, m/s². The fit uses positions, so it is not
+    spoiled by a low-pass that spreads the landing's deceleration over the flight before
+    it; NaN outside such runs.
+    """
+    out = np.full((airborne.shape[0], 3), np.nan)
+    for a, b in _runs(airborne, shortest):
+        t = np.arange(b - a) / rate
+        out[a:b] = 2.0 * np.polyfit(t, com[a:b], 2)[0]
+    return out
+
+
 def ballistic_runs(com: np.ndarray, airborne: np.ndarray, rate: float,
                    gravity: float = 9.81) -> np.ndarray:
     """Frames of flight phases whose centre of mass falls freely (bool, frames).
 
-    For each run of airborne frames (no contact point active) of at least 5 frames, a
-    parabola fitted to the centre of mass's height gives its vertical acceleration: the
-    run is ballistic when that is within half of g of −g (a body held up has 0). Shorter
-    runs are too short to tell and count as ballistic. The fit uses positions over the
-    whole run, so it is not spoiled by the smoothing of accelerations across touchdown.
+    A run of airborne frames of at least 5 frames is ballistic when the vertical
+    acceleration of its parabola (:func:`flight_accelerations`) is within half of g of −g
+    (a body held up has 0). Shorter runs are too short to tell and count as ballistic.
     """
-    result = np.zeros(airborne.shape[0], bool)
-    for a, b in _runs(airborne, 1):
-        if b - a < 5:
-            result[a:b] = True
-            continue
-        t = np.arange(b - a) / rate
-        curvature = np.polyfit(t, com[a:b, 1], 2)[0]
-        result[a:b] = abs(2.0 * curvature + gravity) < 0.5 * gravity
+    result = airborne.copy()
+    fitted = flight_accelerations(com, airborne, rate)[:, 1]
+    known = np.isfinite(fitted)
+    result[known] = np.abs(fitted[known] + gravity) < 0.5 * gravity
     return result
 
 

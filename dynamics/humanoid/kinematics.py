@@ -76,12 +76,14 @@ class Kinematics:
 def lowpass_filter(values: np.ndarray, cutoff: float, rate: float, axis: int = 0
                    ) -> np.ndarray:
     """Zero-lag 2nd-order Butterworth low-pass (as ``filtfilt``, so 4th order overall,
-    the usual gait-analysis filter) along ``axis`` (:func:`mocap.clean.filtering.butterworth_lowpass`)."""
+    the usual gait-analysis filter) along ``axis`` (:func:`mocap.clean.filtering.butterworth_lowpass`),
+    its ends padded so that they keep their velocity and acceleration (``ends="curvature"``:
+    a free fall still falls at g in its first and last frames)."""
     if not 0 < cutoff < rate / 2:
         raise MocapError(f"--lowpass must be between 0 and half the frame rate "
                          f"({rate / 2:g} Hz), got {cutoff:g}")
     moved = np.moveaxis(values, axis, 0)
-    return np.moveaxis(butterworth_lowpass(moved, cutoff, rate), 0, axis)
+    return np.moveaxis(butterworth_lowpass(moved, cutoff, rate, ends="curvature"), 0, axis)
 
 
 def motion_kinematics(motion: Motion, smoothing: float = 0.1,

@@ -199,8 +199,8 @@ def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100) ->
     force = 100.0 * np.linalg.norm(report.residual_force, axis=1) / weight
     # force in % BW on the left axis, torque in N·m on its own right axis and colour
     axes[0].plot(t, force, color="tab:blue", label="residual force (% BW)")
-    axes[0].axhline(report.thresholds.residual_rms_pct_bw, color="tab:blue", alpha=0.5,
-                    linestyle=":", label="RMS limit (% BW)")
+    axes[0].axhline(report.limits["residual_force_rms_pct_bw"]["limit"], color="tab:blue",
+                    alpha=0.5, linestyle=":", label="RMS limit (% BW)")
     axes[0].set_ylabel("residual force (% BW)", color="tab:blue")
     torque_axis = axes[0].twinx()
     torque_axis.plot(t, np.linalg.norm(report.residual_torque, axis=1), color="tab:red",

@@ -75,8 +75,18 @@ def savgol(values: np.ndarray, window: int, order: int, deriv: int = 0,
 
 
 def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
-                        order: int = 2) -> np.ndarray:
+                        order: int = 2, ends: str = "reflect") -> np.ndarray:
     """Zero-lag Butterworth low-pass along axis 0 (``filtfilt`` of ``butter(order)``).
+
+    ``ends="reflect"`` pads each end by odd reflection about the end sample, as
+    ``filtfilt`` does: it keeps the end's value and slope but reverses its curvature, so
+    a trial that ends (or starts) accelerating gets the opposite acceleration in its
+    padding, and the filtered signal's second derivative swings towards zero (−g turned
+    towards +g at the ends of a short free fall). ``ends="curvature"`` adds back twice the
+    end's curvature: it filters what is left after the quintic with each end's value,
+    slope and curvature (least-squares cubics over one period of the cut-off) and adds
+    that quintic back, so nothing is reflected but what has no slope or curvature at the
+    ends; a free fall or a constant velocity passes through unchanged, ends included.
 
     Parameters
     ----------
@@ -87,7 +97,19 @@ def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
     order : int
         Order of the one-way filter (2: the customary 4th-order-equivalent zero-lag
         filter of gait analysis).
+    ends : {"reflect", "curvature"}
+        How the ends are padded (above).
+
+    Examples
+    --------
+    >>> t = np.arange(30) / 100.0
+    >>> fall = -0.5 * 9.81 * t ** 2                       # 0.3 s of free fall
+    >>> smooth = butterworth_lowpass(fall, 6.0, 100.0, ends="curvature")
+    >>> bool(np.abs(smooth - fall).max() < 1e-9)
+    True
     """
+    if ends not in ("reflect", "curvature"):
+        raise ValueError(f"ends must be 'reflect' or 'curvature', not {ends!r}")
     x = np.asarray(values, dtype=float)
     if not 0 < cutoff < rate / 2:
         raise MocapError(f"cutoff {cutoff} Hz must be between 0 and {rate / 2} Hz")
@@ -100,6 +122,8 @@ def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
     periods = rate / cutoff                 # samples per period of the cut-off (may be inf)
     pad = n - 1 if not periods < n else min(n - 1, max(3 * int(np.ceil(periods)),
                                                        3 * (order + 1)))
+    trend = _end_trend(x, periods) if ends == "curvature" else 0.0
+    x = x - trend
     first, last = x[:1], x[-1:]
     padded = np.concatenate([2 * first - x[pad:0:-1], x, 2 * last - x[-2:-pad - 2:-1]])
     size = padded.shape[0]
@@ -111,7 +135,37 @@ def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
     spectrum = np.fft.rfft(padded, axis=0)
     shape = (-1,) + (1,) * (x.ndim - 1)
     smoothed = np.fft.irfft(spectrum * gain.reshape(shape), n=size, axis=0)
-    return smoothed[pad:pad + n]
+    return smoothed[pad:pad + n] + trend
+
+
+def _end_trend(x: np.ndarray, periods: float) -> np.ndarray:
+    """The quintic through the trial (samples, ...) with the value, slope and curvature
+    of its ends (:func:`butterworth_lowpass`, ``ends="curvature"``).
+
+    Each end's three are those of the least-squares cubic through one period of the
+    cut-off at that end (at least 4 samples, at most the trial): a cubic trial is its
+    own trend. What is left has neither slope nor curvature at the ends to reflect.
+    """
+    n = x.shape[0]
+    span = int(min(n, max(4, np.ceil(min(periods, n)))))
+    flat = x.reshape(n, -1)
+    t = np.arange(span, dtype=float)
+    fit = np.linalg.pinv(t[:, None] ** np.arange(min(4, span))[None, :])  # (≤4, span)
+    c_start = fit @ flat[:span]                                 # about sample 0
+    c_end = fit @ flat[::-1][:span]                             # about sample n-1, reversed
+    length = float(n - 1)
+    # value, slope and curvature (per unit of u = sample / (n - 1)) at u = 0 and u = 1
+    ends = np.stack([c_start[0], c_start[1] * length, 2 * c_start[2] * length ** 2,
+                     c_end[0], -c_end[1] * length, 2 * c_end[2] * length ** 2])
+    u0, u1 = np.zeros(6), np.ones(6)
+    powers = np.arange(6)
+    rows = [u0 ** powers, powers * np.r_[0.0, u0[1:] ** (powers[1:] - 1)],
+            powers * (powers - 1) * np.r_[0.0, 0.0, u0[2:] ** (powers[2:] - 2)],
+            u1 ** powers, powers * u1 ** np.clip(powers - 1, 0, None),
+            powers * (powers - 1) * u1 ** np.clip(powers - 2, 0, None)]
+    coefficients = np.linalg.solve(np.array(rows), ends)       # (6, columns)
+    u = np.arange(n, dtype=float) / length
+    return ((u[:, None] ** powers) @ coefficients).reshape(x.shape)
 
 
 def butterworth_sos(cutoff_hz: float, rate: float, order: int = 4,

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from dynamics.humanoid.check import Thresholds, check_motion
+from dynamics.humanoid.check import DEFAULT_LOWPASS, Thresholds, check_motion
 from dynamics.humanoid.model import JOINT_OF_SEGMENT, build_humanoid
 from mocap.body.anthropometry import segment_kind
 from mocap.body.retarget import motion_from_trial, reduce_to_segments
@@ -26,11 +26,6 @@ from mocap.errors import MocapError
 from mocap.io import file_kind, read, suffixes
 from mocap.markersets import load_markerset
 
-
-#: Low-pass (Hz) of the motion before the inverse dynamics when none is given: Winter's
-#: customary cutoff for walking kinematics, the one the real Plug-in Gait walks and their
-#: force plates were compared at.
-DEFAULT_LOWPASS = 6.0
 
 
 def _motion_options(parser: argparse.ArgumentParser) -> None:
@@ -85,11 +80,12 @@ def register(subparsers: Subparsers) -> None:
     check.add_argument("--max-residual", type=options.real(above=0, maximum=1000),
                        metavar="PCT",
                        help="RMS residual force above which the motion is implausible, in %% "
-                            "of body weight (default: the calibrated 8 %%, see the README's "
-                            "thresholds)")
+                            "of body weight (default: the trial's own limit, from its "
+                            "measurement noise, filter and segment parameters; --json "
+                            "'limits' shows it)")
     check.add_argument("--max-penetration", type=options.real(0, 10000), metavar="MM",
-                       help="deepest floor penetration allowed, mm (default: the calibrated "
-                            "threshold)")
+                       help="deepest floor penetration allowed beyond the 5 mm tolerance, "
+                            "mm (default 25: heel pad and shoe sole compress)")
     check.add_argument("--floor", type=options.real_or("auto", -1000, 1000), default=0.0,
                        metavar="Y|auto",
                        help="height of the floor in the motion file, metres along the up "
@@ -188,11 +184,8 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
         from mocap.io.motion import read_motion
         motion = read_motion(path, asf=asf, units=units, rate=rate, joint_map=joint_map)
         note = (units_note(motion) or "").replace("units=", "--units")
-    if lowpass is None:
-        # The same band for every motion, whatever its frame rate: differentiated twice,
-        # an unfiltered 30 Hz capture keeps everything up to 15 Hz (the Savitzky-Golay
-        # window of 0.1 s is then 3 frames, no smoothing at all), a 100 Hz one ~11 Hz.
-        lowpass = DEFAULT_LOWPASS if motion.rate > 2.0 * DEFAULT_LOWPASS else 0.0
+    if lowpass is None:                 # the library's default (check_motion's)
+        lowpass = DEFAULT_LOWPASS
     mass_source = "given"
     if mass is None:
         stored = _stored_mass(trial)
@@ -211,6 +204,7 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
             raise MocapError(error.problem, error.path or path) from None
 
     humanoid, report = run(mass)
+    lowpass = report.lowpass_hz         # what the check used (none at 12 Hz or less)
     if plates and mass_source == "default":
         weighed = _weigh_on_plates(trial, report, lowpass)
         if weighed:

@@ -1,0 +1,80 @@
+"""The dynamics check on the real captures: design half vs report half (issue 21).
+
+Prints, for the visible Vicon Plug-in Gait walks with force plates (stored body mass,
+the default 6 Hz low-pass), split by alternate subjects (design: HC002D, HC031A, HC033A,
+HC038A and vicon_zerowire; report: HC030A, HC032A, HC036A, HC039A and the CGM2.4
+lower-body walk), per walk and per half: the verdict, residual force and torque RMS over
+their trial limits, and the published ``ground_reaction`` against the raw plate totals
+(vertical, ezc3d's plates as measured) on the frames where the plates carry the whole
+body (r, RMS % BW); then the bandai2 corpus's plausible count by content. Figures, not
+timings; never asserts.
+
+    python benchmarks/check_validation.py [--no-bandai]
+"""
+from __future__ import annotations
+
+import sys
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from dynamics.humanoid.check import check_motion  # noqa: E402
+from dynamics.humanoid.plates import carried_frames, measured_plates, plate_stances  # noqa: E402
+from mocap.body.retarget import motion_from_trial, reduce_to_segments  # noqa: E402
+from mocap.io import read  # noqa: E402
+from mocap.io.motion import read_motion  # noqa: E402
+from tests.conftest import REALDATA  # noqa: E402
+from tests.dynamics.test_dynamics_plates import LOWER_WALK, WALKS, _mass  # noqa: E402
+
+
+def walk_row(local: str, preset: str) -> tuple:
+    trial = read(REALDATA / local)
+    body = reduce_to_segments(motion_from_trial(trial, preset), partial=True)
+    report = check_motion(body, _mass(trial))
+    limits = report.limits
+    raw = measured_plates(trial, floor=report.floor_m)
+    carried = carried_frames(report, plate_stances(report, raw)[0])
+    estimated = report.contact_forces.sum(axis=1)[carried, 1]
+    measured = raw.force.sum(axis=0)[carried, 1]
+    r = float(np.corrcoef(estimated, measured)[0, 1])
+    rms = 100.0 * float(np.sqrt(np.mean((estimated - measured) ** 2))) / report.weight
+    return (report.verdict == "plausible", limits["residual_force_rms_pct_bw"]["ratio"],
+            limits["residual_torque_rms_Nm"]["ratio"], r, rms, report.reasons)
+
+
+def main() -> None:
+    subjects = sorted({w.split("/")[1] for w in WALKS if w.startswith("biomechzoo")})
+    design = set(subjects[0::2]) | {"sample_32"}
+    halves: dict[str, list] = {"design": [], "report": []}
+    for local, preset in [(w, "plugingait-full") for w in WALKS] + [(LOWER_WALK,
+                                                                    "plugingait-lower")]:
+        half = "design" if local.split("/")[1] in design else "report"
+        row = walk_row(local, preset)
+        halves[half].append(row)
+        print(f"{half:6s} {Path(local).name:40s} {'plausible' if row[0] else 'implausible':11s}"
+              f" force/limit {row[1]:.2f} torque/limit {row[2]:.2f} GRF r {row[3]:.3f} "
+              f"RMS {row[4]:.1f} % BW {row[5]}")
+    for half, rows in halves.items():
+        a = np.array([row[:5] for row in rows], float)
+        print(f"{half}: plausible {int(a[:, 0].sum())}/{len(a)}; largest force/limit "
+              f"{a[:, 1].max():.2f}, torque/limit {a[:, 2].max():.2f}; ground_reaction vs raw "
+              f"plates median r {np.median(a[:, 3]):.3f}, RMS {np.median(a[:, 4]):.1f} % BW")
+    if "--no-bandai" in sys.argv:
+        return
+    counts, plausible = Counter(), Counter()
+    for path in sorted((REALDATA / "bandai2").glob("*.bvh")):
+        content = path.stem.split("_")[1]
+        body = reduce_to_segments(read_motion(path), partial=True)
+        counts[content] += 1
+        plausible[content] += check_motion(body).verdict == "plausible"
+    print("bandai2: plausible " + ", ".join(f"{k} {plausible[k]}/{n}" for k, n in
+                                             sorted(counts.items()))
+          + f"; total {sum(plausible.values())}/{sum(counts.values())}")
+
+
+if __name__ == "__main__":
+    main()

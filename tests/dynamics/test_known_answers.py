@@ -1,0 +1,240 @@
+"""Known answers of the dynamics check on rigs of every kind it reads (issue 21).
+
+Each trial is a rig moved along a known root path, so its exact residual, penetration,
+floating and skating are known: still (0, 0, 0, none), raised 30 cm (100 % BW, 300 mm
+floating), free fall (0: gravity alone explains it), sliding at 1 m/s (skating), a
+ballistic jump (no residual in flight, no floating). The rigs: a CMU-named BVH whose
+ankle and toe joints touch the floor (game and tool exports), the same with its joints
+inside the foot, and the body the marker trials are built on.
+"""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from dynamics.humanoid.check import DEFAULT_LOWPASS, check_motion
+from mocap.body.retarget import reduce_to_segments
+from mocap.cli import main
+from mocap.clean.filtering import butterworth_lowpass
+from mocap.io.motion import read_motion
+from tests.dynamics.rigs import cmu_like_bvh, root_path
+
+MASS = 70.0
+
+
+def _check(path, **options):
+    body = reduce_to_segments(read_motion(path), partial=True)
+    return check_motion(body, body_mass=MASS, **options).summary()
+
+
+def test_curvature_ends_keep_a_free_fall_falling_at_g():
+    """filtfilt's odd reflection turns a trial that ends accelerating into one that
+    decelerates there: 0.3 s of free fall at 60 Hz, low-passed at 6 Hz, read -4.1 m/s²
+    in its first frame; padded to keep the ends' curvature it falls at g throughout."""
+    t = np.arange(18) / 60.0
+    fall = 1.5 - 0.5 * 9.81 * t ** 2
+    reflected = np.diff(butterworth_lowpass(fall, 6.0, 60.0), 2) * 60.0 ** 2
+    assert reflected[0] > -5.0                                    # the old ends
+    kept = np.diff(butterworth_lowpass(fall, 6.0, 60.0, ends="curvature"), 2) * 60.0 ** 2
+    np.testing.assert_allclose(kept, -9.81, atol=1e-9)
+    # Far from the ends both pad the same; a sine's ends are no worse than reflected.
+    noise = np.random.default_rng(0).normal(0.0, 1e-3, (300, 3))
+    assert np.abs(butterworth_lowpass(noise, 6.0, 100.0, ends="curvature")
+                  - butterworth_lowpass(noise, 6.0, 100.0))[50:-50].max() < 2e-4
+    t = np.arange(60) / 60.0
+    cycle = np.sin(2 * np.pi * t)
+    error = {ends: np.abs(np.diff(butterworth_lowpass(cycle, 6.0, 60.0, ends=ends) - cycle,
+                                  2) * 3600).max() for ends in ("reflect", "curvature")}
+    assert error["curvature"] < 0.6 * error["reflect"]
+
+
+@pytest.mark.parametrize("seconds", [0.3, 0.5])
+def test_free_fall_of_a_rig_needs_no_residual(tmp_path, seconds):
+    """Dropped from rest, 0.3 s and 0.5 s at 60 Hz with the default 6 Hz low-pass: the
+    residual read 28 % and 22 % of body weight (the filter's ends)."""
+    path = cmu_like_bvh(tmp_path / "fall.bvh", root_path("free fall", seconds))
+    summary = _check(path)
+    assert summary["residual_force_rms_pct_bw"] < 1.0
+    assert summary["penetration_mm"] == 0.0
+    assert not any(r.startswith("floating") for r in summary["reasons"])
+
+
+def test_check_command_and_library_agree(tmp_path, capsys):
+    """``mocap check`` and ``check_motion`` with its defaults give the same numbers: the
+    6 Hz low-pass is the library's default (DEFAULT_LOWPASS), not only the command's."""
+    path = cmu_like_bvh(tmp_path / "jump.bvh", root_path("jump", 1.5))
+    assert main(["check", str(path), "--json", "--mass", str(MASS)]) == 0
+    cli = json.loads(capsys.readouterr().out)
+    library = _check(path)
+    assert cli["lowpass_hz"] == DEFAULT_LOWPASS
+    for key in ("residual_force_rms_N", "residual_torque_rms_Nm", "penetration_mm",
+                "floating_mm", "foot_skate_mm", "verdict"):
+        assert cli[key] == library[key], key
+    assert _check(path, lowpass=None) != library                  # the filter matters
+
+
+# ---------------------------------------------------------------------------------------
+# Every kind of rig, moved along known root paths
+# ---------------------------------------------------------------------------------------
+#: rig → its frame rate (Hz)
+RIGS = {"bvh joints on the floor": 60.0, "bvh joints above the floor": 60.0,
+        "asf/amc skeleton": 120.0, "marker body": 100.0}
+
+
+def _still(rig: str, tmp_path):
+    """The rig's still motion (rest pose) standing with its lowest point on y = 0, and
+    the height of the lowest point of its feet's rig points (ankle, toe) at rest."""
+    from mocap.body.segments import default_skeleton
+    from mocap.skeleton import Motion
+
+    rate = RIGS[rig]
+    if rig.startswith("bvh"):
+        heights = (0.0, 0.0) if "on the floor" in rig else (8.0, 2.0)
+        path = cmu_like_bvh(tmp_path / "rig.bvh", root_path("still", 1.0, rate), rate,
+                            *heights)
+        return read_motion(path), heights[1] / 100.0
+    if rig == "asf/amc skeleton":
+        from pathlib import Path
+
+        amc = read_motion(Path(__file__).resolve().parents[1] / "data" / "cmu_lambada.amc")
+        still = Motion.still(amc.skeleton, int(rate), rate)
+        still.metadata.update(amc.metadata)
+    else:
+        still = Motion.still(default_skeleton(1.75), int(rate), rate)
+    world_r, world_p = still.forward_kinematics()
+    _, ends = still.end_site_positions((world_r, world_p))
+    lowest = min(world_p[0, :, 1].min(), ends[0, :, 1].min())
+    still.root_translation[:, 1] -= lowest
+    return still, 0.0
+
+
+def _moved(still, kind: str, seconds: float):
+    from mocap.skeleton import Motion
+
+    path = root_path(kind, seconds, still.rate) / 100.0 - [0.0, 0.95, 0.0]
+    return Motion(still.skeleton, still.root_translation[:1] + path,
+                  np.repeat(still.rotations[:1], len(path), axis=0), still.rate,
+                  dict(still.metadata))
+
+
+@pytest.fixture(scope="module", params=list(RIGS))
+def rig(request, tmp_path_factory):
+    return request.param, *_still(request.param, tmp_path_factory.mktemp("rig"))
+
+
+def _summary(motion):
+    return check_motion(reduce_to_segments(motion, partial=True), body_mass=MASS).summary()
+
+
+def test_still(rig):
+    """Standing still: plausible, no residual, no penetration, no floating (a rig whose
+    ankle and toe joints touch the floor read 'penetrates the floor by 66 mm': its
+    sole was put 7 cm under the ankle, a Bandai-shaped prior)."""
+    _, still, _ = rig
+    summary = _summary(_moved(still, "still", 2.0))
+    assert summary["verdict"] == "plausible", summary["reasons"]
+    assert summary["residual_force_rms_pct_bw"] < 1.0
+    assert summary["penetration_mm"] < 5.0 and summary["floating_mm"] < 5.0
+
+
+def test_raised(rig):
+    """Held 30 cm up: the whole weight is residual and the rig floats by 30 cm plus what
+    its own lowest foot point stands above its rest (the joints-on-floor rig read
+    229 mm: its sole was invented 7 cm below the joints)."""
+    _, still, lowest = rig
+    summary = _summary(_moved(still, "raised", 2.0))
+    assert summary["residual_force_rms_pct_bw"] == pytest.approx(100.0, abs=0.5)
+    assert summary["floating_mm"] == pytest.approx(300.0 + 1000.0 * lowest, abs=1.0)
+    assert any(r.startswith("floating") for r in summary["reasons"])
+
+
+def test_free_fall(rig):
+    """Falling from rest for 0.3 s: gravity explains it all; the flight is not
+    floating."""
+    _, still, _ = rig
+    summary = _summary(_moved(still, "free fall", 0.3))
+    assert summary["residual_force_rms_pct_bw"] < 1.0
+    assert summary["floating_mm"] == 0.0 and summary["penetration_mm"] == 0.0
+    assert summary["verdict"] == "plausible", summary["reasons"]
+
+
+def test_sliding(rig):
+    """Gliding at 1 m/s on planted feet: skating, 1000 / rate mm per frame."""
+    _, still, _ = rig
+    summary = _summary(_moved(still, "sliding", 2.0))
+    assert summary["foot_skate_mm"] == pytest.approx(1000.0 / still.rate, rel=1e-3)
+    assert any("skate" in r for r in summary["reasons"])
+    assert summary["penetration_mm"] == 0.0
+
+
+def test_ballistic_jump(rig):
+    """Standing, 0.3 s of flight at g (11 cm high), standing: the take-off and landing
+    are the floor's, the flight gravity's: no residual, no floating (the BVH rig with
+    its joints above the floor read 24 % BW: the low-pass spread the take-off and
+    landing into the flight, and its apex was taken for a 105 mm platform)."""
+    _, still, _ = rig
+    summary = _summary(_moved(still, "jump", 1.5))
+    assert summary["residual_force_rms_pct_bw"] < 1.0
+    assert summary["floating_mm"] == 0.0 and summary["penetration_mm"] == 0.0
+    assert summary["verdict"] == "plausible", summary["reasons"]
+
+
+# ---------------------------------------------------------------------------------------
+# The trial's own limits (dynamics.humanoid.limits)
+# ---------------------------------------------------------------------------------------
+def test_noise_is_measured_where_the_feet_stand_still():
+    """1 mm of white noise on points that stand still a quarter of the time and swing fast
+    (up to 5 m/s: at 30 Hz, a fourth difference of centimetres) the rest: the still frames
+    give the noise back within 10 %; all frames would read the swing as noise."""
+    from dynamics.humanoid.limits import measured_noise
+
+    rate, frames = 30.0, 600
+    t = np.arange(frames) / rate
+    rng = np.random.default_rng(1)
+    swing = (t % 2.0) >= 0.5
+    path = np.where(swing, 0.4 * np.sin(2 * np.pi * 2.0 * t), 0.0)
+    points = np.stack([path, path, path], axis=1)[:, None, :] \
+        + rng.normal(0.0, 1e-3, (frames, 2, 3))
+    assert measured_noise(points, rate) == pytest.approx(1e-3, rel=0.1)
+    everything = np.median(np.abs(np.diff(points, 4, axis=0))) / (0.6745 * np.sqrt(70.0))
+    assert everything > 1.4e-3
+
+
+def test_noise_gain_is_the_pipelines_on_white_noise():
+    """The gain from position noise to the check's acceleration noise, computed on an
+    impulse, equals the spread of the pipeline's output on long white noise (2 %)."""
+    from dynamics.humanoid.limits import noise_gain
+    from mocap.clean.filtering import savgol
+
+    rate, window, order = 100.0, 11, 3
+    noise = np.random.default_rng(2).normal(0.0, 1.0, 200_000)
+    out = savgol(butterworth_lowpass(noise, 6.0, rate), window, order, deriv=2,
+                 delta=1.0 / rate)
+    assert noise_gain(rate, 6.0, window, order) == pytest.approx(out[500:-500].std(),
+                                                                 rel=0.02)
+    out = savgol(noise, window, order, deriv=2, delta=1.0 / rate)
+    assert noise_gain(rate, None, window, order) == pytest.approx(out[500:-500].std(),
+                                                                  rel=0.02)
+
+
+def test_limits_and_margins_are_in_the_json(tmp_path, capsys):
+    """``--json`` carries each judged figure with its trial limit, margin and ratio, and
+    the parts of the expected residual: a still rig with no noise and no acceleration is
+    held to the contact model's resolution (3.1 × 1 % BW), a raised one fails it by its
+    weight."""
+    path = cmu_like_bvh(tmp_path / "still.bvh", root_path("still", 2.0))
+    assert main(["check", str(path), "--json", "--mass", str(MASS)]) == 0
+    limits = json.loads(capsys.readouterr().out)["limits"]
+    force = limits["residual_force_rms_pct_bw"]
+    assert force["limit"] == pytest.approx(3.1, abs=0.01) and force["source"] == "trial"
+    assert force["margin"] == pytest.approx(force["limit"] - force["value"], abs=1e-3)
+    assert set(limits["expected"]["force_N"]) == {"noise", "inertial", "filter", "resolution"}
+    assert limits["noise_mm"] == 0.0
+    path = cmu_like_bvh(tmp_path / "raised.bvh", root_path("raised", 2.0))
+    assert main(["check", str(path), "--json", "--mass", str(MASS),
+                 "--max-residual", "50"]) == 0
+    force = json.loads(capsys.readouterr().out)["limits"]["residual_force_rms_pct_bw"]
+    assert force["source"] == "given" and force["limit"] == 50.0
+    assert force["margin"] == pytest.approx(-50.0, abs=0.1)
