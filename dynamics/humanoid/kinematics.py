@@ -73,19 +73,6 @@ class Kinematics:
     root: np.ndarray
 
 
-def lowpass_filter(values: np.ndarray, cutoff: float, rate: float, axis: int = 0
-                   ) -> np.ndarray:
-    """Zero-lag 2nd-order Butterworth low-pass (as ``filtfilt``, so 4th order overall,
-    the usual gait-analysis filter) along ``axis`` (:func:`mocap.clean.filtering.butterworth_lowpass`),
-    its ends padded so that they keep their velocity and acceleration (``ends="curvature"``:
-    a free fall still falls at g in its first and last frames)."""
-    if not 0 < cutoff < rate / 2:
-        raise MocapError(f"--lowpass must be between 0 and half the frame rate "
-                         f"({rate / 2:g} Hz), got {cutoff:g}")
-    moved = np.moveaxis(values, axis, 0)
-    return np.moveaxis(butterworth_lowpass(moved, cutoff, rate, ends="curvature"), 0, axis)
-
-
 def motion_kinematics(motion: Motion, smoothing: float = 0.1,
                       lowpass: float | None = None) -> Kinematics:
     """q, v, a of a 15-segment motion for the Pinocchio model (vectorised over frames).
@@ -98,7 +85,7 @@ def motion_kinematics(motion: Motion, smoothing: float = 0.1,
         Savitzky–Golay window (polynomial order 3; 0 gives central differences).
     lowpass : float, Hz, optional
         First low-pass the (sign-continuous) quaternions and the root's path with
-        :func:`lowpass_filter` (6 Hz is customary for walking inverse dynamics).
+        :func:`mocap.clean.filtering.butterworth_lowpass` (6 Hz is customary for walking inverse dynamics).
 
     Returns
     -------
@@ -109,8 +96,11 @@ def motion_kinematics(motion: Motion, smoothing: float = 0.1,
     quats = _continuous_quaternions(motion.rotations)                   # (F, J, 4)
     root = motion.skeleton.offsets[0] + motion.root_translation         # (F, 3)
     if lowpass:
-        quats = lowpass_filter(quats, lowpass, motion.rate)
-        root = lowpass_filter(root, lowpass, motion.rate)
+        # zero-lag 2nd-order Butterworth (4th overall, the gait-analysis filter), the ends
+        # padded so that they keep their velocity and acceleration: a free fall still
+        # falls at g in its first and last frames
+        quats = butterworth_lowpass(quats, lowpass, motion.rate, ends="curvature")
+        root = butterworth_lowpass(root, lowpass, motion.rate, ends="curvature")
 
     def smooth(x: np.ndarray, deriv: int) -> np.ndarray:
         return savgol(x, window, order, deriv=deriv, delta=dt)

@@ -2,12 +2,12 @@
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import butter, sosfiltfilt
 
 from mocap.rotations.angles import JointAngles
 from mocap.body.angles import motion_from_angles
 from mocap.body.anthropometry import foot_points
 from mocap.body.planting import planted_translation
+from mocap.clean.filtering import butterworth_lowpass
 from mocap.errors import MocapError
 from mocap.skeleton import Motion
 
@@ -53,8 +53,7 @@ def plant_feet(motion: Motion, smooth_hz: float | None = 4.0) -> Motion:
                         motion.rotations, motion.rate, dict(motion.metadata))
     translation = planted_translation(foot_contact_positions(still_root), up=1)
     if smooth_hz is not None and motion.frames > 15 and smooth_hz < motion.rate / 2:
-        sos = butter(4, smooth_hz, fs=motion.rate, output="sos")
-        translation = sosfiltfilt(sos, translation, axis=0)
+        translation = butterworth_lowpass(translation, smooth_hz, motion.rate, order=4)
     return Motion(motion.skeleton, translation, motion.rotations, motion.rate,
                   dict(motion.metadata, root="planted feet"))
 

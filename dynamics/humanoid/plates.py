@@ -107,16 +107,11 @@ def measured_plates(trial, floor: float = 0.0, up: str = "z",
     if lowpass:
         # Force and moment about a fixed point are linear in the plate's channels, so
         # filtering them is filtering the plate; the COP (a ratio) is left as measured.
-        force, free, moment = (_lowpass(x, lowpass, trial.rate) for x in (force, free, moment))
+        if 0 < lowpass < trial.rate / 2:          # as the check's motion (a 2nd order)
+            force, free, moment = (butterworth_lowpass(x, lowpass, trial.rate, axis=1)
+                                   for x in (force, free, moment))
     return MeasuredPlates(force, cop, free, outlines,
                           [f"plate{p.plate.index + 1}" for p in parts], moment)
-
-
-def _lowpass(values: np.ndarray, cutoff: float, rate: float) -> np.ndarray:
-    """Zero-lag 2nd-order Butterworth along axis 1 (frames), as the check's motion."""
-    if not 0 < cutoff < rate / 2:
-        return values
-    return np.moveaxis(butterworth_lowpass(np.moveaxis(values, 1, 0), cutoff, rate), 0, 1)
 
 
 def _inside(points: np.ndarray, outline: np.ndarray, margin: float) -> np.ndarray:

@@ -75,8 +75,11 @@ def savgol(values: np.ndarray, window: int, order: int, deriv: int = 0,
 
 
 def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
-                        order: int = 2, ends: str = "reflect") -> np.ndarray:
-    """Zero-lag Butterworth low-pass along axis 0 (``filtfilt`` of ``butter(order)``).
+                        order: int = 2, ends: str = "reflect", axis: int = 0) -> np.ndarray:
+    """Zero-lag Butterworth low-pass along ``axis`` (``filtfilt`` of ``butter(order)``).
+
+    The one Butterworth of the toolkit: the markers' :func:`lowpass`, the dynamics
+    check's motion and plate forces, and the planted root path all call it.
 
     ``ends="reflect"`` pads each end by odd reflection about the end sample, as
     ``filtfilt`` does: it keeps the end's value and slope but reverses its curvature, so
@@ -90,7 +93,7 @@ def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
 
     Parameters
     ----------
-    values : ndarray, shape (samples, ...)
+    values : ndarray, samples along ``axis``
     cutoff : float, Hz
         Below ``rate / 2``.
     rate : float, Hz
@@ -99,6 +102,8 @@ def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
         filter of gait analysis).
     ends : {"reflect", "curvature"}
         How the ends are padded (above).
+    axis : int
+        The axis of the samples (frames).
 
     Examples
     --------
@@ -110,7 +115,7 @@ def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
     """
     if ends not in ("reflect", "curvature"):
         raise ValueError(f"ends must be 'reflect' or 'curvature', not {ends!r}")
-    x = np.asarray(values, dtype=float)
+    x = np.moveaxis(np.asarray(values, dtype=float), axis, 0)
     if not 0 < cutoff < rate / 2:
         raise MocapError(f"cutoff {cutoff} Hz must be between 0 and {rate / 2} Hz")
     if not cutoff / (rate / 2) > 0:
@@ -118,7 +123,7 @@ def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
         raise MocapError(f"cutoff {cutoff} Hz is too small for a rate of {rate:g} Hz")
     n = x.shape[0]
     if n < 4:
-        return x.copy()
+        return np.moveaxis(x.copy(), 0, axis)
     periods = rate / cutoff                 # samples per period of the cut-off (may be inf)
     pad = n - 1 if not periods < n else min(n - 1, max(3 * int(np.ceil(periods)),
                                                        3 * (order + 1)))
@@ -135,7 +140,7 @@ def butterworth_lowpass(values: np.ndarray, cutoff: float, rate: float,
     spectrum = np.fft.rfft(padded, axis=0)
     shape = (-1,) + (1,) * (x.ndim - 1)
     smoothed = np.fft.irfft(spectrum * gain.reshape(shape), n=size, axis=0)
-    return smoothed[pad:pad + n] + trend
+    return np.moveaxis(smoothed[pad:pad + n] + trend, 0, axis)
 
 
 def _end_trend(x: np.ndarray, periods: float) -> np.ndarray:

@@ -186,6 +186,9 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
         note = (units_note(motion) or "").replace("units=", "--units")
     if lowpass is None:                 # the library's default (check_motion's)
         lowpass = DEFAULT_LOWPASS
+    elif lowpass and not 0 < lowpass < motion.rate / 2:
+        raise MocapError(f"--lowpass must be between 0 and half the frame rate "
+                         f"({motion.rate / 2:g} Hz), got {lowpass:g}", path)
     mass_source = "given"
     if mass is None:
         stored = _stored_mass(trial)
