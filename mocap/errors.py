@@ -80,7 +80,7 @@ class MocapWarning(UserWarning):
 def reading(path: str | os.PathLike, what: str = "file",
             missing: str = "no such file") -> Iterator[None]:
     """Turn the operating system's refusals while reading ``path`` into one-line
-    :class:`MocapError`\ s naming the file: ``missing`` for a file that is not there, "is a
+    :class:`MocapError` exceptions naming the file: ``missing`` for a file that is not there, "is a
     directory, not a <what>", "cannot read <what>: <reason>" (unreadable, undecodable).
 
     Examples
