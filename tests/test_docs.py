@@ -16,7 +16,10 @@ the API reference; these tests need no mkdocs.
 from __future__ import annotations
 
 import ast
+import os
 import re
+import subprocess
+import sys
 from functools import lru_cache
 from pathlib import Path
 
@@ -55,6 +58,21 @@ def test_readme_is_short_and_starts_with_the_two_setup_commands():
     assert body[0].startswith("```") and body[1:3] == SETUP and body[3] == "```", body[:4]
     # CI runs the README's test command exactly
     assert SETUP[1] in (ROOT / ".ci" / "run").read_text().splitlines()
+
+
+def test_readme_quick_start_runs(tmp_path):
+    text = README.read_text(encoding="utf-8")
+    blocks = re.findall(r"^```python\n(.*?)^```", text, flags=re.S | re.M)
+    assert len(blocks) == 1 and len(blocks[0].splitlines()) <= 12
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
+    done = subprocess.run([sys.executable, "-c", blocks[0]], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    # what it prints is true: the file it wrote, and the knee of a walk
+    frames, rate, knee = re.fullmatch(r"(\d+) frames at (\d+) Hz; knee flexion up to (\d+)°\n",
+                                      done.stdout).groups()
+    assert (tmp_path / "walk.c3d").is_file() and int(frames) > 50 and int(rate) == 100
+    assert 45 < int(knee) < 80
 
 
 # ---------------------------------------------------------------- links
