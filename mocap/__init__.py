@@ -32,7 +32,9 @@ _HOMES = {
     "Cleaning": "mocap.pipeline",
 }
 
-__all__ = sorted(_HOMES)
+__all__ = ["Cleaning", "MocapError", "MocapWarning", "Trial", "clinical_angles", "file_kind",
+           "fill_gaps", "joint_angles", "load_markerset", "lowpass", "marker_file_angles",
+           "read", "read_motion", "write"]
 
 
 def __getattr__(name: str):

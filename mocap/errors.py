@@ -79,8 +79,8 @@ class MocapWarning(UserWarning):
 @contextlib.contextmanager
 def reading(path: str | os.PathLike, what: str = "file",
             missing: str = "no such file") -> Iterator[None]:
-    r"""Turn the operating system's refusals while reading ``path`` into one-line
-    :class:`MocapError`\ s naming the file: ``missing`` for a file that is not there, "is a
+    """Turn the operating system's refusals while reading ``path`` into one-line
+    :class:`MocapError` exceptions naming the file: ``missing`` for a file that is not there, "is a
     directory, not a <what>", "cannot read <what>: <reason>" (unreadable, undecodable).
 
     Examples

@@ -1,4 +1,4 @@
-"""The physical-plausibility check of a motion on the humanoid (DESIGN 3.5).
+"""The physical-plausibility check of a motion on the humanoid (``docs/check.md``, ``docs/formats/check-json.md``).
 
 For a motion on the floor y = 0 (world Y up):
 
@@ -163,7 +163,7 @@ class CheckReport:
         return self.mass_kg * GRAVITY
 
     def summary(self) -> dict:
-        """The DESIGN 3.5 JSON object (plain Python types)."""
+        """The ``docs/formats/check-json.md`` JSON object (plain Python types)."""
         force = np.linalg.norm(self.residual_force, axis=1)
         torque = np.linalg.norm(self.residual_torque, axis=1)
         peaks = np.linalg.norm(self.joint_torques, axis=2).max(axis=0) if self.frames else []
@@ -206,7 +206,7 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
                  humanoid: Humanoid | None = None, floor: float | str = 0.0,
                  lowpass: float | None = DEFAULT_LOWPASS, torque_length: float = TORQUE_LENGTH,
                  prefer_com: bool = True, rollover: bool = True) -> CheckReport:
-    """Check a motion for physical plausibility (DESIGN 3.5).
+    """Check a motion for physical plausibility (``docs/check.md``).
 
     Parameters
     ----------

@@ -10,7 +10,7 @@ stance). In the frames where every contact point of the foot is slower than
 the ankle's height are nearly constant. Per stance (a run of such frames) their medians
 give one sole plane in the foot frame, ``u·x = −d``; the foot's sole normal is the mean
 of its stances' normals (its pitch and roll against the segment frame) and the contact
-points (heel, ball, toe from :func:`dynamics.anthropometry.foot_points`) are moved along
+points (heel, ball, toe from :func:`mocap.body.anthropometry.foot_points`) are moved along
 it onto the plane. Its offset ``d`` (ankle above sole) is the median ankle height of the
 stances on the reference floor (``floor``, 0 by default): those whose ankle height is
 within ``step`` of what the uncalibrated sole predicts for that floor.

@@ -1,5 +1,5 @@
 """Ground reaction forces at the foot points in contact, each inside a friction pyramid
-(non-negative least squares over the pyramid edges, DESIGN 3.5 step 3): what they cannot
+(non-negative least squares over the pyramid edges, the check's third step, ``docs/check.md``): what they cannot
 supply is the residual — the non-physical "hand of God". The friction-pyramid problem is
 solved for all frames at once by :func:`ridge_nnls` (numpy, no compiled code). Which
 points are in contact, and where the floor is, is :mod:`dynamics.humanoid.contact`.

@@ -1,6 +1,6 @@
 """Inverse dynamics of the humanoid: batched RNEA and the torques contact forces add.
 
-RNEA for all frames at once (``pin.rneaInParallel``, DESIGN 3.5 step 2): ``tau[:6]`` is
+RNEA for all frames at once (``pin.rneaInParallel``, the check's second step, ``docs/check.md``): ``tau[:6]`` is
 the wrench a fictitious actuator at the root would need; :func:`contact_joint_torques`
 gives the joint rows of ``J_cᵀ f`` that ground reaction forces take off the joint torques.
 """

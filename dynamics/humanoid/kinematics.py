@@ -1,6 +1,6 @@
 """Kinematics of a motion on the humanoid's configuration manifold, and its centre of mass.
 
-q, v, a for Pinocchio (DESIGN 3.5 step 1): quaternions made sign-continuous, optionally
+q, v, a for Pinocchio (the check's first step, ``docs/check.md``): quaternions made sign-continuous, optionally
 low-passed (zero-lag Butterworth), smoothed and differentiated with a Savitzky–Golay filter
 (:mod:`mocap.clean.filtering`, numpy only; exact for constant, linear and quadratic
 motion, so a still pose and a free fall are known answers); angular velocity and

@@ -132,7 +132,7 @@ def build_humanoid(skeleton: Skeleton, body_mass: float = 75.0, sex: str = "male
     Parameters
     ----------
     skeleton : Skeleton
-        With the segment names of ``mocap.skeleton.BODY_SEGMENTS`` (reduce foreign
+        With the segment names of ``mocap.body.segments.BODY_SEGMENTS`` (reduce foreign
         skeletons with ``reduce_to_segments``); end sites give the hands, head top and toes.
     body_mass : float, kg
     sex : {"male", "female"}

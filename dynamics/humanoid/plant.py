@@ -71,7 +71,7 @@ def motion_from_cycle(angles, skeleton=None, cycles: int = 1, up: str = "z") -> 
     angles : mocap.rotations.angles.JointAngles
         One cycle: ``values`` (samples, segments, 3) degrees, ``times`` seconds.
     skeleton : mocap.skeleton.Skeleton, optional
-        The body to put the angles on (default :func:`mocap.skeleton.default_skeleton`).
+        The body to put the angles on (default :func:`mocap.body.segments.default_skeleton`).
     cycles : int
         Cycles in the result.
     up : {"z", "y"}

@@ -196,7 +196,7 @@ def segment_inertias(skeleton, body_mass: float, sex: str = "male") -> list[Segm
     Parameters
     ----------
     skeleton : mocap.skeleton.Skeleton
-        Names must be those of ``mocap.skeleton.BODY_SEGMENTS`` (use
+        Names must be those of ``mocap.body.segments.BODY_SEGMENTS`` (use
         ``reduce_to_segments`` first); end sites for head, hands and feet.
     body_mass : float, kg
     sex : {"male", "female"}
@@ -250,7 +250,7 @@ def lumped_segments(skeleton, body_mass: float, sex: str = "male"
     """Segments missing from a partial body, as rigid inertias of a present ancestor.
 
     A lower-body skeleton (pelvis and legs) still carries the head, arms and trunk: they
-    are placed as in the neutral standing pose of :func:`mocap.skeleton.default_skeleton`,
+    are placed as in the neutral standing pose of :func:`mocap.body.segments.default_skeleton`,
     scaled to the skeleton's leg length (hip to ankle), and added to the nearest present
     ancestor (the pelvis, aligned at the hip-joint midpoint) with their de Leva masses and
     inertias — the "HAT" of lower-limb models, rigid with the pelvis.

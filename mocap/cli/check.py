@@ -1,7 +1,7 @@
 """``mocap check``: the physical plausibility of a motion, against force plates when asked.
 
 MOTION may be a BVH file, an AMC file (its ASF found beside it or given with ``--asf``),
-a joint-angle CSV (DESIGN 3.2, played on the default body) or a marker trial
+a joint-angle CSV (``docs/formats/angles-csv.md``, played on the default body) or a marker trial
 (C3D/TRC/CSV) with ``--markerset``; with ``--forces plates`` a C3D file's force plates.
 This module imports only what the check needs (no simulator, no numba, no scipy), so the
 command starts quickly; the readers of BVH, AMC and angle CSV motions and the force-plate

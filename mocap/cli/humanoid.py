@@ -2,7 +2,7 @@
 :mod:`mocap.cli.check`).
 
 MOTION may be a BVH file, an AMC file (its ASF found beside it or given with ``--asf``),
-a joint-angle CSV (DESIGN 3.2, played on the default body) or a marker trial
+a joint-angle CSV (``docs/formats/angles-csv.md``, played on the default body) or a marker trial
 (C3D/TRC/CSV) with ``--markerset``.
 """
 from __future__ import annotations

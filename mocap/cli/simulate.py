@@ -1,4 +1,4 @@
-"""``mocap simulate``: run a TOML scene (DESIGN 3.6) and save the frames (and a GIF/MP4)."""
+"""``mocap simulate``: run a TOML scene (``docs/formats/scene-toml.md``) and save the frames (and a GIF/MP4)."""
 from __future__ import annotations
 
 import argparse

@@ -32,7 +32,7 @@ fixes what a walk cannot tell:
   and 0.6° on the other 3).
 
 Everything is computed from the static's complete frames only; nothing a gap
-fill does in a walk can change it.  The result is a :class:`~mocap.plugingait.Subject`
+fill does in a walk can change it.  The result is a :class:`~mocap.plugingait.model.Subject`
 with ``calibrated = True``.
 """
 from __future__ import annotations
@@ -132,7 +132,7 @@ def kad_thigh_rotation(thigh: np.ndarray, hjc: np.ndarray, knee: np.ndarray,
     angle about the thigh axis (KJC → HJC) from the THI wand's plane to the
     plane of the knee flexion axis (KJC → virtual knee), with Plug-in Gait's
     sign (the ``ThighRotation`` of the PROCESSING group; the chord of a walk
-    turns the THI plane by it, :func:`mocap.plugingait.kinematics`).
+    turns the THI plane by it, :func:`mocap.plugingait.model.kinematics`).
 
     Parameters
     ----------

@@ -404,14 +404,16 @@ UNWRAP_BLOCK = 2048
 class Unwrapper:
     """unwrap_angles over consecutive blocks of frames, carrying its state.
 
-    Parameters
-    ----------
-    sequence : str
-    segments : int
-
     Calling it with the principal values of the next block of frames
     (frames, segments, 3) returns their continuous values; the result over all
     blocks equals unwrap_angles over the whole trial.
+
+    Parameters
+    ----------
+    sequence : str
+        scipy Euler sequence of the angles.
+    segments : int
+        Number of segments in every block.
     """
 
     def __init__(self, sequence: str, segments: int):

@@ -33,7 +33,7 @@ The motion is built the way a body has to move, so that it is physically plausib
 
 Stance feet are planted exactly (no skating, no penetration); the floor is flat for
 walk and run, a staircase of ``STEP_RISE`` × ``STEP_GOING`` steps for ascend and descend
-(two steps per cycle).  Measured with :func:`dynamics.humanoid.check_motion` (6 Hz
+(two steps per cycle).  Measured with :func:`dynamics.humanoid.check.check_motion` (6 Hz
 low-pass, the default people of seed 0, one cycle), walks need a residual force of
 0.0–0.4 % body weight RMS, stairs 0.1–1.1 % (with 0.5 mm marker noise 1.0–2.3 % and
 0.6–2.5 %), all plausible; runs 5.7–8.6 % (noisy 6.0–10.7 %) and a residual torque of

@@ -37,7 +37,7 @@ def test_demo_writes_every_promised_output(tmp_path, capsys):
     from mocap.io.angles_csv import read_angles_csv
     angles = read_angles_csv(next((out / "synthesis").glob("*_synthesised.csv")))
     assert angles.values.shape[1:] == (15, 3) and np.isfinite(angles.values).all()
-    # the check is a full DESIGN 3.5 report
+    # the check is a full report (docs/formats/check-json.md)
     check = json.loads((out / "check.json").read_text())
     assert check["verdict"] in ("plausible", "implausible") and "peak_joint_torque_Nm" in check
     # the GIF is a GIF with many frames

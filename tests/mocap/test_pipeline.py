@@ -34,6 +34,7 @@ def test_the_everyday_calls_are_at_the_top_of_mocap():
     from mocap import io, pipeline
     from mocap.rotations import angles
 
+    assert sorted(mocap.__all__) == sorted(mocap._HOMES)
     assert mocap.read is io.read and mocap.write is io.write
     assert mocap.clinical_angles is pipeline.clinical_angles
     assert mocap.joint_angles is angles.joint_angles

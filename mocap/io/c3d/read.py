@@ -28,7 +28,7 @@ real files and on seeded damage of them:
 
 Our decoder gives the same points and validity as ezc3d on the files ezc3d
 reads correctly, and the same as the ``c3d`` package on the files ezc3d cannot
-read (tests/test_io_realdata.py checks both). ezc3d writes C3D files here, and
+read (tests/mocap/io/test_realdata.py checks both). ezc3d writes C3D files here, and
 ``read_c3d(path, engine="ezc3d")`` still reads with it, for files
 :func:`ezc3d_refusal` finds safe for it.
 

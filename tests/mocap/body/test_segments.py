@@ -1,4 +1,4 @@
-"""Joint names of real rigs onto the 15 body segments (mocap.body.rig_names)."""
+"""Joint names of real rigs onto the 15 body segments (mocap.body.segments)."""
 from __future__ import annotations
 
 import re
