@@ -22,6 +22,7 @@ import numpy as np
 from scipy.signal import find_peaks
 
 from mocap.atomic import atomic_path
+from mocap.clean.resample import resample
 from mocap.errors import MocapError
 from mocap.trial import Trial
 
@@ -207,7 +208,8 @@ def normalise_cycles(angles, events: list[GaitEvent], samples: int = CYCLE_SAMPL
     Returns
     -------
     Cycles
-        Linear interpolation in frames; a sample next to a missing frame is NaN.
+        Linear interpolation in frames (:func:`mocap.clean.resample.resample`); a
+        sample next to a missing frame is NaN.
     """
     from mocap.rotations.angles import axis_names
 
@@ -219,7 +221,8 @@ def normalise_cycles(angles, events: list[GaitEvent], samples: int = CYCLE_SAMPL
     blocks = []
     joints = sorted({s.partition("_")[2] for s in angles.segments if s[:2] in ("l_", "r_")},
                     key=[s.partition("_")[2] for s in angles.segments].index)
-    percent = np.linspace(0.0, 1.0, samples)
+    frames = np.arange(angles.frames, dtype=float)
+    flat = angles.values.reshape(angles.frames, -1)
     for side in ("l", "r"):
         columns = [angles.segments.index(f"{side}_{j}") if f"{side}_{j}" in angles.segments
                    else None for j in joints]
@@ -229,16 +232,11 @@ def normalise_cycles(angles, events: list[GaitEvent], samples: int = CYCLE_SAMPL
         for n, (a, b) in enumerate(zip(strikes[:-1], strikes[1:]), start=1):
             if b <= a:
                 continue
-            at = a + percent * (b - a)
+            cycle = resample(frames, flat, a, b, samples).reshape(samples, -1, 3)
             block = np.full((samples, len(joints), 3), np.nan)
             for k, column in enumerate(columns):
-                if column is None:
-                    continue
-                series = angles.values[:, column, :]
-                left = np.clip(np.floor(at).astype(int), 0, angles.frames - 1)
-                right = np.clip(left + 1, 0, angles.frames - 1)
-                w = (at - left)[:, None]
-                block[:, k] = series[left] * (1.0 - w) + series[right] * w
+                if column is not None:
+                    block[:, k] = cycle[:, column]
             inside = off_frames[(off_frames > a) & (off_frames < b)]
             sides.append(side)
             numbers.append(n)
