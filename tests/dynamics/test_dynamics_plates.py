@@ -412,3 +412,30 @@ def test_plates_weigh_the_subject(walks):
     errors = [abs(_weigh_on_plates(trial, report, 6.0) / _mass(trial) - 1.0)
               for _, trial, _, report, _, _ in walks]
     assert max(errors) < 0.085 and np.median(errors) < 0.02
+
+
+def test_forces_at_the_marker_rate_say_what_the_averaging_took(capsys):
+    """``forces --rate marker`` dropped the heel-strike peak (the mean of each frame's
+    analog samples) without a word; now a note names both peaks, each equal to ezc3d's
+    plate data reduced the same way."""
+    import ezc3d
+
+    from mocap.cli import main
+
+    path = realdata_path("biomechzoo_sample_study", "HC030A", "Straight", "HC030A05.c3d")
+    assert main(["forces", str(path), "--rate", "marker"]) == 0
+    err = capsys.readouterr().err
+    note = [line for line in err.splitlines() if line.startswith("note: at the marker rate")]
+    assert len(note) == 1, err
+    kept, peak = (float(x) for x in
+                  __import__("re").findall(r"is (\d+) N", note[0]))
+    c3d = ezc3d.c3d(str(path), extract_forceplat_data=True)
+    fz = sum(np.asarray(p["force"])[2] for p in c3d["data"]["platform"])       # N, analog rate
+    per_frame = len(fz) // c3d["header"]["points"]["last_frame"]
+    per_frame = round(c3d["header"]["analogs"]["frame_rate"] / c3d["header"]["points"]["frame_rate"])
+    frames = len(fz) // per_frame
+    assert abs(np.abs(fz).max() - peak) <= 0.05 * peak          # baseline-free plates agree
+    means = np.abs(fz[:frames * per_frame].reshape(frames, per_frame).mean(axis=1)).max()
+    assert kept < peak and abs(means - kept) <= 0.05 * kept
+    assert main(["forces", str(path)]) == 0
+    assert "note: at the marker rate" not in capsys.readouterr().err
