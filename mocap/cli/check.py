@@ -221,9 +221,7 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
     summary = {"path": str(path), **report.summary(), "mass_source": mass_source,
                "lowpass_hz": lowpass or None}
     series = {
-        "ground_reaction": {
-            "times_s": np.round(report.times, 5).tolist(), "frame": "world, Y up",
-            "force_N": np.round(report.contact_forces.sum(axis=1), 2).tolist()},
+        "ground_reaction": ground_reaction_series(report),
         "joint_torques": {
             "names": list(report.joint_names), "frame": "each joint's (child segment's)",
             "torque_Nm": np.round(report.joint_torques, 2).tolist()},
@@ -243,6 +241,24 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
             "torque_Nm": np.round(np.where(valid[..., None], torques, np.nan), 2).tolist()}
         series = _nan_to_none(series)
     return {"report": report, "summary": summary, "series": series, "note": note}
+
+
+def ground_reaction_series(report) -> dict:
+    """The estimated ground reaction per frame, as ``--json`` writes it: ``times_s``,
+    ``force_N`` (the total over the contacts, N, Y up) and ``point_m`` (where it acts: the
+    centre of pressure of the contacts' vertical forces, metres in the motion file's world,
+    null while nothing pushes up)."""
+    vertical = np.clip(report.contact_forces[..., 1], 0.0, None)          # (F, P)
+    total = vertical.sum(axis=1)
+    series = {"times_s": np.round(report.times, 5).tolist(), "frame": "world, Y up",
+              "force_N": np.round(report.contact_forces.sum(axis=1), 2).tolist()}
+    if report.contact_positions is not None:
+        point = np.einsum("fp,fpk->fk", vertical, report.contact_positions) \
+            / np.where(total > 1.0, total, 1.0)[:, None]
+        point[:, 1] += report.floor_m                      # the check put the floor at 0
+        series["point_m"] = [np.round(p, 4).tolist() if pushed else None
+                             for p, pushed in zip(point, total > 1.0)]
+    return series
 
 
 def _nan_to_none(value):

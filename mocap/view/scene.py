@@ -322,11 +322,13 @@ def angle_curves(angles, columns: list[str] | None = None) -> Curves:
     ----------
     angles : JointAngles
     columns : list of str, optional
-        ``<segment>.<axis>`` names (default: the first six).
+        ``<segment>.<axis>`` names (default: the hip, knee and ankle flexions of clinical
+        angles, else the first six columns).
     """
     names = list(angles.columns[1:])
     flat = angles.values.reshape(angles.frames, -1)
-    chosen = columns or names[:6]
+    flexions = [c for c in names if c.endswith(("hip.flexion", "knee.flexion", "ankle.flexion"))]
+    chosen = columns or (flexions or names)[:6]
     unknown = [c for c in chosen if c not in names]
     if unknown:
         raise MocapError(f"no angle column {', '.join(unknown)}; the file has "

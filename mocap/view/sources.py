@@ -55,7 +55,7 @@ def file_layers(path: str | os.PathLike, markerset: str | None = "auto", asf=Non
             except MocapError as error:            # markers still worth seeing
                 notes.append(f"{path.name}: force plates not shown: {error.problem}")
         return marker_layer(trial, markerset, path.name, up), plates, notes
-    if suffix in (".bvh", ".amc", ".csv"):
+    if suffix in (".bvh", ".amc", ".asf", ".csv"):
         from mocap.io.motion import read_motion      # deferred: the motion readers (scipy)
         motion = read_motion(path, asf=asf, units=units, rate=rate)
         return skeleton_layer(motion, path.name), [], notes

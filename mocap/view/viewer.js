@@ -418,6 +418,20 @@
     get playing() { return playing; }, get rate() { return stepRate; },
     play() { setPlaying(true); }, pause() { setPlaying(false); },
     seek(i) { setPlaying(false); setFrame(i, false); }, setSpeed(s) { speed = +s; },
+    // what is drawn now, for scripts and tests: is a point shown (not a gap), where on the
+    // page (client pixels), and the force arrows
+    drawn(layer, point) { return layers[layer].mesh.instanceMatrix.array[16 * point] > 0; },
+    screenPosition(layer, point) {
+      const l = layers[layer], m = l.mesh.instanceMatrix.array, o = 16 * point;
+      if (!(m[o] > 0)) return null;
+      const p = vec(m[o + 12], m[o + 13], m[o + 14]).project(camera), r = canvas.getBoundingClientRect();
+      return [r.left + ((p.x + 1) / 2) * r.width, r.top + ((1 - p.y) / 2) * r.height];
+    },
+    arrows() {
+      return plates.concat(forces).map((t) => ({ name: t.name, visible: t.arrow.visible, newtons: t.shown,
+        position: t.arrow.position.toArray(), length: t.shown * FORCE_SCALE }));
+    },
+    render() { renderer.render(scene, camera); dirty = false; },
     camera, scene, renderer,
   };
 })();

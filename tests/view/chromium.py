@@ -61,6 +61,7 @@ class Chromium:
         os.close(to_browser_r)
         os.close(from_browser_w)
         self._next_id = 0
+        self.page_start = 0
         self._answers: dict[int, dict] = {}
         self.events: list[dict] = []
         self._lock = threading.Condition()
@@ -122,7 +123,7 @@ class Chromium:
     def open(self, url: str) -> None:
         """Navigate to ``url`` and wait for its load event."""
         with self._lock:
-            seen = len(self.events)
+            seen = self.page_start = len(self.events)
         self.send("Page.navigate", session=True, url=url)
         self.wait_event("Page.loadEventFired", after=seen)
 
@@ -157,16 +158,34 @@ class Chromium:
                 raise ProtocolError(f"{expression} still false after {timeout or self.timeout:g} s")
             time.sleep(0.05)
 
-    def screenshot(self) -> bytes:
-        """PNG of the viewport."""
+    def screenshot(self, selector: str | None = None) -> bytes:
+        """PNG of the viewport, or of the element ``selector`` names."""
+        clip = {}
+        if selector:
+            box = self.evaluate(f"(() => {{ const r = document.querySelector({selector!r})"
+                                ".getBoundingClientRect(); return [r.x, r.y, r.width, r.height]; })()")
+            clip = {"clip": dict(zip(("x", "y", "width", "height"), box), scale=1)}
         return base64.b64decode(self.send("Page.captureScreenshot", session=True,
-                                          format="png")["data"])
+                                          format="png", **clip)["data"])
+
+    def click(self, selector: str) -> None:
+        """A real mouse click (pressed and released) in the middle of an element."""
+        x, y = self.evaluate(f"(() => {{ const r = document.querySelector({selector!r})"
+                             ".getBoundingClientRect(); return [r.x + r.width / 2, "
+                             "r.y + r.height / 2]; })()")
+        self.mouse("mouseMoved", x, y)
+        self.mouse("mousePressed", x, y, button="left", clickCount=1)
+        self.mouse("mouseReleased", x, y, button="left", clickCount=1)
+
+    def mouse(self, kind: str, x: float, y: float, **more) -> None:
+        """One mouse event at viewport pixel (x, y)."""
+        self.send("Input.dispatchMouseEvent", session=True, type=kind, x=x, y=y, **more)
 
     def errors(self) -> list[str]:
-        """Console errors, uncaught exceptions and error log entries seen so far."""
+        """Console errors, uncaught exceptions and error log entries of the page opened last."""
         found = []
         with self._lock:
-            events = list(self.events)
+            events = list(self.events[self.page_start:])
         for event in events:
             method, params = event.get("method"), event.get("params", {})
             if method == "Runtime.exceptionThrown":
