@@ -91,12 +91,14 @@ class View:
     ----------
     scene : Scene
 
+    In Jupyter, a View as a cell's value shows the viewer.
+
     Examples
     --------
     >>> from mocap.view import view_files               # doctest: +SKIP
     >>> v = view_files(["walk.c3d"])                    # doctest: +SKIP
     >>> v.write("walk.html")                            # doctest: +SKIP
-    >>> v                                               # doctest: +SKIP  (in Jupyter: the viewer)
+    >>> v                      # doctest: +SKIP
     """
 
     def __init__(self, scene: Scene):
