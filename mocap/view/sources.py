@@ -13,6 +13,7 @@ from pathlib import Path
 from mocap.errors import MocapError
 from mocap.io import read, suffixes
 from mocap.io.discovery import is_angle_csv
+from mocap.markersets import MarkerSet
 from mocap.view.page import View
 from mocap.view.scene import (Layer, Scene, angle_curves, check_forces, marker_layer,
                               plate_tracks, scene_up, skeleton_layer, turn_force)
@@ -21,7 +22,7 @@ from mocap.view.scene import (Layer, Scene, angle_curves, check_forces, marker_l
 KINDS = ".c3d, .trc or .csv markers, .bvh, .amc (with its .asf) or a joint-angle .csv"
 
 
-def file_layers(path: str | os.PathLike, markerset: str | None = "auto", asf=None,
+def file_layers(path: str | os.PathLike, markerset: str | MarkerSet | None = "auto", asf=None,
                 units: str | None = None, rate: float = 120.0, up: str = "auto"
                 ) -> tuple[Layer, list, list[str]]:
     """One file's layer, its force plates (C3D) and notes.
@@ -30,8 +31,8 @@ def file_layers(path: str | os.PathLike, markerset: str | None = "auto", asf=Non
     ----------
     path : path-like
         A marker trial (C3D/TRC/CSV) or a motion (BVH, AMC, joint-angle CSV).
-    markerset : str or None
-        For marker trials: preset name or TOML path, ``"auto"`` or None/``"none"``
+    markerset : str, MarkerSet or None
+        For marker trials: a marker set, preset name or TOML path, ``"auto"`` or None/``"none"``
         (:func:`~mocap.view.scene.marker_layer`).
     asf, units, rate
         As :func:`mocap.io.motion.read_motion` (AMC skeleton, BVH/ASF unit, AMC rate).
@@ -64,7 +65,7 @@ def file_layers(path: str | os.PathLike, markerset: str | None = "auto", asf=Non
 
 def view_files(paths: list, angles: str | os.PathLike | None = None,
                curves: list[str] | None = None, check: str | os.PathLike | dict | None = None,
-               markerset: str | None = "auto", asf=None, units: str | None = None,
+               markerset: str | MarkerSet | None = "auto", asf=None, units: str | None = None,
                rate: float = 120.0, up: str = "auto", title: str | None = None) -> View:
     """A :class:`~mocap.view.page.View` of files overlaid in one lab.
 
