@@ -275,7 +275,7 @@ def _run(out: Path, final: Path, data: str | None, chosen, people: int, seed: in
                            title=f"{person}: synthesised {ACTION} with cape")
             summary["animation"] = shown(out / "animation.gif")
 
-    with steps("writing the HTML report and its 3-D view"):
+    with steps("writing the HTML report"):
         summary["report"] = shown(out / "index.html")
         # captured markers and synthesised skeleton overlaid, the check's ground reaction
         view_files([names[(person, ACTION)][0], bvh],

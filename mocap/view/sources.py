@@ -10,6 +10,8 @@ import json
 import os
 from pathlib import Path
 
+import numpy as np
+
 from mocap.errors import MocapError
 from mocap.io import read, suffixes
 from mocap.io.discovery import is_angle_csv
@@ -49,6 +51,8 @@ def file_layers(path: str | os.PathLike, markerset: str | MarkerSet | None = "au
         if trial.frames == 0 or not trial.labels:
             raise MocapError(f"has no marker data to show ({trial.frames} frames, "
                              f"{len(trial.labels)} markers)", path)
+        if not np.isfinite(trial.points).any():
+            notes.append(f"{path.name}: no marker has data in any frame")
         plates = []
         if suffix == ".c3d":
             try:
