@@ -108,6 +108,16 @@ class PlateTrack:
     cop: np.ndarray
     rate: float
 
+    def turned(self, up: str, was: str) -> "PlateTrack":
+        """The plate in a lab whose vertical axis is ``up``, from its trial's ``was``
+        (the turn of :meth:`Layer.turned` for marker files)."""
+        if up == was:
+            return self
+        if (up, was) != ("z", "y"):
+            raise ValueError("a view's lab is Z up or Y up; only Y-up plates are turned")
+        return PlateTrack(self.name, self.corners @ Z_TO_Y_UP, self.force @ Z_TO_Y_UP,
+                          self.cop @ Z_TO_Y_UP, self.rate)
+
 
 @dataclass
 class ForceTrack:

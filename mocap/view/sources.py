@@ -98,13 +98,14 @@ def view_files(paths: list, angles: str | os.PathLike | None = None,
     for path in paths:
         layer, found, said = file_layers(path, markerset, asf, units, rate, up)
         layers.append(layer)
-        plates += found
+        plates.append(found)
         notes += said
     lab = scene_up(layers)
-    scene = Scene([layer.turned(lab) for layer in layers], plates=plates, notes=notes, up=lab,
+    scene = Scene([layer.turned(lab) for layer in layers],
+                  plates=[p.turned(lab, layer.up) for layer, found in zip(layers, plates)
+                          for p in found],
+                  notes=notes, up=lab,
                   title=title if title is not None else " + ".join(Path(p).name for p in paths))
-    if any(plate for plate in plates) and lab != "z":
-        raise MocapError("force plates are drawn in a Z-up lab")    # never: C3D layers are Z up
     if angles is not None:
         from mocap.io.angles_csv import read_angles_csv
         scene.curves = angle_curves(read_angles_csv(angles), curves)

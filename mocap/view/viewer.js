@@ -72,7 +72,13 @@
 
   // ---- three.js scene -------------------------------------------------------------------
   const canvas = $("mv-canvas"), stage = $("mv-stage");
-  const renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+  let renderer;
+  try {
+    renderer = new THREE.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+  } catch (error) {
+    $("mv-title").textContent = "This browser cannot draw the view: WebGL is off or missing (" + error.message + ").";
+    return;
+  }
   renderer.setPixelRatio(window.devicePixelRatio || 1);
   const scene = new THREE.Scene();
   scene.background = new THREE.Color(0xf4f6f8);

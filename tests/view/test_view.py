@@ -136,3 +136,18 @@ def test_bad_input_is_one_line_and_exit_two(tmp_path, capsys, arguments, words, 
 def test_the_output_must_be_html(tmp_path, capsys):
     assert main(["view", str(DATA / "mocapbank_walk.bvh"), "-o", str(tmp_path / "v.png")]) == 2
     assert "must be a .html or .htm file" in capsys.readouterr().err
+
+
+def test_plates_turn_with_their_trial_into_a_z_up_lab(walk):
+    """A Y-up C3D (its plates in the same Y-up lab) shown beside a Z-up trial: markers and
+    plates turn together, so the reaction still acts where the feet are."""
+    from mocap.view.scene import PlateTrack
+    from mocap.io.lab import Z_TO_Y_UP
+    corners = np.array([[0.0, 0, 0], [0.5, 0, 0], [0.5, 0, 0.6], [0.0, 0, 0.6]])   # y = 0 floor
+    plate = PlateTrack("plate 1", corners, np.array([[0.0, 700.0, 0.0]]),
+                       np.array([[0.25, 0.0, 0.3]]), 100.0)
+    turned = plate.turned("z", "y")
+    assert np.allclose(turned.force, [[0, 0, 700.0]])           # up stays up
+    assert np.allclose(turned.corners[:, 2], 0)                 # on the Z-up floor
+    assert np.allclose(turned.cop, plate.cop @ Z_TO_Y_UP)
+    assert plate.turned("y", "y") is plate
