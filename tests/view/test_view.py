@@ -16,7 +16,7 @@ from mocap.io import write
 from mocap.markersets import load_markerset
 from mocap.synthetic.corpus import synthesize_trial
 from mocap.trial import Trial
-from mocap.view import View, marker_layer, skeleton_layer
+from mocap.view import View, marker_layer, skeleton_layer, view_files
 from mocap.view.page import scene_payload
 from mocap.view.scene import Scene, detect_up
 
@@ -151,3 +151,24 @@ def test_plates_turn_with_their_trial_into_a_z_up_lab(walk):
     assert np.allclose(turned.corners[:, 2], 0)                 # on the Z-up floor
     assert np.allclose(turned.cop, plate.cop @ Z_TO_Y_UP)
     assert plate.turned("y", "y") is plate
+
+
+def test_a_checks_reaction_lands_where_the_plates_measure_it(tmp_path, capsys):
+    """The check of a real C3D walk works in its own Y-up world; shown over the Z-up lab, its
+    estimated reaction acts within centimetres of the plates' measured centre of pressure
+    and is about as large, in the frames one plate carries the body alone."""
+    from tests.conftest import realdata_path
+    c3d = realdata_path("biomechzoo_sample_study", "HC002D", "Straight", "HC002D06.c3d")
+    capsys.readouterr()
+    assert main(["check", str(c3d), "-m", "plugingait-lower", "--json"]) == 0
+    check = json.loads(capsys.readouterr().out)
+    scene = view_files([c3d], check=check).scene
+    estimated, plates = scene.forces[0], scene.plates
+    assert len(plates) == 2 and len(estimated.force) == len(plates[0].force)
+    for plate, other in (plates, plates[::-1]):
+        alone = (plate.force[:, 2] > 150) & ~(other.force[:, 2] > 20)
+        assert alone.sum() > 30
+        apart = np.linalg.norm(estimated.point[alone, :2] - plate.cop[alone, :2], axis=1)
+        assert np.median(apart) < 0.10, np.median(apart)
+        ratio = np.median(estimated.force[alone, 2] / plate.force[alone, 2])
+        assert 0.8 < ratio < 1.25, ratio

@@ -304,3 +304,19 @@ def test_a_check_draws_its_estimated_ground_reaction(browser, tmp_path, capsys):
     assert "check: " + check["verdict"] in browser.evaluate(
         "document.getElementById('mv-readout').textContent")
     assert browser.errors() == []
+
+
+def test_the_jupyter_representation_runs_in_its_iframe(browser, tmp_path):
+    """A notebook shows a View's _repr_html_: the page inside an iframe's srcdoc."""
+    from mocap.view import view_files
+    view = view_files([DATA / "cmu_lambada.amc"])
+    notebook = tmp_path / "notebook.html"
+    notebook.write_text(f"<!doctype html><html><body><p>cell output:</p>{view._repr_html_()}"
+                        "</body></html>", encoding="utf-8")
+    browser.open(file_url(notebook))
+    frames = browser.wait_for("(() => { const w = document.querySelector('iframe').contentWindow;"
+                              " return w.mocapView && w.mocapView.frames; })()")
+    assert frames == view.scene.layers[0].frames
+    assert browser.errors() == []
+    pixels = image(browser.screenshot("iframe"))
+    assert blue_pixels(pixels) > 100
