@@ -47,6 +47,10 @@ def file_layers(path: str | os.PathLike, markerset: str | MarkerSet | None = "au
     if not path.exists():
         raise MocapError("file not found", path)
     if suffix in suffixes("markers") and not (suffix == ".csv" and is_angle_csv(path)):
+        if suffix == ".csv" and _header(path).startswith("time,") and "." in _header(path):
+            raise MocapError("holds joint angles without a skeleton to play them on (only "
+                             "the 15-segment body's ZXY angles are): give it with angles= to "
+                             "draw its curves below the scene", path)
         trial = read(path)
         if trial.frames == 0 or not trial.labels:
             raise MocapError(f"has no marker data to show ({trial.frames} frames, "
@@ -139,3 +143,12 @@ def _read_json(path) -> dict:
         return json.loads(text)
     except json.JSONDecodeError as error:
         raise MocapError(f"is not JSON ({error.msg} at line {error.lineno})", path) from None
+
+
+def _header(path: Path) -> str:
+    """The first line of a text file (empty when unreadable: the reader says why)."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as handle:
+            return handle.readline(4096).strip()
+    except OSError:
+        return ""

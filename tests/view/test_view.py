@@ -113,6 +113,7 @@ def test_view_command_writes_one_html_file(tmp_path, capsys, walk):
     ([str(DATA / "mocapbank_walk.bvh"), "--curves", "a.Y"], "--curves chooses columns of --angles"),
     ([str(DATA / "mocapbank_walk.bvh"), "--angles", "{tmp}/angles.csv", "--curves", "knee.Q"],
      "no angle column knee.Q"),
+    (["{tmp}/clinical.csv"], "give it with --angles"),
     (["{tmp}/walk.c3d", "-m", "nosuchset"], "nosuchset"),
     (["{tmp}/walk.c3d", "-m", "plugingait-lower"], "needs"),
 ])
@@ -123,6 +124,8 @@ def test_bad_input_is_one_line_and_exit_two(tmp_path, capsys, arguments, words, 
     from mocap.io.angles_csv import write_angles_csv
     write_angles_csv(JointAngles(np.arange(3) / 100.0, np.zeros((3, 1, 3)), ["knee"], "ZXY",
                                  [-1]), tmp_path / "angles.csv")
+    (tmp_path / "clinical.csv").write_text("time,l_knee.flexion,l_knee.adduction,"
+                                           "l_knee.rotation\n0,1,2,3\n")
     arguments = [a.replace("{tmp}", str(tmp_path)) for a in arguments]
     out = tmp_path / "v.html"
     code = main(["view", *arguments, "-o", str(out)])
