@@ -14,6 +14,7 @@ so a motion built from a marker trial lands on that trial's markers; a Y-up mark
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -325,7 +326,7 @@ def turn_force(track: ForceTrack, up: str) -> ForceTrack:
                       track.rate)
 
 
-def angle_curves(angles, columns: list[str] | None = None) -> Curves:
+def angle_curves(angles, columns: list[str] | None = None, source=None) -> Curves:
     """Chosen columns of joint angles (:class:`~mocap.angles.JointAngles`).
 
     Parameters
@@ -334,6 +335,8 @@ def angle_curves(angles, columns: list[str] | None = None) -> Curves:
     columns : list of str, optional
         ``<segment>.<axis>`` names (default: the hip, knee and ankle flexions of clinical
         angles, else the first six columns).
+    source : path, optional
+        The file the angles were read from, for messages.
     """
     names = list(angles.columns[1:])
     flat = angles.values.reshape(angles.frames, -1)
@@ -342,7 +345,7 @@ def angle_curves(angles, columns: list[str] | None = None) -> Curves:
     unknown = [c for c in chosen if c not in names]
     if unknown:
         raise MocapError(f"no angle column {', '.join(unknown)}; the file has "
-                         + ", ".join(names[:12]) + (" …" if len(names) > 12 else ""))
+                         + ", ".join(names[:12]) + (" …" if len(names) > 12 else ""), source)
     index = [names.index(c) for c in chosen]
     return Curves(np.asarray(angles.times, float), chosen, flat[:, index])
 
@@ -359,5 +362,4 @@ def _rate(rate: float, path) -> float:
 
 
 def _file_name(path, default: str) -> str:
-    from pathlib import Path
     return Path(path).name if path else default

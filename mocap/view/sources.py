@@ -112,7 +112,7 @@ def view_files(paths: list, angles: str | os.PathLike | None = None,
                   title=title if title is not None else " + ".join(Path(p).name for p in paths))
     if angles is not None:
         from mocap.io.angles_csv import read_angles_csv
-        scene.curves = angle_curves(read_angles_csv(angles), curves)
+        scene.curves = angle_curves(read_angles_csv(angles), curves, angles)
     elif curves:
         raise MocapError("curves= chooses columns of angles=: give the angle CSV too")
     if check is not None:
