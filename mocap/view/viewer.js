@@ -296,12 +296,20 @@
       return e;
     };
     el("rect", { x: M.left, y: M.top, width: W - M.left - M.right, height: Hh - M.top - M.bottom, fill: "#fafbfc", stroke: "#ccc" });
-    const zero = yOf(0);
-    if (zero > M.top && zero < Hh - M.bottom) el("line", { x1: M.left, x2: W - M.right, y1: zero, y2: zero, stroke: "#ddd" });
-    el("text", { x: M.left - 4, y: M.top + 9, "text-anchor": "end", "font-size": 10 }, `${vmax.toFixed(0)}°`);
-    el("text", { x: M.left - 4, y: Hh - M.bottom, "text-anchor": "end", "font-size": 10 }, `${vmin.toFixed(0)}°`);
-    el("text", { x: M.left, y: Hh - 4, "font-size": 10 }, "0 s");
-    el("text", { x: W - M.right, y: Hh - 4, "text-anchor": "end", "font-size": 10 }, `${t1.toFixed(2)} s`);
+    // grid lines at round steps: degrees on the left, seconds below
+    const nice = (span, count) => {
+      const raw = span / count, power = Math.pow(10, Math.floor(Math.log10(raw)));
+      return power * ([1, 2, 5, 10].find((m) => m * power >= raw) || 10);
+    };
+    const dv = nice(vmax - vmin, 5), dt = nice(t1, 8);
+    for (let y = Math.ceil(vmin / dv) * dv; y <= vmax; y += dv) {
+      el("line", { x1: M.left, x2: W - M.right, y1: yOf(y), y2: yOf(y), stroke: Math.abs(y) < dv / 2 ? "#bbb" : "#e6e6e6" });
+      el("text", { x: M.left - 4, y: yOf(y) + 3, "text-anchor": "end", "font-size": 10 }, `${+y.toFixed(6)}°`);
+    }
+    for (let tt = 0; tt <= t1 + 1e-9; tt += dt) {
+      el("line", { x1: xOf(tt), x2: xOf(tt), y1: M.top, y2: Hh - M.bottom, stroke: "#eee" });
+      el("text", { x: xOf(tt), y: Hh - 4, "text-anchor": "middle", "font-size": 10 }, `${+tt.toFixed(6)} s`);
+    }
     curves.columns.forEach((_, c) => {
       if (curves.hidden && curves.hidden[c]) return;
       let d = "", pen = "M";
