@@ -175,3 +175,14 @@ def test_a_checks_reaction_lands_where_the_plates_measure_it(tmp_path, capsys):
         assert np.median(apart) < 0.10, np.median(apart)
         ratio = np.median(estimated.force[alone, 2] / plate.force[alone, 2])
         assert 0.8 < ratio < 1.25, ratio
+
+
+def test_without_chromium_the_browser_tests_skip_but_fail_under_ci(monkeypatch):
+    from tests.view import conftest
+    monkeypatch.setattr(conftest, "find_chromium", lambda: None)
+    monkeypatch.setattr(conftest, "REQUIRE_REALDATA", False)
+    with pytest.raises(pytest.skip.Exception, match="chromium is not installed"):
+        conftest.require_chromium()
+    monkeypatch.setattr(conftest, "REQUIRE_REALDATA", True)
+    with pytest.raises(pytest.fail.Exception, match="MOCAP_REQUIRE_REALDATA=1"):
+        conftest.require_chromium()
