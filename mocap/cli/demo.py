@@ -423,7 +423,7 @@ estimated from their other actions.</p>
 <img src="figures/synthesis.png" alt="synthesis">
 <h2>Dynamics check</h2><p>{check_text}</p><img src="figures/check.png" alt="check">
 <h2>3-D view</h2><p>The captured walk's markers and the synthesised walk's skeleton, the
-check's estimated ground reaction (purple arrow) and the synthesised joint angles: drag to
+check's estimated ground reaction (purple arrows, one per foot) and the synthesised joint angles: drag to
 turn, play, scrub ({link(summary['view'])}, one file that opens on its own).</p>
 <iframe src="view.html" title="3-D view" style="width:100%;height:720px;border:1px solid #ccc"></iframe>
 <h3>All figures</h3><table>{rows}</table>

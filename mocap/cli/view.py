@@ -22,7 +22,7 @@ def register(subparsers: Subparsers) -> None:
                     "markers (labels on hover, gaps as gaps) with their marker set's "
                     "segments, BVH/ASF-AMC skeletons as bones, force plates with the ground "
                     "reaction at the centre of pressure (1 m per kN), the estimated reaction "
-                    "of a dynamics check, and joint-angle curves with a cursor at the frame. "
+                    "under each foot of a dynamics check, and joint-angle curves with a cursor at the frame. "
                     "Play, pause, scrub, frame step, speed (real time by default), an orbiting "
                     "camera and a floor grid in metres. Z up when any file is a Z-up marker "
                     "trial, else Y up.",
@@ -40,7 +40,8 @@ def register(subparsers: Subparsers) -> None:
                       help="its columns to draw, e.g. r_thigh.Y,r_shank.Y (default: the "
                            "first six)")
     view.add_argument("--check", metavar="JSON",
-                      help="output of mocap check --json: draw its estimated ground reaction")
+                      help="output of mocap check --json: draw its estimated ground reaction "
+                           "under each foot")
     view.add_argument("--markerset", "-m", default="auto", metavar="SET",
                       help="marker set whose segments are drawn over a marker trial: a preset "
                            "(synthetic15, plugingait-lower, plugingait-full), a TOML file, "

@@ -293,19 +293,19 @@ def plate_tracks(trial: Trial, threshold: float = PLATE_THRESHOLD) -> list[Plate
     return tracks
 
 
-def check_forces(check: dict, source: str = "check") -> ForceTrack:
-    """The estimated ground reaction of a ``mocap check --json`` object (Y up).
+def check_forces(check: dict, source: str = "check") -> list[ForceTrack]:
+    """The estimated ground reaction of a ``mocap check --json`` object (Y up): one track
+    per foot when it has ``ground_reaction.feet``, else the total.
 
-    ``ground_reaction`` must hold ``times_s`` and ``force_N`` (frames × 3, N); its
-    ``point_m`` (frames × 3, metres, null where no foot pushes) places the arrow.
+    ``ground_reaction`` must hold ``times_s`` and ``force_N`` (frames × 3, N); ``point_m``
+    (frames × 3, metres, null where no foot pushes) places each arrow.
     """
     series = check.get("ground_reaction") if isinstance(check, dict) else None
     try:
         times = np.asarray(series["times_s"], dtype=float).reshape(-1)
-        force = np.asarray(series["force_N"], dtype=float).reshape(len(times), 3)
-        point = series.get("point_m")
-        point = np.full_like(force, np.nan) if point is None else np.asarray(
-            [[np.nan] * 3 if p is None else p for p in point], dtype=float).reshape(force.shape)
+        parts = series.get("feet") or {"total": series}
+        tracks = [(name, _vectors(part["force_N"], len(times)),
+                   _vectors(part.get("point_m"), len(times))) for name, part in parts.items()]
     except (TypeError, KeyError, ValueError, AttributeError):
         raise MocapError("is not the output of mocap check --json: it needs a "
                          "ground_reaction object with times_s and force_N (frames × 3)",
@@ -315,7 +315,16 @@ def check_forces(check: dict, source: str = "check") -> ForceTrack:
     rate = 1.0 / float(np.median(np.diff(times))) if len(times) > 1 else 1.0
     if not (np.isfinite(rate) and rate > 0):
         raise MocapError("ground_reaction.times_s does not increase", source)
-    return ForceTrack("estimated ground reaction (check)", force, point, rate)
+    return [ForceTrack(f"check {name}" if name != "total" else "check: estimated reaction",
+                       force, point, rate) for name, force, point in tracks]
+
+
+def _vectors(rows, frames: int) -> np.ndarray:
+    """JSON rows of 3 numbers (null: unknown) as (frames, 3) floats; all NaN for None."""
+    if rows is None:
+        return np.full((frames, 3), np.nan)
+    return np.asarray([[np.nan] * 3 if row is None else row for row in rows],
+                      dtype=float).reshape(frames, 3)
 
 
 def turn_force(track: ForceTrack, up: str) -> ForceTrack:

@@ -118,7 +118,7 @@ def view_files(paths: list, angles: str | os.PathLike | None = None,
     if check is not None:
         data = check if isinstance(check, dict) else _read_json(check)
         source = "check" if isinstance(check, dict) else os.fspath(check)
-        scene.forces.append(turn_force(check_forces(data, source), lab))
+        scene.forces += [turn_force(track, lab) for track in check_forces(data, source)]
         scene.notes += check_notes(data)
     return View(scene)
 
