@@ -38,7 +38,8 @@ def register(subparsers: Subparsers) -> None:
                       help="joint-angle CSV (as mocap angles writes it) drawn below the scene")
     view.add_argument("--curves", metavar="COL[,COL…]",
                       help="its columns to draw, e.g. r_thigh.Y,r_shank.Y (default: the "
-                           "first six)")
+                           "hip, knee and ankle flexions of clinical angles, else the first "
+                           "six)")
     view.add_argument("--check", metavar="JSON",
                       help="output of mocap check --json: draw its estimated ground reaction "
                            "under each foot")
