@@ -94,7 +94,8 @@ MOCAP_LAYERS: tuple[tuple[str, ...], ...] = (
     ("mocap.rotations",),
     ("mocap.body",),
     ("mocap.io",),
-    ("mocap.plugingait", "mocap.synthetic", "mocap.pipeline", "mocap.summary", "mocap.plot"),
+    ("mocap.plugingait", "mocap.synthetic", "mocap.pipeline", "mocap.summary", "mocap.plot",
+     "mocap.view"),
     # the package's own namespace re-exports from every layer (``mocap.Trial``)
     ("mocap.cli", "mocap.__main__", "mocap"),
 )

@@ -216,9 +216,7 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
     summary = {"path": str(path), **report.summary(), "mass_source": mass_source,
                "lowpass_hz": lowpass or None}
     series = {
-        "ground_reaction": {
-            "times_s": np.round(report.times, 5).tolist(), "frame": "world, Y up",
-            "force_N": np.round(report.contact_forces.sum(axis=1), 2).tolist()},
+        "ground_reaction": ground_reaction_series(report),
         "joint_torques": {
             "names": list(report.joint_names), "frame": "each joint's (child segment's)",
             "torque_Nm": np.round(report.joint_torques, 2).tolist()},
@@ -238,6 +236,38 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
             "torque_Nm": np.round(np.where(valid[..., None], torques, np.nan), 2).tolist()}
         series = _nan_to_none(series)
     return {"report": report, "summary": summary, "series": series, "note": note}
+
+
+def ground_reaction_series(report) -> dict:
+    """The estimated ground reaction per frame, as ``--json`` writes it: ``times_s``,
+    ``force_N`` (the total over the contacts, N, Y up), ``point_m`` (where it acts: the
+    centre of pressure of the contacts' vertical forces, metres in the motion file's world,
+    null while nothing pushes up) and ``feet`` (the same two per foot: ``l_foot``, ``r_foot``)."""
+    forces, positions = report.contact_forces, report.contact_positions
+    series = {"times_s": np.round(report.times, 5).tolist(), "frame": "world, Y up",
+              "force_N": np.round(forces.sum(axis=1), 2).tolist()}
+    if positions is None:
+        return series
+    series["point_m"] = _pressure_centres(forces, positions, report.floor_m)
+    feet = [name.split(".")[0] for name in report.contact_names]
+    series["feet"] = {
+        foot: {"force_N": np.round(forces[:, which].sum(axis=1), 2).tolist(),
+               "point_m": _pressure_centres(forces[:, which], positions[:, which],
+                                            report.floor_m)}
+        for foot in dict.fromkeys(feet)
+        for which in [[k for k, name in enumerate(feet) if name == foot]]}
+    return series
+
+
+def _pressure_centres(forces: np.ndarray, positions: np.ndarray, floor: float) -> list:
+    """Per frame, the centre of pressure of contact forces (F, P, 3) at points (F, P, 3) in
+    the check's world (floor at 0), moved back to the motion's (floor at ``floor`` m); None
+    where less than 1 N pushes up."""
+    vertical = np.clip(forces[..., 1], 0.0, None)
+    total = vertical.sum(axis=1)
+    point = np.einsum("fp,fpk->fk", vertical, positions) / np.where(total > 1.0, total, 1.0)[:, None]
+    point[:, 1] += floor
+    return [np.round(p, 4).tolist() if pushed else None for p, pushed in zip(point, total > 1.0)]
 
 
 def _nan_to_none(value):

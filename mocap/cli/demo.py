@@ -13,7 +13,9 @@ Steps (each prints one line with its time):
 7. check it with the Pinocchio humanoid (residuals, contact, skating, torques), low-passed
    at 6 Hz like ``mocap check`` and the captured walks the limits are calibrated on;
 8. animate it with a cloth cape and a rope from the core simulator (GIF);
-9. write ``index.html`` with the figures and tables.
+9. write ``index.html`` with the figures and tables, and ``view.html``, the interactive
+   3-D view (:mod:`mocap.view`) of the captured and the synthesised walk, with the check's
+   estimated ground reaction and the synthesised joint angles, embedded in the report.
 """
 from __future__ import annotations
 
@@ -35,7 +37,7 @@ from mocap import io
 from mocap.atomic import atomic_folder
 from mocap.body.retarget import motion_from_trial
 from mocap.cli.batch_rows import find_trials
-from mocap.cli.check import DEFAULT_LOWPASS
+from mocap.cli.check import DEFAULT_LOWPASS, ground_reaction_series
 from mocap.cli.humanoid import export_motion
 from mocap.errors import MocapError
 from mocap.io.angles_csv import write_angles_csv
@@ -46,12 +48,15 @@ from mocap.plot import plot_angles, save_figure
 from mocap.progress import progress, progress_bar
 from mocap.synthetic import ACTIONS, generate_corpus
 from mocap.synthetic.people import make_people
+from mocap.view import view_files
 from synthesis.corpus import load_corpus
 from synthesis.model import MotionModel
 from synthesis.regression import TOO_FEW_CELLS, can_fit
 from synthesis.plot import synthesis_figure
 
 ACTION = "walk"
+#: Joint angles the report's figure and its 3-D view's curves show.
+SHOWN_ANGLES = ("r_thigh.Y", "r_shank.Y", "r_foot.Y", "r_upperarm.Y", "pelvis.Z", "thorax.Z")
 #: Zero-lag low-pass of the markers before the angles, Hz (the usual gait-lab choice).
 LOWPASS_HZ = 6.0
 
@@ -272,6 +277,14 @@ def _run(out: Path, final: Path, data: str | None, chosen, people: int, seed: in
 
     with steps("writing the HTML report"):
         summary["report"] = shown(out / "index.html")
+        # captured markers and synthesised skeleton overlaid, the check's ground reaction
+        view_files([names[(person, ACTION)][0], bvh],
+                   angles=out / "synthesis" / f"{person}_{ACTION}_synthesised.csv",
+                   curves=list(SHOWN_ANGLES), markerset=chosen,
+                   check={**check, "ground_reaction": ground_reaction_series(report)},
+                   title=f"{person}'s {ACTION}: captured (markers) and synthesised "
+                         "(skeleton)").write(out / "view.html")
+        summary["view"] = shown(out / "view.html")
         (out / "summary.json").write_text(json.dumps(summary, indent=1) + "\n")
         _write_report(out, final, summary, corpus)
 
@@ -321,8 +334,7 @@ def _flat_ground_skeleton(paths: list, markerset):
 
 def _plot_synthesis(corpus, truth, curve, baseline, path: Path, person: str) -> None:
     figure = synthesis_figure(corpus.columns, truth, curve, baseline,
-                              shown=("r_thigh.Y", "r_shank.Y", "r_foot.Y", "r_upperarm.Y",
-                                     "pelvis.Z", "thorax.Z"),
+                              shown=SHOWN_ANGLES,
                               title=f"{person}'s {ACTION}, synthesised from the person's "
                                     "other actions")
     save_figure(figure, path, dpi=90)
@@ -410,6 +422,10 @@ estimated from their other actions.</p>
 <p>{synthesis_text}</p>
 <img src="figures/synthesis.png" alt="synthesis">
 <h2>Dynamics check</h2><p>{check_text}</p><img src="figures/check.png" alt="check">
+<h2>3-D view</h2><p>The captured walk's markers and the synthesised walk's skeleton, the
+check's estimated ground reaction (purple arrows, one per foot) and the synthesised joint angles: drag to
+turn, play, scrub ({link(summary['view'])}, one file that opens on its own).</p>
+<iframe src="view.html" title="3-D view" style="width:100%;height:720px;border:1px solid #ccc"></iframe>
 <h3>All figures</h3><table>{rows}</table>
 {animation}
 <h2>Files</h2><ul>

@@ -50,6 +50,11 @@ def test_demo_writes_every_promised_output(tmp_path, capsys):
     assert len(references) >= 8
     for reference in references:
         assert (out / reference).exists(), reference
+    # ... among them the 3-D view of the captured and synthesised walks, embedded
+    assert '<iframe src="view.html"' in page and summary["view"] == str(out / "view.html")
+    view = (out / "view.html").read_text()
+    assert '"name":"check l_foot"' in view and '"name":"check r_foot"' in view
+    assert len(view) < 5e6
     # ... and explains the verdict and the baseline in words, not raw summary keys
     assert "the mean walk of the other 4 people" in page and "Verdict: <b>" in page
     assert "synthesis_rms_deg" not in page and "residual_force_rms_pct_bw" not in page
