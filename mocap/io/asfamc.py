@@ -93,7 +93,7 @@ def read_asf(path: str | os.PathLike) -> AsfSkeleton:
     """
     path = os.fspath(path)
     with reading(path, "ASF file"):
-        lines = Path(path).read_text(encoding="utf-8", errors="replace").splitlines()
+        lines = Path(path).read_text(encoding="utf-8-sig", errors="replace").splitlines()
     section = None
     name = "asf"
     length, angle = 1.0, "deg"
@@ -228,7 +228,7 @@ def read_amc(path: str | os.PathLike, asf: AsfSkeleton) -> tuple[dict[str, np.nd
     """
     path = os.fspath(path)
     with reading(path, "AMC file"):
-        lines = Path(path).read_text(encoding="utf-8", errors="replace").splitlines()
+        lines = Path(path).read_text(encoding="utf-8-sig", errors="replace").splitlines()
     sizes = {name: len(bone.dof) for name, bone in asf.bones.items()}
     sizes["root"] = len(asf.root_order)
     angle = asf.angle_unit
