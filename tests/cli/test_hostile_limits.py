@@ -63,3 +63,32 @@ def test_an_asf_chain_of_ten_thousand_bones_or_one_too_deep_is_refused(tmp_path,
                                str(tmp_path / "o.bvh")], capsys)
         assert "c.asf" in line and words in line, line
     assert not (tmp_path / "o.bvh").exists()
+
+
+# ---------------------------------------------------------------- scenes
+
+SCENES = ROOT / "dynamics" / "scenes" / "examples"
+
+
+def test_a_cloth_beyond_the_memory_budget_is_refused_before_it_is_built(tmp_path, capsys):
+    """1414 × 1414 is under the 2·10⁶-particle limit but with its saved frames took 2.4 GB
+    (an ArrayMemoryError traceback) or 10 s before the output check refused it."""
+    scene = tmp_path / "cloth.toml"
+    scene.write_text((SCENES / "hanging-cloth.toml").read_text().replace(
+        "resolution = [32, 32]", "resolution = [1414, 1414]"))
+    line = _timed_refusal(["simulate", str(scene), "-o", str(tmp_path / "o.npz")], capsys)
+    assert "cloth.toml: [[cloth]] #1: 'resolution' would make 1999396 particles" in line
+    assert "more than the budget of 1000 MB" in line, line
+    assert not (tmp_path / "o.npz").exists()
+
+
+def test_a_singular_rigid_body_is_refused_with_its_name(tmp_path, capsys):
+    """A box too small (or too thin) to invert its inertia: LinAlgError: Singular matrix."""
+    source = (SCENES / "spinning-box.toml").read_text()
+    for size in ("[1e-200, 1e-200, 1e-200]", "[0.3, 1e-9, 1e-9]"):
+        scene = tmp_path / "box.toml"
+        scene.write_text(source.replace("size = [0.3, 0.12, 0.04]", f"size = {size}"))
+        line = _timed_refusal(["simulate", str(scene), "-o", str(tmp_path / "o.npz")],
+                              capsys)
+        assert "box.toml: [[rigid]] #1: 'size'" in line and "cannot be inverted" in line, line
+    assert not (tmp_path / "o.npz").exists()
