@@ -246,7 +246,9 @@ def read_amc(path: str | os.PathLike, asf: AsfSkeleton) -> tuple[dict[str, np.nd
     sizes = {name: len(bone.dof) for name, bone in asf.bones.items()}
     sizes["root"] = len(asf.root_order)
     # the frames the file numbers, against the limit before any is parsed
-    count = sum(1 for _ in _FRAME_NUMBER.finditer(text))
+    count = text.count("\n") + 1           # at most one frame a line: counted only if needed
+    if count * len(sizes) > MAX_JOINT_FRAMES:
+        count = sum(1 for _ in _FRAME_NUMBER.finditer(text))
     if count * len(sizes) > MAX_JOINT_FRAMES:
         raise MocapError(f"AMC motion of {count} frames × {len(sizes)} joints is beyond the "
                          f"limit of {MAX_JOINT_FRAMES:,} joint-frames (as for BVH); cut it "

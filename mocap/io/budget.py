@@ -92,3 +92,49 @@ def check_budget(need: float, what: str, path=None) -> None:
     if need > budget:
         raise MocapError(f"{what} would take {need / 1e6:.0f} MB, more than the reading "
                          f"budget of {budget / 1e6:.0f} MB (MOCAP_READ_BUDGET_MB)", path)
+
+
+def read_npz(path, damaged: str) -> dict:
+    """The arrays of a numpy ``.npz`` archive, each member's declared size checked against
+    :func:`read_budget` before it is read.
+
+    Parameters
+    ----------
+    path : str or PathLike
+    damaged : str
+        The message of the :class:`MocapError` for a file that is not a readable archive
+        (truncated, a bad checksum, a member that is not an array, pickled objects).
+
+    Returns
+    -------
+    dict of str → ndarray
+
+    Raises
+    ------
+    MocapError
+        ``damaged`` (with the reason), or the budget's refusal naming the member: a
+        compressed archive can declare gigabytes in a few kilobytes.
+    """
+    import zipfile
+    import zlib
+
+    import numpy as np
+
+    try:
+        with zipfile.ZipFile(path) as archive:
+            total = 0
+            for info in archive.infolist():
+                with archive.open(info) as member:
+                    version = np.lib.format.read_magic(member)
+                    header = np.lib.format.read_array_header_1_0 if version == (1, 0) \
+                        else np.lib.format.read_array_header_2_0
+                    shape, _, dtype = header(member)
+                total += math.prod(shape) * dtype.itemsize
+                check_budget(total, f"its arrays (up to {info.filename!r})", path)
+        with np.load(path, allow_pickle=False) as archive:
+            return {key: archive[key] for key in archive.files}
+    except MocapError:
+        raise
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, zlib.error) as error:
+        reason = str(error).splitlines()[0] if str(error) else type(error).__name__
+        raise MocapError(f"{damaged} ({reason})", path) from None

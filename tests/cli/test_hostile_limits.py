@@ -20,9 +20,11 @@ def _one_error_line(capsys) -> str:
 
 
 def _timed_refusal(argv: list[str], capsys, seconds: float = 2.0) -> str:
-    start = time.perf_counter()
+    """The one error line of ``argv``, refused within ``seconds`` of CPU time (CPU, not wall
+    time: the suite shares its machine)."""
+    start = time.process_time()
     assert main(argv) == 2
-    assert time.perf_counter() - start < seconds
+    assert time.process_time() - start < seconds
     return _one_error_line(capsys)
 
 
@@ -92,3 +94,38 @@ def test_a_singular_rigid_body_is_refused_with_its_name(tmp_path, capsys):
                               capsys)
         assert "box.toml: [[rigid]] #1: 'size'" in line and "cannot be inverted" in line, line
     assert not (tmp_path / "o.npz").exists()
+
+
+# ---------------------------------------------------------------- model files
+
+def test_a_truncated_or_bomb_model_file_is_one_line(tmp_path, capsys):
+    """A model.npz cut short was a zipfile.BadZipFile traceback; a bit flipped in a member a
+    zlib.error; an archive declaring 10¹² floats in a few bytes is refused by the budget."""
+    import zipfile
+
+    import numpy as np
+
+    model = tmp_path / "model.npz"          # an archive as 'mocap decompose' writes them
+    np.savez_compressed(model, meta=np.array('{"format": "mocap-motion-model"}'),
+                        angles_core=np.random.default_rng(0).normal(size=20000))
+    data = model.read_bytes()
+    flipped = bytearray(data)
+    flipped[len(data) // 3] ^= 0xFF
+    bomb = tmp_path / "bomb.npz"
+    with zipfile.ZipFile(bomb, "w") as archive:
+        # an .npy header declaring 10^12 float64, and no data behind it
+        header = b"{'descr': '<f8', 'fortran_order': False, 'shape': (1000000000000,), }"
+        header += b" " * (118 - len(header)) + b"\n"
+        archive.writestr("meta.npy", b"\x93NUMPY\x01\x00" + len(header).to_bytes(2, "little")
+                         + header)
+    for name, content, words in (("cut.npz", data[:len(data) // 2], "damaged"),
+                                 ("flip.npz", bytes(flipped), "damaged"),
+                                 ("bomb.npz", None, "more than the reading budget")):
+        path = bomb if content is None else tmp_path / name
+        if content is not None:
+            path.write_bytes(content)
+        for argv in (["synthesize", str(path), "--person", "p0", "--action", "walk", "-o",
+                      str(tmp_path / "s.csv")], ["recognize", str(path), str(DATA / "mocapbank_walk.bvh")]):
+            line = _timed_refusal(argv, capsys)
+            assert name in line and words in line, line
+    assert not (tmp_path / "s.csv").exists()

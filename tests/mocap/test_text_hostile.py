@@ -194,9 +194,9 @@ def test_declared_sizes_beyond_memory_are_one_line_in_well_under_a_second(
         path.write_bytes("\n".join(head).encode() + b"\n" + garbage.tobytes())
         words = "fewer than one per cell"
     for command in (["info", str(path)], ["convert", str(path), str(tmp_path / "o.c3d")]):
-        start = time.perf_counter()
+        start = time.process_time()
         assert main(command) == 2
-        assert time.perf_counter() - start < 1.5
+        assert time.process_time() - start < 1.5
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and str(path) in err[0] and words in err[0], err
     assert not (tmp_path / "o.c3d").exists()
