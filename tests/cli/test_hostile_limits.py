@@ -129,3 +129,51 @@ def test_a_truncated_or_bomb_model_file_is_one_line(tmp_path, capsys):
             line = _timed_refusal(argv, capsys)
             assert name in line and words in line, line
     assert not (tmp_path / "s.csv").exists()
+
+
+# ---------------------------------------------------------------- batch workers
+
+def _dies_on_b(path: str, **arguments) -> dict:
+    """A row function whose worker is killed (as the out-of-memory killer does) on 'b'."""
+    import os
+    import signal
+
+    if Path(path).stem.startswith("b"):
+        os.kill(os.getpid(), signal.SIGKILL)
+    return {"path": path, "status": "ok", "error": ""}
+
+
+def test_a_killed_batch_worker_names_its_trial_and_the_batch_goes_on():
+    """A worker killed by the system broke the pool: a BrokenProcessPool traceback and no
+    table. Now its trial's row names it, and every other trial is analysed."""
+    from mocap.batch import run_batch
+
+    names = [f"{letter}{k}.c3d" for k in range(4) for letter in "ab"][:7]
+    rows = run_batch(_dies_on_b, names, jobs=2)
+    assert [r["path"] for r in rows] == names
+    for name, row in zip(names, rows):
+        if name.startswith("b"):
+            assert row["status"] == "failed" and f"{name}: the worker analysing this trial " \
+                   f"was killed" in row["error"], row
+        else:
+            assert row["status"] == "ok", row
+
+
+def test_a_killed_worker_on_the_command_line_is_one_failed_row(tmp_path, capsys,
+                                                                monkeypatch):
+    from mocap.cli import product
+    from mocap.io import write
+    from mocap.synthetic import synthesize_trial
+
+    trial, _ = synthesize_trial(0, "walk", seed=1)
+    for name in ("ann_walk", "bob_walk", "cat_walk"):
+        write(trial, tmp_path / f"{name}.c3d")
+    monkeypatch.setattr(product, "analyse_trial", _dies_on_b)
+    out = tmp_path / "t.csv"
+    assert main(["batch", str(tmp_path), "--jobs", "2", "-o", str(out)]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-2:] == [f"failed: {tmp_path / 'bob_walk.c3d'}: the worker analysing this "
+                        f"trial was killed (by the system: out of memory?); the other trials "
+                        f"went on", "2 of 3 trials analysed, 1 failed; table in " + str(out)]
+    table = out.read_text().splitlines()
+    assert len(table) == 4 and "bob,walk,failed" in table[2], table
