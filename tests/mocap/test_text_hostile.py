@@ -343,3 +343,10 @@ def test_every_unusable_cell_is_counted_once(cells, sources, tmp_path):
         assert len(counted) == 1 and counted[0].startswith(f"{unusable} cell"), counted
     else:
         assert not counted
+
+
+def test_the_budget_is_said_in_the_help(capsys):
+    assert main(["--help"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert "reading budget of 1 GB of numbers (MOCAP_READ_BUDGET_MB sets another)" in out
+    assert (ROOT / "docs" / "formats" / "limits.md").exists()
