@@ -435,3 +435,21 @@ def test_a_damaged_amc_or_bvh_reads_warns_or_is_refused_the_same_as_its_variant(
         else:
             outcomes = [_outcome(lambda: read_bvh(plain)), _outcome(lambda: read_bvh(variant))]
         assert outcomes[0] == outcomes[1], kind
+
+
+def test_a_joint_angle_csv_follows_the_same_numeric_rule(tmp_path):
+    """np.loadtxt read 'inf' and '1e999' in an angle CSV as infinite angles, without a
+    word; an unusable time is refused naming its line."""
+    from mocap.io.angles_csv import read_angles_csv
+
+    path = tmp_path / "a.csv"
+    path.write_text("time,pelvis.Z,pelvis.X,pelvis.Y\n0,1,2,3\n0.01,inf,2,3\n"
+                    "0.02,1,1e999,3\n0.03,,2,3\n")
+    with pytest.warns(MocapWarning, match=r"a.csv: 2 cells are not a finite number \(first "
+                                          r"at line 3: 'inf'\)"):
+        angles = read_angles_csv(path)
+    assert np.isnan(angles.values[[1, 2, 3], 0, [0, 1, 0]]).all()
+    assert np.isfinite(angles.values).sum() == 9
+    path.write_text("time,pelvis.Z,pelvis.X,pelvis.Y\n0,1,2,3\nx,1,2,3\n")
+    with pytest.raises(MocapError, match="line 3: the time is missing or not a number"):
+        read_angles_csv(path)
