@@ -114,7 +114,8 @@ def build_scene(document: dict, path=None) -> Scene:
     for table, spacing, index in molten:
         if system.heat is None or not np.isfinite(system.heat.melt):
             raise MocapError(f"{table.where} needs [heat] with a 'melt' temperature", path)
-        system.add_force(_fluid_force(table, spacing, index, system.heat.melt))
+        system.add_force(_fluid_force(table, spacing, index, system.heat.melt,
+                                      count=len(index)))
     _add_colliders(system, document, path)
     wind = table_of(document, "wind", path)
     if wind is not None:
@@ -272,19 +273,37 @@ def _add_bodies(system: System, document: dict, path, frames: int) -> tuple[list
                                        t.number("jitter", 0.0, minimum=0.0),
                                        t.integer("seed", 0))
         # the pair-force keys live in the same table; _finish_body checks for unknown keys
-        force = _fluid_force(t, spacing, None, None, finish=False)
+        force = _fluid_force(t, spacing, None, None, finish=False, count=count)
         force.members = _finish_body(system, body, t, [0.1, 0.5, 0.9])
         fluid_forces.append(force)
     return fluid_forces, molten
 
 
-def _fluid_force(t: Table, spacing: float, members, melt, finish: bool = True) -> FluidForce:
+#: Bytes a neighbour pair of a fluid takes while its forces are computed (the pair's
+#: indices, its offset, distance and force terms).
+PAIR_BYTES = 96
+
+
+def _fluid_force(t: Table, spacing: float, members, melt, finish: bool = True,
+                 count: float = 0) -> FluidForce:
+    """The pair force of a fluid of ``count`` particles at ``spacing``; a cutoff that would
+    give its neighbour list more pairs than the reading budget holds is refused (a cutoff
+    of metres over a spacing of centimetres pairs every particle with every other)."""
     alpha = t.number("alpha", above=0.0)
     zeta = t.number("zeta", 0.5 * spacing, minimum=0.0)
     a = t.number("a", 2.0, above=0.0)
     b = t.number("b", 4.0, above=0.0)
     beta = t.number("beta", equilibrium_beta(alpha, zeta, spacing, a, b), above=0.0)
     cutoff = t.number("cutoff", 1.25 * spacing, above=0.0)
+    # neighbours within the cutoff and its Verlet skin (a quarter more), at rest spacing
+    with np.errstate(over="ignore"):
+        neighbours = min(float(count), 4.19 * (1.25 * cutoff / spacing) ** 3 + 1.0)
+    need = 0.5 * count * neighbours * PAIR_BYTES
+    if need > read_budget():
+        raise t.error("cutoff", f"{cutoff:g} m over a spacing of {spacing:g} m gives each of "
+                                f"{count:.0f} particles about {neighbours:.0f} neighbours: "
+                                f"about {need / 1e6:.0f} MB of pairs, more than the budget "
+                                f"of {read_budget() / 1e6:.0f} MB (MOCAP_READ_BUDGET_MB)")
     viscosity = t.number("viscosity", 0.0, minimum=0.0)
     if finish:
         t.finish()

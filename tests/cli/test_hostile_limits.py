@@ -177,3 +177,16 @@ def test_a_killed_worker_on_the_command_line_is_one_failed_row(tmp_path, capsys,
                         f"went on", "2 of 3 trials analysed, 1 failed; table in " + str(out)]
     table = out.read_text().splitlines()
     assert len(table) == 4 and "bob,walk,failed" in table[2], table
+
+
+def test_a_fluid_cutoff_pairing_every_particle_is_refused(tmp_path, capsys):
+    """A cutoff of metres over a spacing of centimetres: every particle paired with every
+    other (17 576 particles: past 4 GB and 60 s before)."""
+    scene = tmp_path / "fluid.toml"
+    scene.write_text((SCENES / "fluid-drop.toml").read_text()
+                     .replace("cutoff = 0.025 ", "cutoff = 5.0 ")
+                     .replace("size = [0.2, 0.2, 0.2]", "size = [0.5, 0.5, 0.5]"))
+    line = _timed_refusal(["simulate", str(scene), "-o", str(tmp_path / "o.npz")], capsys)
+    assert "fluid.toml: [[fluid]] #1: 'cutoff' 5 m over a spacing of 0.02 m" in line, line
+    assert "MB of pairs, more than the budget" in line
+    assert not (tmp_path / "o.npz").exists()
