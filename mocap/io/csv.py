@@ -79,8 +79,8 @@ def read_csv(path: str | os.PathLike) -> Trial:
 
 def _read_plain(first_line: str, body: bytes, path) -> Trial:
     # what the header declares against the budget, before its cells are split
-    check_table_size(body.count(b"\n") + 1, len(body),
-                     first_line.rstrip(", \t\r").count(",") + 1, path)
+    rows = body.count(b"\n") + 1
+    check_table_size(rows, len(body), first_line.rstrip(", \t\r").count(",") + 1, path)
     header = [cell.strip() for cell in first_line.split(",")]
     if header[0].lower() not in ("time", "time_s", "time (s)", "t"):
         raise MocapError("not a marker CSV: the first column must be 'time' (seconds) "
@@ -102,7 +102,7 @@ def _read_plain(first_line: str, body: bytes, path) -> Trial:
         labels.append(names.pop())
     labels, warnings = unique_labels(labels)
     table = parse_table(body, ",", 1 + len(columns), warnings, first_line=2, path=path,
-                        ends_file=True)
+                        ends_file=True, lines=rows)
     times = table[:, 0]
     check_times_increase(times, body, path, first_line=2)
     points = mark_missing(table[:, 1:].reshape(table.shape[0], len(labels), 3), warnings)

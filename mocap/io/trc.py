@@ -69,7 +69,8 @@ def read_trc(path: str | os.PathLike) -> Trial:
         raise MocapError("not a TRC file (it must start with 'PathFileType')", path)
     delimiter = "\t" if "\t" in lines[0] + lines[1] else ","
     # the columns lines 4 and 5 declare, against the budget before they are split
-    check_table_size(body.count(b"\n") + 1, len(body),
+    rows = body.count(b"\n") + 1
+    check_table_size(rows, len(body),
                      max(lines[3].rstrip(" \t,").count(delimiter),
                          lines[4].rstrip(" \t,").count(delimiter)) + 1, path)
     keys = [cell.strip() for cell in lines[1].split(delimiter)]
@@ -103,6 +104,7 @@ def read_trc(path: str | os.PathLike) -> Trial:
                         "it was read as the first row")
         body = lines[4].encode("utf-8") + b"\n" + body
         lines[4] = ""
+        rows += 1
         first_line = 5
     elif not any(cell.strip()[:1].upper() == "X" for cell in lines[4].split(delimiter)):
         warnings.append("line 5 does not name the axes (X1 Y1 Z1 …); the columns after "
@@ -117,8 +119,8 @@ def read_trc(path: str | os.PathLike) -> Trial:
     width = _first_row_width(body, delimiter)
     data_markers = max(width - 2, 0) // 3
     # before any list of that length is made: what line 4, 5 and the first row declare
-    check_table_size(body.count(b"\n") + 1, len(body),
-                     2 + 3 * max(len(raw_labels), axis_markers, data_markers), path)
+    check_table_size(rows, len(body), 2 + 3 * max(len(raw_labels), axis_markers, data_markers),
+                     path)
     count = len(raw_labels)
     if count < max(axis_markers, data_markers) and (count == 0 or axis_markers > count):
         # Columns without a label on line 4: named after their column, never dropped.
@@ -137,7 +139,7 @@ def read_trc(path: str | os.PathLike) -> Trial:
     warnings += notes
 
     table = parse_table(body, delimiter, 2 + 3 * count, warnings, first_line, path,
-                        ends_file=True)
+                        ends_file=True, lines=rows)
     announced_frames = _int_or_none(header.get("NumFrames"))
     if announced_frames is not None and announced_frames != table.shape[0]:
         warnings.append(f"header announces {announced_frames} frames but the file holds "
