@@ -23,8 +23,8 @@ import numpy as np
 
 from mocap.angles import JointAngles
 from mocap.atomic import atomic_path
+from mocap.budget import read_npz
 from mocap.errors import MocapError
-from mocap.io.budget import read_npz
 from mocap.io.motion import read_motion
 from synthesis.corpus import MotionCorpus, check_corpus_size, read_trial_angles
 from synthesis.cycles import normalise_cycles, resample

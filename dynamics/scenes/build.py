@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
+from mocap.budget import read_budget
 from mocap.errors import MocapError
-from mocap.io.budget import read_budget
 
 from dynamics.scenes.schema import (TOP_LEVEL_TABLES, Table, read_scene_document, table_of,
                                     tables_of)
@@ -181,7 +181,7 @@ PARTICLE_BYTES = 2000
 def _check_count(t: Table, count: float, system: System, key: str, frames: int) -> None:
     """Refuse a body of ``count`` particles beyond :data:`MAX_PARTICLES`, or one that with
     the particles before it and ``frames`` saved frames (24 bytes a particle each) would
-    take more than the reading budget (:func:`mocap.io.budget.read_budget`), before
+    take more than the reading budget (:func:`mocap.budget.read_budget`), before
     anything of it is allocated."""
     total = count + len(system.particles)
     if not total <= MAX_PARTICLES:      # also NaN and inf

@@ -9,8 +9,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mocap.atomic import atomic_path
+from mocap.budget import read_npz
 from mocap.errors import MocapError
-from mocap.io.budget import read_npz
 from mocap.progress import progress
 
 from dynamics.scenes.build import Scene

@@ -19,9 +19,9 @@ import sys
 import threading
 import warnings
 
+from mocap.budget import READ_BUDGET_BYTES
 from mocap.cli.commands import COMMANDS
 from mocap.errors import MocapError, MocapWarning, one_line
-from mocap.io.budget import READ_BUDGET_BYTES
 
 def package_version() -> str:
     """The installed distribution's version (pyproject.toml holds the one string)."""

@@ -34,8 +34,8 @@ import re
 import numpy as np
 
 from mocap.atomic import atomic_path
+from mocap.budget import check_table_size
 from mocap.errors import MocapError
-from mocap.io.budget import check_table_size
 from mocap.io.c3d.read import infer_unit_factor, unique_labels, unit_factor
 from mocap.io.text_table import (check_label, check_times_increase, coordinate_decimals,
                                  format_table, mark_missing, parse_numeric_rows, parse_table,

@@ -29,8 +29,8 @@ import os
 
 import numpy as np
 
+from mocap.budget import check_table_size
 from mocap.errors import MocapError, reading
-from mocap.io.budget import check_table_size
 
 #: Bytes the parser treats as blank around a cell.
 _SPACE, _CR, _NL = 32, 13, 10

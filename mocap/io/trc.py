@@ -33,9 +33,9 @@ from pathlib import Path
 import numpy as np
 
 from mocap.atomic import atomic_path
+from mocap.budget import check_table_size
 from mocap.errors import MocapError
 from mocap.io import require_rate
-from mocap.io.budget import check_table_size
 from mocap.io.c3d.read import infer_unit_factor, unique_labels, unit_disagreement, unit_factor
 from mocap.io.text_table import (check_label, coordinate_decimals, format_table, mark_missing,
                                  parse_table, read_head)
