@@ -48,13 +48,13 @@ def read_angles_csv(path: str | os.PathLike, markerset: MarkerSet | None = None
     Raises
     ------
     MocapError
-        Missing file, bad header, a time that is missing or not a number.
+        Missing file, bad header, a time that is missing or not a number, a row of
+        another width than the header, a cell that is no finite number (``inf``, a word).
 
     Warns
     -----
     MocapWarning
-        Rows of another width than the header, cells that are no finite number (read as
-        missing angles), a file ending inside a row.
+        A file ending inside a row (it may have been cut in its last number).
     """
     path = Path(path)
     text = read_text(path)
@@ -86,12 +86,13 @@ def read_angles_csv(path: str | os.PathLike, markerset: MarkerSet | None = None
         if sequence not in SEQUENCES or axis_names(sequence) != letters:
             raise MocapError(f"axis columns {letters} name no Euler sequence (nor "
                              f"flexion, adduction, rotation)", path)
-    # the text readers' one numeric-cell rule: empty, NaN and unusable cells (inf, words)
-    # are missing angles, the unusable ones and ragged rows with a warning naming the line
+    # the text readers' numeric-cell rule, strictly: empty and NaN cells are missing
+    # angles; a ragged row or a cell that is no finite number (inf, a word) is refused,
+    # naming its line, as the CSV is written by programs only
     notes: list[str] = []
     raw = body.encode("utf-8")
     table = parse_table(raw, ",", len(columns), notes, first_line=2, path=path,
-                        ends_file=True)
+                        ends_file=True, strict=True)
     if not np.isfinite(table[:, 0]).all():
         check_times_increase(table[:, 0], raw, path, first_line=2)
     for note in notes:

@@ -187,7 +187,8 @@ def _line_of_row(body: bytes, row: int, first_line: int, delimiter: str) -> int:
 
 def parse_table(data: bytes | str, delimiter: str, width: int, notes: list[str] | None = None,
                 first_line: int = 1, path: str | os.PathLike | None = None,
-                ends_file: bool = False, lines: int | None = None) -> np.ndarray:
+                ends_file: bool = False, lines: int | None = None,
+                strict: bool = False) -> np.ndarray:
     """Numbers of delimited text rows; blank lines skipped, empty or unusable cells NaN.
 
     The one numeric-cell rule of the text readers: a cell is a finite number, a gap (empty,
@@ -216,6 +217,10 @@ def parse_table(data: bytes | str, delimiter: str, width: int, notes: list[str] 
         The file, named by the refusal of a table too large for memory.
     ends_file : bool
         ``data`` runs to the end of the file, so a missing final line break is noted.
+    strict : bool
+        Refuse (MocapError naming the first line) ragged rows and unusable cells instead
+        of reading them as gaps with a warning: for a format written only by programs
+        (the joint-angle CSV).
     lines : int, optional
         ``data.count(b"\\n") + 1`` when the caller has counted them already (a pass over
         the bytes: 12 ms for 40 MB).
@@ -229,7 +234,7 @@ def parse_table(data: bytes | str, delimiter: str, width: int, notes: list[str] 
     ------
     MocapError
         A table beyond the memory budget, or one the bytes present cannot hold
-        (:func:`check_table_size`).
+        (:func:`check_table_size`); with ``strict``, a ragged row or an unusable cell.
 
     Examples
     --------
@@ -253,7 +258,8 @@ def parse_table(data: bytes | str, delimiter: str, width: int, notes: list[str] 
                                      bad)
     else:
         table, cells = _parse_compiled(data, delimiter, width, bad)
-    if notes is not None:
+    if notes is not None or strict:
+        problems = []                   # (what, what it became)
         for ragged, effect in ((cells < width, "the missing cells read as gaps"),
                                (cells > width, "the cells beyond the header's were ignored")):
             rows = np.flatnonzero(ragged)
@@ -261,15 +267,20 @@ def parse_table(data: bytes | str, delimiter: str, width: int, notes: list[str] 
                 low, high = int(cells[rows].min()), int(cells[rows].max())
                 count = f"{low}" if low == high else f"{low} to {high}"
                 line = _line_of_row(data, int(rows[0]), first_line, delimiter)
-                notes.append(f"{rows.size} row{' has' if rows.size == 1 else 's have'} "
-                             f"{count} cells where the header names {width} (first at "
-                             f"line {line}); {effect}")
+                problems.append((f"{rows.size} row{' has' if rows.size == 1 else 's have'} "
+                                 f"{count} cells where the header names {width} (first at "
+                                 f"line {line})", effect))
         if bad:
             count, row, text, _ = bad
             line = _line_of_row(data, row, first_line, delimiter)
-            notes.append(f"{count} cell{' is' if count == 1 else 's are'} not a finite number "
-                         f"(first at line {line}: {_shown(text)}); read as "
-                         f"{'a missing sample' if count == 1 else 'missing samples'}")
+            problems.append((f"{count} cell{' is' if count == 1 else 's are'} not a finite "
+                             f"number (first at line {line}: {_shown(text)})", "read as "
+                             f"{'a missing sample' if count == 1 else 'missing samples'}"))
+        if strict and problems:
+            raise MocapError(f"{problems[0][0]}: every row must have a number or an empty "
+                             f"cell in each column", path)
+        notes = [] if notes is None else notes
+        notes += [f"{what}; {effect}" for what, effect in problems]
         tail = data.rstrip(b" \t")
         if ends_file and tail and not tail.endswith(b"\n") and table.shape[0]:
             line = _line_of_row(data, table.shape[0] - 1, first_line, delimiter)

@@ -437,19 +437,20 @@ def test_a_damaged_amc_or_bvh_reads_warns_or_is_refused_the_same_as_its_variant(
         assert outcomes[0] == outcomes[1], kind
 
 
-def test_a_joint_angle_csv_follows_the_same_numeric_rule(tmp_path):
-    """np.loadtxt read 'inf' and '1e999' in an angle CSV as infinite angles, without a
-    word; an unusable time is refused naming its line."""
+def test_a_joint_angle_csv_refuses_what_is_no_number_naming_its_line(tmp_path):
+    """np.loadtxt read 'inf' and '1e999' in an angle CSV (written by programs only, so
+    strict) as infinite angles, without a word; such a cell is refused as a word is, naming
+    its line, and an empty cell is still a missing angle."""
     from mocap.io.angles_csv import read_angles_csv
 
     path = tmp_path / "a.csv"
-    path.write_text("time,pelvis.Z,pelvis.X,pelvis.Y\n0,1,2,3\n0.01,inf,2,3\n"
-                    "0.02,1,1e999,3\n0.03,,2,3\n")
-    with pytest.warns(MocapWarning, match=r"a.csv: 2 cells are not a finite number \(first "
-                                          r"at line 3: 'inf'\)"):
-        angles = read_angles_csv(path)
-    assert np.isnan(angles.values[[1, 2, 3], 0, [0, 1, 0]]).all()
-    assert np.isfinite(angles.values).sum() == 9
+    for cell, line in (("inf", 3), ("1e999", 3), ("two", 3)):
+        path.write_text(f"time,pelvis.Z,pelvis.X,pelvis.Y\n0,1,2,3\n0.01,{cell},2,3\n")
+        with pytest.raises(MocapError, match=f"a.csv: 1 cell is not a finite number \\(first "
+                                             f"at line {line}: '{cell}'\\): every row must"):
+            read_angles_csv(path)
+    path.write_text("time,pelvis.Z,pelvis.X,pelvis.Y\n0,1,2,3\n0.01,,2,3\n")
+    assert np.isnan(read_angles_csv(path).values[1, 0, 0])
     path.write_text("time,pelvis.Z,pelvis.X,pelvis.Y\n0,1,2,3\nx,1,2,3\n")
-    with pytest.raises(MocapError, match="line 3: the time is missing or not a number"):
+    with pytest.raises(MocapError, match="line 3"):
         read_angles_csv(path)
