@@ -86,7 +86,7 @@ def read_manifest(manifest: str | Path) -> list[CorpusEntry]:
     if not manifest.is_file():
         raise MocapError("manifest not found", manifest)
     try:
-        with open(manifest, newline="", encoding="utf-8") as handle:
+        with open(manifest, newline="", encoding="utf-8-sig") as handle:
             rows = list(csv.DictReader(handle))
     except (OSError, UnicodeDecodeError, csv.Error) as error:
         raise MocapError(f"cannot read manifest: {error}", manifest) from None
@@ -122,7 +122,7 @@ def _named_like_markers(path: Path, markerset) -> bool:
     marker CSV: a marker set is given and the names are not its segments but its markers."""
     if markerset is None or isinstance(markerset, (str, Path)):
         return False
-    with open(path, newline="", encoding="utf-8") as handle:
+    with open(path, newline="", encoding="utf-8-sig") as handle:
         header = next(csv.reader(handle), [])
     names = {column.strip().rpartition(".")[0] for column in header[1:]}
     markers = {label for segment in markerset.segments for label in segment.markers}

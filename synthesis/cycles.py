@@ -28,7 +28,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-from scipy.signal import find_peaks
 
 from mocap.rotations.angles import unwrap_columns
 from mocap.errors import MocapError, MocapWarning
@@ -140,6 +139,8 @@ def estimate_period(times: np.ndarray, signal: np.ndarray) -> float | None:
     window = correlation[first:n // 2 + 1]
     if window.size < 3:
         return None
+    from scipy.signal import find_peaks     # deferred: ~1 s to import, for cycle detection only
+
     peaks, _ = find_peaks(window)
     if peaks.size == 0:
         return None
@@ -171,6 +172,8 @@ def detect_cycles(times: np.ndarray, signal: np.ndarray, with_events: bool = Fal
         return np.empty((0,)) if with_events else np.empty((0, 2))
     step = float(np.median(np.diff(times)))
     spread = float(np.ptp(signal))
+    from scipy.signal import find_peaks     # deferred, as above
+
     peaks, _ = find_peaks(signal, distance=max(int(0.7 * period / step), 1),
                           prominence=0.25 * spread)
     # Sub-frame refinement: vertex of the parabola through the three samples at each maximum.

@@ -23,6 +23,7 @@ import numpy as np
 
 from mocap.rotations.angles import JointAngles
 from mocap.atomic import atomic_path
+from mocap.budget import read_npz
 from mocap.errors import MocapError
 from mocap.io.motion import read_motion
 from synthesis.corpus import MotionCorpus, check_corpus_size, read_trial_angles
@@ -529,11 +530,11 @@ class MotionModel:
         path = Path(path)
         if not path.exists():
             raise MocapError("model file not found", path)
+        arrays = read_npz(path, "not a motion model file (.npz from 'mocap decompose'), or "
+                                "a damaged one")
         try:
-            with np.load(path, allow_pickle=False) as archive:
-                meta = json.loads(str(archive["meta"]))
-                arrays = {key: archive[key] for key in archive.files if key != "meta"}
-        except (OSError, ValueError, KeyError, EOFError, json.JSONDecodeError):
+            meta = json.loads(str(arrays.pop("meta")))
+        except (ValueError, KeyError):
             raise MocapError("not a motion model file (.npz from 'mocap decompose')",
                              path) from None
         if not isinstance(meta, dict) or meta.get("format") != "mocap-motion-model":

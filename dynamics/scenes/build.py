@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mocap.budget import read_budget
 from mocap.errors import MocapError
 
 from dynamics.scenes.schema import (TOP_LEVEL_TABLES, Table, read_scene_document, table_of,
@@ -25,7 +26,7 @@ from dynamics.sim.fluid import FluidForce, equilibrium_beta
 from dynamics.sim.forces import Drag, Gravity, Wind
 from dynamics.sim.integrators import IMPLICIT_SOLVERS, INTEGRATORS
 from dynamics.sim.particles import Particles
-from dynamics.sim.rigid import RigidBody
+from dynamics.sim.rigid import RigidBody, box_inertia
 from dynamics.sim.springs import STRUCTURAL, USER, Springs
 from dynamics.sim.springs import concatenate as concatenate_springs
 from dynamics.sim.system import System
@@ -105,7 +106,7 @@ def build_scene(document: dict, path=None) -> Scene:
             system.add_force(Drag(gamma))
 
     _add_particles(system, tables_of(document, "particle", path))
-    fluid_forces, molten = _add_bodies(system, document, path)
+    fluid_forces, molten = _add_bodies(system, document, path, steps // save_every + 1)
     _add_springs(system, tables_of(document, "spring", path))
     for force in fluid_forces:
         system.add_force(force)
@@ -113,7 +114,8 @@ def build_scene(document: dict, path=None) -> Scene:
     for table, spacing, index in molten:
         if system.heat is None or not np.isfinite(system.heat.melt):
             raise MocapError(f"{table.where} needs [heat] with a 'melt' temperature", path)
-        system.add_force(_fluid_force(table, spacing, index, system.heat.melt))
+        system.add_force(_fluid_force(table, spacing, index, system.heat.melt,
+                                      count=len(index)))
     _add_colliders(system, document, path)
     wind = table_of(document, "wind", path)
     if wind is not None:
@@ -170,11 +172,28 @@ def _finish_body(system: System, body: builders.Body, table: Table, colour) -> n
 MAX_PARTICLES = 2_000_000
 
 
-def _check_count(t: Table, count: float, system: System, key: str) -> None:
-    if not count + len(system.particles) <= MAX_PARTICLES:      # also NaN and inf
+#: Bytes a particle takes while its scene is built and run, besides its saved frames: its
+#: state, its share of the springs (a cloth makes 6 per particle, a lattice up to 13) and
+#: work arrays (a 300 × 300 cloth peaks at 1.3 kB per particle while it is built).
+PARTICLE_BYTES = 2000
+
+
+def _check_count(t: Table, count: float, system: System, key: str, frames: int) -> None:
+    """Refuse a body of ``count`` particles beyond :data:`MAX_PARTICLES`, or one that with
+    the particles before it and ``frames`` saved frames (24 bytes a particle each) would
+    take more than the reading budget (:func:`mocap.budget.read_budget`), before
+    anything of it is allocated."""
+    total = count + len(system.particles)
+    if not total <= MAX_PARTICLES:      # also NaN and inf
         shown = f"{count:.0f}" if math.isfinite(count) else "infinitely many"
         raise t.error(key, f"would make {shown} particles; a scene may have at most "
                            f"{MAX_PARTICLES}")
+    need = total * (PARTICLE_BYTES + 24 * frames)
+    if need > read_budget():
+        raise t.error(key, f"would make {count:.0f} particles, which with {frames} saved "
+                           f"frames would take about {need / 1e6:.0f} MB, more than the "
+                           f"budget of {read_budget() / 1e6:.0f} MB (MOCAP_READ_BUDGET_MB); "
+                           f"use fewer particles, or raise [simulation] save_every")
 
 
 def _positive_sizes(t: Table, key: str, length: int = 3) -> np.ndarray:
@@ -184,8 +203,9 @@ def _positive_sizes(t: Table, key: str, length: int = 3) -> np.ndarray:
     return size
 
 
-def _add_bodies(system: System, document: dict, path) -> tuple[list, list]:
-    """Ropes, cloths, lattices and fluid blocks, in that order.
+def _add_bodies(system: System, document: dict, path, frames: int) -> tuple[list, list]:
+    """Ropes, cloths, lattices and fluid blocks, in that order (``frames``: the frames a
+    run will save, for the memory budget).
 
     Returns the fluid forces of [[fluid]] blocks and the pending molten-fluid settings
     of lattices (table, spacing, particle indices), built once [heat] is known.
@@ -193,7 +213,7 @@ def _add_bodies(system: System, document: dict, path) -> tuple[list, list]:
     fluid_forces, molten = [], []
     for t in tables_of(document, "rope", path):
         count = t.integer("particles", 20, minimum=2)
-        _check_count(t, count, system, "particles")
+        _check_count(t, count, system, "particles", frames)
         try:
             body = builders.rope(t.vector("start"), t.vector("end"), count,
                                  t.number("mass", 0.2, above=0.0),
@@ -207,7 +227,7 @@ def _add_bodies(system: System, document: dict, path) -> tuple[list, list]:
         _finish_body(system, body, t, [0.6, 0.4, 0.2])
     for t in tables_of(document, "cloth", path):
         resolution = t.vector("resolution", [16, 16], length=2, integer=True, minimum=2)
-        _check_count(t, math.prod(int(r) for r in resolution), system, "resolution")
+        _check_count(t, math.prod(int(r) for r in resolution), system, "resolution", frames)
         try:
             body = builders.cloth_grid(
                 t.vector("origin"), _positive_sizes(t, "size", 2), resolution,
@@ -221,7 +241,7 @@ def _add_bodies(system: System, document: dict, path) -> tuple[list, list]:
         _finish_body(system, body, t, [0.2, 0.4, 0.8])
     for t in tables_of(document, "lattice", path):
         resolution = t.vector("resolution", [5, 5, 5], integer=True, minimum=2)
-        _check_count(t, math.prod(int(r) for r in resolution), system, "resolution")
+        _check_count(t, math.prod(int(r) for r in resolution), system, "resolution", frames)
         size = _positive_sizes(t, "size")
         try:
             body = builders.lattice_block(
@@ -243,7 +263,7 @@ def _add_bodies(system: System, document: dict, path) -> tuple[list, list]:
         # reach the particle limit's message, not an OverflowError
         with np.errstate(over="ignore"):
             count = float(np.prod(np.floor(size / spacing + 1e-9) + 1))
-        _check_count(t, count, system, "spacing")
+        _check_count(t, count, system, "spacing", frames)
         if count < 2:
             # a block under one spacing on every axis is one particle: no fluid at all
             raise t.error("size", f"{size.tolist()} is under one spacing ({spacing:g} m) on "
@@ -253,19 +273,37 @@ def _add_bodies(system: System, document: dict, path) -> tuple[list, list]:
                                        t.number("jitter", 0.0, minimum=0.0),
                                        t.integer("seed", 0))
         # the pair-force keys live in the same table; _finish_body checks for unknown keys
-        force = _fluid_force(t, spacing, None, None, finish=False)
+        force = _fluid_force(t, spacing, None, None, finish=False, count=count)
         force.members = _finish_body(system, body, t, [0.1, 0.5, 0.9])
         fluid_forces.append(force)
     return fluid_forces, molten
 
 
-def _fluid_force(t: Table, spacing: float, members, melt, finish: bool = True) -> FluidForce:
+#: Bytes a neighbour pair of a fluid takes while its forces are computed (the pair's
+#: indices, its offset, distance and force terms).
+PAIR_BYTES = 96
+
+
+def _fluid_force(t: Table, spacing: float, members, melt, finish: bool = True,
+                 count: float = 0) -> FluidForce:
+    """The pair force of a fluid of ``count`` particles at ``spacing``; a cutoff that would
+    give its neighbour list more pairs than the reading budget holds is refused (a cutoff
+    of metres over a spacing of centimetres pairs every particle with every other)."""
     alpha = t.number("alpha", above=0.0)
     zeta = t.number("zeta", 0.5 * spacing, minimum=0.0)
     a = t.number("a", 2.0, above=0.0)
     b = t.number("b", 4.0, above=0.0)
     beta = t.number("beta", equilibrium_beta(alpha, zeta, spacing, a, b), above=0.0)
     cutoff = t.number("cutoff", 1.25 * spacing, above=0.0)
+    # neighbours within the cutoff and its Verlet skin (a quarter more), at rest spacing
+    with np.errstate(over="ignore"):
+        neighbours = min(float(count), 4.19 * (1.25 * cutoff / spacing) ** 3 + 1.0)
+    need = 0.5 * count * neighbours * PAIR_BYTES
+    if need > read_budget():
+        raise t.error("cutoff", f"{cutoff:g} m over a spacing of {spacing:g} m gives each of "
+                                f"{count:.0f} particles about {neighbours:.0f} neighbours: "
+                                f"about {need / 1e6:.0f} MB of pairs, more than the budget "
+                                f"of {read_budget() / 1e6:.0f} MB (MOCAP_READ_BUDGET_MB)")
     viscosity = t.number("viscosity", 0.0, minimum=0.0)
     if finish:
         t.finish()
@@ -373,6 +411,7 @@ def _rigid_bodies(tables: list[Table]) -> tuple[list, list]:
         orientation = t.vector("orientation", [0, 0, 0, 1], length=4)
         if not np.linalg.norm(orientation) > 0:
             raise t.error("orientation", "must be a non-zero quaternion (x, y, z, w)")
+        _check_inertia(t, mass, size)
         body = RigidBody.box(mass, size, position=t.vector("position", [0, 0, 0]),
                              orientation=orientation, velocity=t.vector("velocity", [0, 0, 0]))
         body.set_angular_velocity(t.vector("angular_velocity", [0, 0, 0]))
@@ -388,3 +427,23 @@ def _rigid_bodies(tables: list[Table]) -> tuple[list, list]:
         t.finish()
         bodies.append(body)
     return bodies, pushes
+
+
+#: Smallest ratio of a rigid body's least to its largest principal inertia: below it the
+#: inertia cannot be inverted in floating point to any useful accuracy.
+MIN_INERTIA_RATIO = 1e-12
+
+
+def _check_inertia(t: Table, mass: float, size: np.ndarray) -> None:
+    """Refuse a box whose inertia is singular in floating point (a size so small that its
+    squares underflow, a denormal mass): the Newton-Euler step inverts it, which raised
+    ``LinAlgError: Singular matrix``, or made the spin infinite at the first push."""
+    with np.errstate(all="ignore"):
+        moments = np.diag(box_inertia(mass, size))
+        inverse = 1.0 / moments
+    if not (np.isfinite(moments).all() and np.isfinite(inverse).all() and moments.min() > 0
+            and moments.min() >= MIN_INERTIA_RATIO * moments.max()):
+        raise t.error("size", f"{size.tolist()} with mass {mass:g} kg gives principal "
+                              f"inertias {', '.join(f'{m:.3g}' for m in moments)} kg·m², "
+                              f"which cannot be inverted (a singular body: make it larger or "
+                              f"less thin)")

@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mocap.atomic import atomic_path
+from mocap.budget import read_npz
 from mocap.errors import MocapError
 from mocap.progress import progress
 
@@ -172,8 +173,4 @@ def run_scene(scene: Scene, show_progress: bool | None = None) -> SimulationResu
 
 def load_result(path: str | os.PathLike) -> dict[str, np.ndarray]:
     """Read a saved run (``.npz``) as a dict of arrays."""
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            return {key: data[key] for key in data.files}
-    except (OSError, ValueError) as error:
-        raise MocapError(f"cannot read simulation result: {error}", path) from None
+    return read_npz(path, "cannot read simulation result")

@@ -19,6 +19,7 @@ import sys
 import threading
 import warnings
 
+from mocap.budget import READ_BUDGET_BYTES
 from mocap.cli.commands import COMMANDS
 from mocap.errors import MocapError, MocapWarning, one_line
 
@@ -46,6 +47,11 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
         prog="mocap",
         description="Motion capture analysis, synthesis and dynamics. "
                     "Run 'mocap COMMAND --help' for the options of a command.",
+        epilog=f"Files are checked before they are read: what a header declares (columns, "
+               f"frames, particles, arrays) must fit the reading budget of "
+               f"{READ_BUDGET_BYTES / 1e9:g} GB of numbers (MOCAP_READ_BUDGET_MB sets "
+               f"another), else the file is refused in one line; see "
+               f"docs/formats/limits.md.",
     )
     parser.add_argument("--version", action=_Version, nargs=0,
                         help="show the version and exit")

@@ -31,6 +31,21 @@ def find_trials(corpus: str | os.PathLike) -> list[Path]:
     return find_files([corpus], TRIAL_SUFFIXES)
 
 
+def _first_columns(path: str) -> dict:
+    """The columns every row starts with: path, person, action, status ``ok``, no error."""
+    try:
+        person, action = parse_trial_name(path)
+    except MocapError:                  # not a corpus name: the trial is analysed all the same
+        person, action = "", ""
+    return {"path": str(path), "person": person, "action": action, "status": "ok",
+            "error": "", "warnings": ""}
+
+
+def lost_trial(path: str, problem: str) -> dict:
+    """The row of a trial whose worker process died (``run_batch``'s ``lost``)."""
+    return {**_first_columns(path), "status": "failed", "error": problem}
+
+
 def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY",
                   check: bool = False, mass_kg: float = 75.0,
                   lowpass: float | None = 6.0) -> dict:
@@ -58,12 +73,7 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
         Column → value; ``status`` is ``"ok"`` or ``"failed"`` with ``error`` set;
         ``warnings`` holds the reader's warnings, ``"; "``-separated.
     """
-    try:
-        person, action = parse_trial_name(path)
-    except MocapError:                  # not a corpus name: the trial is analysed all the same
-        person, action = "", ""
-    row = {"path": str(path), "person": person, "action": action, "status": "ok", "error": "",
-           "warnings": ""}
+    row = _first_columns(path)
     try:
         # the reader's warnings travel in the row (workers' warnings would be lost), and
         # ``mocap batch`` prints them

@@ -10,7 +10,8 @@ import warnings
 from mocap.rotations.angles import check_sequence
 from mocap.atomic import atomic_path
 from mocap.batch import rows_to_csv, run_batch
-from mocap.cli.batch_rows import BASE_COLUMNS, CHECK_COLUMNS, analyse_trial, find_trials
+from mocap.cli.batch_rows import (BASE_COLUMNS, CHECK_COLUMNS, analyse_trial, find_trials,
+                                   lost_trial)
 from mocap.cli import options
 from mocap.cli.commands import Subparsers, summary
 from mocap.cli.demo import run_demo as demo
@@ -106,7 +107,7 @@ def run_batch_command(args: argparse.Namespace) -> int:
     rows = run_batch(analyse_trial, paths, jobs=args.jobs, markerset=args.markerset, sequence=args.sequence,
                      check=args.check, mass_kg=args.mass, lowpass=args.lowpass,
                      dask=args.dask,
-                     scheduler=args.scheduler)
+                     scheduler=args.scheduler, lost=lost_trial)
     if len(rows) == 1 and rows[0]["status"] != "ok":
         # one trial, and it failed: the user's mistake, told as any command tells it
         raise MocapError(rows[0]["error"])

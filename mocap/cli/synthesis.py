@@ -16,7 +16,6 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from dynamics.humanoid.plant import motion_from_cycle
 from mocap.rotations.angles import JointAngles
 from mocap.cli import options
 from mocap.io.angles_csv import write_angles_csv
@@ -264,7 +263,10 @@ def synthesize(args: argparse.Namespace) -> int:
         write_angles_csv(angles, args.output)
     else:
         # The cycle on the default body, its root path planted on the feet (the model
-        # knows joint angles, not where the body is in the room).
+        # knows joint angles, not where the body is in the room). Imported here: its
+        # start-up (Pinocchio's model module) was paid by every synthesize and recognize
+        # before even a damaged model file was refused.
+        from dynamics.humanoid.plant import motion_from_cycle
 
         skeleton = (read_motion(args.skeleton, markerset=model.markerset).skeleton
                     if args.skeleton else None)

@@ -4,17 +4,17 @@ columns in degrees, empty cells where a segment's markers were missing.  Clinica
 (Cardan YXZ)."""
 from __future__ import annotations
 
-import io
 import os
-import re
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 from mocap.rotations.angles import CLINICAL_AXES, SEQUENCES, JointAngles, axis_names
 from mocap.atomic import atomic_path
-from mocap.errors import MocapError
-from mocap.io.text_table import check_label, read_text, write_table
+from mocap.errors import MocapError, MocapWarning
+from mocap.io.text_table import (check_label, check_times_increase, parse_table, read_text,
+                                 write_table)
 from mocap.markersets.model import MarkerSet
 
 
@@ -35,9 +35,6 @@ def write_angles_csv(angles: JointAngles, path: str | os.PathLike) -> None:
                         6, ",", nan="")
 
 
-_EMPTY_CELL = re.compile(r"(?<=,)(?=,|$)|^(?=,)", re.MULTILINE)
-
-
 def read_angles_csv(path: str | os.PathLike, markerset: MarkerSet | None = None
                     ) -> JointAngles:
     """Read a joint-angle CSV written by write_angles_csv (or to docs/formats/angles-csv.md).
@@ -51,7 +48,13 @@ def read_angles_csv(path: str | os.PathLike, markerset: MarkerSet | None = None
     Raises
     ------
     MocapError
-        Missing file, bad header, ragged rows or non-numeric cells.
+        Missing file, bad header, a time that is missing or not a number, a row of
+        another width than the header, a cell that is no finite number (``inf``, a word).
+
+    Warns
+    -----
+    MocapWarning
+        A file ending inside a row (it may have been cut in its last number).
     """
     path = Path(path)
     text = read_text(path)
@@ -83,18 +86,17 @@ def read_angles_csv(path: str | os.PathLike, markerset: MarkerSet | None = None
         if sequence not in SEQUENCES or axis_names(sequence) != letters:
             raise MocapError(f"axis columns {letters} name no Euler sequence (nor "
                              f"flexion, adduction, rotation)", path)
-    body = body.strip("\n")
-    if body:
-        try:
-            table = np.loadtxt(io.StringIO(_EMPTY_CELL.sub("nan", body)), delimiter=",",
-                               ndmin=2, dtype=float)
-        except ValueError as error:
-            raise MocapError(f"bad row: {error}", path) from None
-        if table.shape[1] != len(columns):
-            raise MocapError(f"rows have {table.shape[1]} cells, the header "
-                             f"{len(columns)}", path)
-    else:
-        table = np.zeros((0, len(columns)))
+    # the text readers' numeric-cell rule, strictly: empty and NaN cells are missing
+    # angles; a ragged row or a cell that is no finite number (inf, a word) is refused,
+    # naming its line, as the CSV is written by programs only
+    notes: list[str] = []
+    raw = body.encode("utf-8")
+    table = parse_table(raw, ",", len(columns), notes, first_line=2, path=path,
+                        ends_file=True, strict=True)
+    if not np.isfinite(table[:, 0]).all():
+        check_times_increase(table[:, 0], raw, path, first_line=2)
+    for note in notes:
+        warnings.warn(f"{path}: {note}", MocapWarning, stacklevel=2)
     parents = markerset.parent_index if markerset is not None else [-1] * len(segments)
     if markerset is not None and markerset.segment_names != segments:
         raise MocapError(f"segments {segments} differ from marker set "

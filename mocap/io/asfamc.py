@@ -14,6 +14,7 @@ The AMC format stores no frame rate: CMU and HDM05 capture at 120 Hz, the defaul
 from __future__ import annotations
 
 import os
+import re
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -21,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from mocap.errors import MocapError, MocapWarning, reading
-from mocap.io.bvh import UNIT_SCALES, detect_units
+from mocap.io.bvh import MAX_DEPTH, MAX_JOINT_FRAMES, MAX_JOINTS, UNIT_SCALES, detect_units
 from mocap.skeleton import Motion, Skeleton
 
 
@@ -93,7 +94,7 @@ def read_asf(path: str | os.PathLike) -> AsfSkeleton:
     """
     path = os.fspath(path)
     with reading(path, "ASF file"):
-        lines = Path(path).read_text(encoding="utf-8", errors="replace").splitlines()
+        lines = Path(path).read_text(encoding="utf-8-sig", errors="replace").splitlines()
     section = None
     name = "asf"
     length, angle = 1.0, "deg"
@@ -172,14 +173,22 @@ def read_asf(path: str | os.PathLike) -> AsfSkeleton:
     if unknown:
         raise MocapError(f"ASF hierarchy names unknown bones: {', '.join(sorted(set(unknown)))}",
                          path)
+    if len(bones) >= MAX_JOINTS:
+        raise MocapError(f"ASF skeleton has {len(bones)} bones, more than {MAX_JOINTS - 1} "
+                         f"(the limit of a skeleton, as for BVH)", path)
     order: list[str] = []
-    stack = list(reversed(children_of.get("root", [])))
+    seen: set[str] = set()
+    stack = [(child, 1) for child in reversed(children_of.get("root", []))]
     while stack:
-        bone = stack.pop()
-        if bone in order:
+        bone, depth = stack.pop()
+        if bone in seen:
             raise MocapError(f"ASF hierarchy has a cycle through {bone!r}", path)
+        if depth > MAX_DEPTH:
+            raise MocapError(f"ASF hierarchy nests bones deeper than {MAX_DEPTH} (the limit, "
+                             f"as for BVH) at {bone!r}", path)
+        seen.add(bone)
         order.append(bone)
-        stack.extend(reversed(children_of.get(bone, [])))
+        stack.extend((child, depth + 1) for child in reversed(children_of.get(bone, [])))
     if angle not in ("deg", "rad"):
         raise MocapError(f"ASF angle unit must be deg or rad, found {angle!r}", path)
     return AsfSkeleton(name, length, angle, root["order"], root["axis"], root["position"],
@@ -215,6 +224,11 @@ def _axis_order(words: list[str], line: int, path) -> str:
     return order
 
 
+#: A line holding only a frame number (ASCII digits: ``str.isdigit`` below takes others too,
+#: which can only make the count low, never the limit wrong by more).
+_FRAME_NUMBER = re.compile(r"^[ \t]*[0-9]+[ \t]*\r?$", re.MULTILINE)
+
+
 def read_amc(path: str | os.PathLike, asf: AsfSkeleton) -> tuple[dict[str, np.ndarray], str]:
     """Parse an AMC motion file against its skeleton.
 
@@ -228,9 +242,18 @@ def read_amc(path: str | os.PathLike, asf: AsfSkeleton) -> tuple[dict[str, np.nd
     """
     path = os.fspath(path)
     with reading(path, "AMC file"):
-        lines = Path(path).read_text(encoding="utf-8", errors="replace").splitlines()
+        text = Path(path).read_text(encoding="utf-8-sig", errors="replace")
     sizes = {name: len(bone.dof) for name, bone in asf.bones.items()}
     sizes["root"] = len(asf.root_order)
+    # the frames the file numbers, against the limit before any is parsed
+    count = text.count("\n") + 1           # at most one frame a line: counted only if needed
+    if count * len(sizes) > MAX_JOINT_FRAMES:
+        count = sum(1 for _ in _FRAME_NUMBER.finditer(text))
+    if count * len(sizes) > MAX_JOINT_FRAMES:
+        raise MocapError(f"AMC motion of {count} frames × {len(sizes)} joints is beyond the "
+                         f"limit of {MAX_JOINT_FRAMES:,} joint-frames (as for BVH); cut it "
+                         f"into parts", path)
+    lines = text.splitlines()
     angle = asf.angle_unit
     frames: list[dict[str, list[float]]] = []
     expected, jumped = 0, False
@@ -334,14 +357,14 @@ def read_asf_amc(asf_path: str | os.PathLike, amc_path: str | os.PathLike,
     # Rest pose: a bone starts at its parent's end.
     offsets = np.zeros((len(names), 3))
     ends = np.full((len(names), 3), np.nan)
-    for b in asf.order:
-        bone = asf.bones[b]
-        vector = bone.direction * bone.length
-        kids = [k for k in asf.order if asf.parent[k] == b]
-        for k in kids:
-            offsets[index[k]] = vector
-        if not kids:
-            ends[index[b]] = vector
+    vectors = {b: asf.bones[b].direction * asf.bones[b].length for b in asf.order}
+    for b in asf.order:             # one pass (a search for each bone's children was
+        up = asf.parent[b]          # quadratic: minutes for a chain of 10 000 bones)
+        if up != "root":
+            offsets[index[b]] = vectors[up]
+    leaves = set(asf.order) - {asf.parent[b] for b in asf.order}
+    for b in leaves:
+        ends[index[b]] = vectors[b]
     raw = Skeleton(names, parents, offsets, ends)
 
     # Units.

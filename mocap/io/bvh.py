@@ -307,7 +307,8 @@ def read_bvh(path: str | os.PathLike, units: str | None = None) -> Motion:
     from scipy.spatial.transform import Rotation   # deferred: 0.4 s to import
     path = os.fspath(path)
     with reading(path, "BVH file"):
-        text = Path(path).read_text(encoding="utf-8", errors="replace")
+        # utf-8-sig: a byte-order mark (as Windows editors write) is not part of the text
+        text = Path(path).read_text(encoding="utf-8-sig", errors="replace")
     if not text.lstrip().upper().startswith("HIERARCHY"):
         raise MocapError("not a BVH file: it does not start with HIERARCHY", path)
     split = re.search(r"^\s*MOTION\s*$", text, re.MULTILINE | re.IGNORECASE)

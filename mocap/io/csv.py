@@ -34,6 +34,7 @@ import re
 import numpy as np
 
 from mocap.atomic import atomic_path
+from mocap.budget import check_table_size
 from mocap.errors import MocapError
 from mocap.io.c3d.read import infer_unit_factor, unique_labels, unit_factor
 from mocap.io.text_table import (check_label, check_times_increase, coordinate_decimals,
@@ -77,6 +78,9 @@ def read_csv(path: str | os.PathLike) -> Trial:
 
 
 def _read_plain(first_line: str, body: bytes, path) -> Trial:
+    # what the header declares against the budget, before its cells are split
+    rows = body.count(b"\n") + 1
+    check_table_size(rows, len(body), first_line.rstrip(", \t\r").count(",") + 1, path)
     header = [cell.strip() for cell in first_line.split(",")]
     if header[0].lower() not in ("time", "time_s", "time (s)", "t"):
         raise MocapError("not a marker CSV: the first column must be 'time' (seconds) "
@@ -97,7 +101,8 @@ def _read_plain(first_line: str, body: bytes, path) -> Trial:
                              f"be <label>_x, <label>_y, <label>_z", path)
         labels.append(names.pop())
     labels, warnings = unique_labels(labels)
-    table = parse_table(body, ",", 1 + len(columns), warnings, first_line=2)
+    table = parse_table(body, ",", 1 + len(columns), warnings, first_line=2, path=path,
+                        ends_file=True, lines=rows)
     times = table[:, 0]
     check_times_increase(times, body, path, first_line=2)
     points = mark_missing(table[:, 1:].reshape(table.shape[0], len(labels), 3), warnings)
@@ -131,6 +136,8 @@ def _read_vicon(lines: list[str], path) -> Trial:
         raise MocapError(f"Vicon CSV: rate line {start + 2} is not a number", path) from None
     label_cells = [cell.strip() for cell in lines[start + 2].split(",")]
     raw_labels = [cell for cell in label_cells[2:] if cell]
+    rows = lines[start + 5:]
+    check_table_size(len(rows), sum(map(len, rows)) + len(rows), 2 + 3 * len(raw_labels), path)
     unit_cells = [cell.strip() for cell in lines[start + 4].split(",")[2:] if cell.strip()]
     units = unit_cells[0] if unit_cells else ""
     end = start + 5
@@ -138,7 +145,7 @@ def _read_vicon(lines: list[str], path) -> Trial:
         end += 1
     labels, warnings = unique_labels(raw_labels)
     table = parse_numeric_rows(lines[start + 5:end], ",", 2 + 3 * len(labels), warnings,
-                               first_line=start + 6)
+                               first_line=start + 6, path=path)
     points = mark_missing(table[:, 2:].reshape(table.shape[0], len(labels), 3), warnings)
     factor = unit_factor(units) if units else None
     if factor is None:

@@ -29,6 +29,7 @@ import os
 
 import numpy as np
 
+from mocap.budget import check_table_size
 from mocap.errors import MocapError, reading
 
 #: Bytes the parser treats as blank around a cell.
@@ -49,10 +50,11 @@ def read_lines(path: str | os.PathLike, encoding: str = "utf-8") -> list[str]:
 
 
 def read_text(path: str | os.PathLike, what: str = "file") -> str:
-    """The whole text of a UTF-8 file; missing, unreadable or undecodable is a
-    :class:`MocapError` naming the file (``what`` names its kind in the message)."""
+    """The whole text of a UTF-8 file (a leading byte-order mark dropped); missing,
+    unreadable or undecodable is a :class:`MocapError` naming the file (``what`` names its
+    kind in the message)."""
     with reading(path, what, missing=f"{what} not found"):
-        with open(path, encoding="utf-8") as handle:
+        with open(path, encoding="utf-8-sig") as handle:
             return handle.read()
 
 
@@ -65,12 +67,14 @@ def read_head(path: str | os.PathLike, count: int,
     """
     with reading(path):
         with open(path, "rb") as handle:
-            head = handle.read(65536)
-            while head.count(b"\n") < count:
-                more = handle.read(65536)
-                if not more:
-                    break
-                head += more
+            chunks = [handle.read(65536)]
+            found = chunks[0].count(b"\n")
+            while found < count and chunks[-1]:
+                # chunks joined once: a header line of many megabytes (a hostile
+                # file's) took seconds when the head grew by concatenation
+                chunks.append(handle.read(max(65536, sum(map(len, chunks)))))
+                found += chunks[-1].count(b"\n")
+            head = b"".join(chunks)
             if encoding == "utf-8-sig" and head.startswith(b"\xef\xbb\xbf"):
                 head = head[3:]
                 skip = 3
@@ -135,8 +139,16 @@ def _line_of_row(body: bytes, row: int, first_line: int, delimiter: str) -> int:
 
 
 def parse_table(data: bytes | str, delimiter: str, width: int, notes: list[str] | None = None,
-                first_line: int = 1) -> np.ndarray:
-    """Numbers of delimited text rows; blank lines skipped, empty or unparsable cells NaN.
+                first_line: int = 1, path: str | os.PathLike | None = None,
+                ends_file: bool = False, lines: int | None = None,
+                strict: bool = False) -> np.ndarray:
+    """Numbers of delimited text rows; blank lines skipped, empty or unusable cells NaN.
+
+    The one numeric-cell rule of the text readers: a cell is a finite number, a gap (empty,
+    or ``NaN`` in any spelling) or unusable (``inf``, ``1e309``, a word, ``--3``): an
+    unusable cell reads as a gap too, and ``notes`` gets one warning saying how many there
+    were and the line and text of the first. Before anything is allocated the table's size
+    is checked (:func:`check_table_size`).
 
     Parameters
     ----------
@@ -147,33 +159,60 @@ def parse_table(data: bytes | str, delimiter: str, width: int, notes: list[str] 
     width : int
         Columns to keep (the header's); shorter rows are padded with NaN, longer ones cut.
     notes : list of str, optional
-        Receives a warning for rows of fewer cells than ``width``, and one for rows with
+        Receives a warning for rows of fewer cells than ``width``, one for rows with
         cells beyond it that are not blank (blank cells at the end of a row, such as a
-        trailing tab, are not counted).
+        trailing tab, are not counted), one for unusable cells, and (with ``ends_file``)
+        one when the text ends inside a row (no final line break: the file may have been
+        cut in its last number).
     first_line : int
         The file line of ``data``'s first line, for the warnings.
+    path : str or PathLike, optional
+        The file, named by the refusal of a table too large for memory.
+    ends_file : bool
+        ``data`` runs to the end of the file, so a missing final line break is noted.
+    strict : bool
+        Refuse (MocapError naming the first line) ragged rows and unusable cells instead
+        of reading them as gaps with a warning: for a format written only by programs
+        (the joint-angle CSV).
+    lines : int, optional
+        ``data.count(b"\\n") + 1`` when the caller has counted them already (a pass over
+        the bytes: 12 ms for 40 MB).
 
     Returns
     -------
     ndarray, shape (rows, width), float
+        Finite numbers and NaN only.
+
+    Raises
+    ------
+    MocapError
+        A table beyond the memory budget, or one the bytes present cannot hold
+        (:func:`check_table_size`); with ``strict``, a ragged row or an unusable cell.
 
     Examples
     --------
     >>> notes = []
-    >>> parse_table("1,2,3\\n4,5\\n6,7,8,\\n", ",", 3, notes, first_line=2)
+    >>> parse_table("1,2,3\\n4,5\\n6,inf,8,\\n", ",", 3, notes, first_line=2)
     array([[ 1.,  2.,  3.],
            [ 4.,  5., nan],
-           [ 6.,  7.,  8.]])
-    >>> notes
-    ['1 row has 2 cells where the header names 3 (first at line 3); the missing cells read as gaps']
+           [ 6., nan,  8.]])
+    >>> notes  # doctest: +NORMALIZE_WHITESPACE
+    ['1 row has 2 cells where the header names 3 (first at line 3); the missing cells read
+     as gaps', "1 cell is not a finite number (first at line 4: 'inf'); read as a missing
+     sample"]
     """
     if isinstance(data, str):
         data = data.encode("utf-8")
+    check_table_size(data.count(b"\n") + 1 if lines is None else lines, len(data), width,
+                     path)
+    bad: list = []
     if len(data) < 12 * COMPILED_ABOVE:
-        table, cells = _parse_python(data.decode("utf-8", errors="replace"), delimiter, width)
+        table, cells = _parse_python(data.decode("utf-8", errors="replace"), delimiter, width,
+                                     bad)
     else:
-        table, cells = _parse_compiled(data, delimiter, width)
-    if notes is not None:
+        table, cells = _parse_compiled(data, delimiter, width, bad)
+    if notes is not None or strict:
+        problems = []                   # (what, what it became)
         for ragged, effect in ((cells < width, "the missing cells read as gaps"),
                                (cells > width, "the cells beyond the header's were ignored")):
             rows = np.flatnonzero(ragged)
@@ -181,34 +220,76 @@ def parse_table(data: bytes | str, delimiter: str, width: int, notes: list[str] 
                 low, high = int(cells[rows].min()), int(cells[rows].max())
                 count = f"{low}" if low == high else f"{low} to {high}"
                 line = _line_of_row(data, int(rows[0]), first_line, delimiter)
-                notes.append(f"{rows.size} row{' has' if rows.size == 1 else 's have'} "
-                             f"{count} cells where the header names {width} (first at "
-                             f"line {line}); {effect}")
+                problems.append((f"{rows.size} row{' has' if rows.size == 1 else 's have'} "
+                                 f"{count} cells where the header names {width} (first at "
+                                 f"line {line})", effect))
+        if bad:
+            count, row, text, _ = bad
+            line = _line_of_row(data, row, first_line, delimiter)
+            problems.append((f"{count} cell{' is' if count == 1 else 's are'} not a finite "
+                             f"number (first at line {line}: {_shown(text)})", "read as "
+                             f"{'a missing sample' if count == 1 else 'missing samples'}"))
+        if strict and problems:
+            raise MocapError(f"{problems[0][0]}: every row must have a number or an empty "
+                             f"cell in each column", path)
+        notes = [] if notes is None else notes
+        notes += [f"{what}; {effect}" for what, effect in problems]
+        tail = data.rstrip(b" \t")
+        if ends_file and tail and not tail.endswith(b"\n") and table.shape[0]:
+            line = _line_of_row(data, table.shape[0] - 1, first_line, delimiter)
+            notes.append(f"the file ends inside line {line}, without a line break: if it was "
+                         f"cut short, the last number of that row may be incomplete")
     return table
 
 
-def _parse_compiled(data: bytes, delimiter: str, width: int) -> tuple[np.ndarray, np.ndarray]:
+def _shown(text: str | bytes, most: int = 20) -> str:
+    """A cell's text for a message: quoted, at most ``most`` characters."""
+    if isinstance(text, bytes):
+        text = text.decode("utf-8", errors="replace")
+    return repr(text if len(text) <= most else text[:most] + "…")
+
+
+def _note_bad(bad: list, row: int, text, col: int) -> None:
+    """Count one unusable cell in ``bad`` ([count, first row, first text, first column])."""
+    if bad:
+        bad[0] += 1
+    else:
+        bad[:] = [1, row, text, col]
+
+
+def _parse_compiled(data: bytes, delimiter: str, width: int,
+                    bad: list | None = None) -> tuple[np.ndarray, np.ndarray]:
     """:func:`parse_table` of a large table by the compiled loop; and each row's count of
+    cells. ``bad`` receives ``[count, first row, first text, first column]`` of the unusable
     cells."""
     from mocap.io.text_kernels import parse_kernel
 
     buffer = np.frombuffer(data, dtype=np.uint8)
     table, fallback, cells = parse_kernel(buffer, np.uint8(ord(delimiter)), int(width), POW10)
-    for row, col, a, b in fallback:
+    bad = [] if bad is None else bad
+    for row, col, a, b in fallback.tolist():
         try:
-            table[row, col] = float(data[a:b])
-        except ValueError:
-            pass            # a stray word in a number column: missing
+            value = float(data[a:b])
+        except ValueError:          # a stray word in a number column: missing
+            _note_bad(bad, row, data[a:b], col)
+            continue
+        if value - value == 0:
+            table[row, col] = value
+        elif value == value:        # infinite (inf, 1e309): missing
+            _note_bad(bad, row, data[a:b], col)
     return table, cells
 
 
-def _parse_python(text: str, delimiter: str, width: int) -> tuple[np.ndarray, np.ndarray]:
+def _parse_python(text: str, delimiter: str, width: int,
+                  bad: list | None = None) -> tuple[np.ndarray, np.ndarray]:
     """:func:`parse_table` of a small table, one ``float`` per cell; and each row's count
-    of cells (as the compiled loop counts them)."""
+    of cells (as the compiled loop counts them). ``bad`` receives ``[count, first row,
+    first text, first column]`` of the unusable cells."""
     blank = " \t\r" + delimiter
     rows = [line for line in text.split("\n") if line.strip(blank)]
     table = np.full((len(rows), width), np.nan)
     counts = np.empty(len(rows), dtype=np.int64)
+    bad = [] if bad is None else bad
     for r, line in enumerate(rows):
         cells = line.split(delimiter)
         counts[r] = len(cells)
@@ -223,20 +304,31 @@ def _parse_python(text: str, delimiter: str, width: int) -> tuple[np.ndarray, np
             if cell:
                 try:
                     table[r, c] = float(cell)
-                except ValueError:
-                    pass            # a stray word in a number column: missing
+                except ValueError:      # a stray word in a number column: missing
+                    _note_bad(bad, r, cell, c)
+    infinite = np.isinf(table)          # inf, 1e309: missing too, counted with the words
+    if infinite.any():
+        where = np.argwhere(infinite)
+        table[infinite] = np.nan
+        row, col = (int(k) for k in where[0])
+        count = int(where.shape[0]) + (bad[0] if bad else 0)
+        if not bad or (row, col) < (bad[1], bad[3]):   # the first in file order is named
+            bad[:] = [count, row, rows[row].split(delimiter)[col].strip(" \t\r"), col]
+        else:
+            bad[0] = count
     return table, counts
 
 
 def parse_numeric_rows(lines: list[str], delimiter: str, width: int,
-                       notes: list[str] | None = None, first_line: int = 1) -> np.ndarray:
+                       notes: list[str] | None = None, first_line: int = 1,
+                       path: str | os.PathLike | None = None) -> np.ndarray:
     """:func:`parse_table` of rows given as a list of lines (each one row, kept in order).
 
     Blank lines are skipped, as by :func:`parse_table`.
     """
     if not lines:
         return np.zeros((0, width))
-    return parse_table("\n".join(lines) + "\n", delimiter, width, notes, first_line)
+    return parse_table("\n".join(lines) + "\n", delimiter, width, notes, first_line, path)
 
 
 def format_table(table: np.ndarray, decimals, delimiter: str, nan: str = "NaN",

@@ -33,14 +33,13 @@ from pathlib import Path
 import numpy as np
 
 from mocap.atomic import atomic_path
+from mocap.budget import check_table_size
 from mocap.errors import MocapError
 from mocap.io import require_rate
 from mocap.io.c3d.read import infer_unit_factor, unique_labels, unit_disagreement, unit_factor
 from mocap.io.text_table import (check_label, coordinate_decimals, format_table, mark_missing,
                                  parse_table, read_head)
 from mocap.trial import Trial
-
-
 
 
 def read_trc(path: str | os.PathLike) -> Trial:
@@ -65,10 +64,15 @@ def read_trc(path: str | os.PathLike) -> Trial:
     MocapError
         Missing file, a file that is not a TRC file, or one without marker columns.
     """
-    lines, body = read_head(path, 5)
-    if len(lines) < 5 or not lines[0].lower().startswith("pathfiletype"):
+    lines, body = read_head(path, 5, "utf-8-sig")       # a byte-order mark is allowed
+    if len(lines) < 5 or not lines[0].strip().lower().startswith("pathfiletype"):
         raise MocapError("not a TRC file (it must start with 'PathFileType')", path)
     delimiter = "\t" if "\t" in lines[0] + lines[1] else ","
+    # the columns lines 4 and 5 declare, against the budget before they are split
+    rows = body.count(b"\n") + 1
+    check_table_size(rows, len(body),
+                     max(lines[3].rstrip(" \t,").count(delimiter),
+                         lines[4].rstrip(" \t,").count(delimiter)) + 1, path)
     keys = [cell.strip() for cell in lines[1].split(delimiter)]
     values = [cell.strip() for cell in lines[2].split(delimiter)]
     named_keys = [key for key in keys if key]
@@ -93,11 +97,30 @@ def read_trc(path: str | os.PathLike) -> Trial:
     if len(label_cells) < 2 or not label_cells[0].lower().startswith("frame"):
         raise MocapError("TRC line 4 must start with 'Frame#' and 'Time'", path)
     warnings: list[str] = []
+    first_line = 6
+    if _is_data_row(lines[4], delimiter):
+        # no axis line: line 5 is the first row (else it would be lost as a header line)
+        warnings.append("line 5 holds numbers where the axis line (X1 Y1 Z1 …) belongs; "
+                        "it was read as the first row")
+        body = lines[4].encode("utf-8") + b"\n" + body
+        lines[4] = ""
+        rows += 1
+        first_line = 5
+    elif not any(cell.strip()[:1].upper() == "X" for cell in lines[4].split(delimiter)):
+        warnings.append("line 5 does not name the axes (X1 Y1 Z1 …); the columns after "
+                        "Frame# and Time were read as X, Y, Z per marker")
+    for key in ("NumFrames", "NumMarkers"):
+        if header.get(key, "") != "" and _int_or_none(header[key]) is None:
+            warnings.append(f"header {key} {header[key][:20]!r} is not a whole number; "
+                            f"it was ignored")
     raw_labels = _marker_labels(label_cells[2:])
     axis_cells = [cell.strip() for cell in lines[4].split(delimiter)]
     axis_markers = sum(1 for cell in axis_cells if cell[:1].upper() == "X")
     width = _first_row_width(body, delimiter)
     data_markers = max(width - 2, 0) // 3
+    # before any list of that length is made: what line 4, 5 and the first row declare
+    check_table_size(rows, len(body), 2 + 3 * max(len(raw_labels), axis_markers, data_markers),
+                     path)
     count = len(raw_labels)
     if count < max(axis_markers, data_markers) and (count == 0 or axis_markers > count):
         # Columns without a label on line 4: named after their column, never dropped.
@@ -115,7 +138,8 @@ def read_trc(path: str | os.PathLike) -> Trial:
     labels, notes = unique_labels(raw_labels)
     warnings += notes
 
-    table = parse_table(body, delimiter, 2 + 3 * count, warnings, first_line=6)
+    table = parse_table(body, delimiter, 2 + 3 * count, warnings, first_line, path,
+                        ends_file=True, lines=rows)
     announced_frames = _int_or_none(header.get("NumFrames"))
     if announced_frames is not None and announced_frames != table.shape[0]:
         warnings.append(f"header announces {announced_frames} frames but the file holds "
@@ -223,10 +247,25 @@ def _first_row_width(body: bytes, delimiter: str) -> int:
 
 
 def _int_or_none(text: str | None) -> int | None:
+    """A header count as an int; None when empty, not a number or not whole."""
     try:
-        return int(float(text)) if text not in (None, "") else None
+        value = float(text) if text not in (None, "") else None
     except ValueError:
         return None
+    return int(value) if value is not None and value.is_integer() else None
+
+
+def _is_data_row(line: str, delimiter: str) -> bool:
+    """Whether a line is a row of numbers (its first two cells, Frame# and Time, are)."""
+    cells = line.split(delimiter)
+    if len(cells) < 2:
+        return False
+    try:
+        float(cells[0])
+        float(cells[1])
+    except ValueError:
+        return False
+    return True
 
 
 #: Decimal places of the Time column (1 ns).

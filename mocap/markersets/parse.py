@@ -112,11 +112,11 @@ def load_markerset(name_or_path: str | os.PathLike) -> MarkerSet:
         if not candidate.is_file():
             raise MocapError(f"no marker set preset '{text_name}' (presets: "
                              f"{', '.join(preset_names())}; or give a .toml file)")
-        return parse_markerset(candidate.read_text(encoding="utf-8"), str(candidate))
+        return parse_markerset(candidate.read_text(encoding="utf-8-sig"), str(candidate))
     if not path.is_file():
         raise MocapError("marker set file not found", path)
     with reading(path, "marker set"):
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")
     return parse_markerset(text, str(path))
 
 

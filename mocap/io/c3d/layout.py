@@ -246,6 +246,8 @@ def _walk_parameters(data: bytes, start: int, end: int, processor: str,
                 anomalies.append(f"description of group {name!r} overruns its entry")
             if -group_id in groups_by_id or name in groups_by_id.values():
                 anomalies.append(f"group {name!r} (id {-group_id}) defined twice")
+                warnings.append(f"group {name!r} (id {-group_id}) is defined twice; its "
+                                f"parameters were taken from both, a later one overriding")
             groups_by_id[-group_id] = name
         else:
             if body + 2 > body_end:
@@ -284,6 +286,8 @@ def _walk_parameters(data: bytes, start: int, end: int, processor: str,
         group = groups_by_id.get(group_id, f"GROUP{group_id}")
         if name in parameters.get(group, {}):
             anomalies.append(f"parameter {group}:{name} defined twice")
+            warnings.append(f"parameter {group}:{name} is defined twice; the second "
+                            f"definition overrides the first")
         parameters.setdefault(group, {})[name] = value
     names = list(groups_by_id.values()) + [name for _, name, _ in pending]
     if any(not name or not all(32 < ord(c) < 127 for c in name) for name in names):
@@ -399,6 +403,10 @@ def inspect_c3d(path: str | os.PathLike) -> C3DLayout:
     scale = float(scale) if scale is not None else header_scale
     if not math.isfinite(header_scale):
         raise _fail(path, f"header scale factor {header_scale} is not a number")
+    if header_scale == 0 and scale != 0 and point_count > 0:
+        # the header's factor decides the storage and scales integers: 0 decides nothing
+        warnings.append(f"the header's scale factor is 0; POINT:SCALE {scale:.6g} was used "
+                        f"({'float' if scale < 0 else 'integer'} storage)")
     if (header_scale < 0) != (scale < 0):
         # The storage type is decided by the header; keep the parameter's magnitude.
         if header_scale != 0:

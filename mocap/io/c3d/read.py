@@ -126,7 +126,8 @@ def unit_disagreement(values: np.ndarray, factor: float, units: str) -> str | No
         return None
     reach = float(np.percentile(finite, 99))
     if reach > UNIT_FAR_M:
-        return (f"the stated unit {units!r} puts the markers {reach:,.0f} m from the origin; "
+        shown = f"{reach:,.0f}" if reach < 1e7 else f"{reach:.3g}"     # no 300-digit numbers
+        return (f"the stated unit {units!r} puts the markers {shown} m from the origin; "
                 "the coordinates look like millimetres (the file's unit may be wrong)")
     if reach < UNIT_NEAR_M and values.shape[1] >= 3:     # one or two markers may sit anywhere
         return (f"the stated unit {units!r} puts every marker within {reach * 1000:.2g} mm of "

@@ -30,9 +30,12 @@ def test_parse_table_equals_python_float_and_keeps_empty_and_words_missing():
     values = rng.normal(0, 1, (300, 7)) * 10.0 ** rng.integers(-12, 12, (300, 7))
     text = "\n".join("\t".join(repr(v) for v in row) for row in values.tolist()) + "\n"
     np.testing.assert_array_equal(parse_table(text, "\t", 7), values)       # exact
-    odd = parse_table(b"1,,x, 2.5 ,NaN,1e400,-0.0\n\n3\r\n", ",", 7)
-    assert odd.shape == (2, 7) and odd[0, 3] == 2.5 and odd[0, 5] == np.inf
-    assert np.isnan(odd[0, [1, 2, 4]]).all() and np.isnan(odd[1, 1:]).all()
+    notes = []
+    odd = parse_table(b"1,,x, 2.5 ,NaN,1e400,-0.0\n\n3\r\n", ",", 7, notes)
+    # 1e400 is no finite number: missing, as the word is (issue 23: it was read as inf)
+    assert odd.shape == (2, 7) and odd[0, 3] == 2.5 and odd[0, 6] == 0.0
+    assert np.isnan(odd[0, [1, 2, 4, 5]]).all() and np.isnan(odd[1, 1:]).all()
+    assert "2 cells are not a finite number (first at line 1: 'x')" in notes[-1]
     fixed = format_table(np.array([[1.23456789, -0.0000004, np.nan, 7.0]]), [3, 6, 2, 0], ",")
     assert fixed == "1.235,0.000000,NaN,7\n"          # no "-0" after rounding
 
