@@ -140,7 +140,8 @@ def previous_parse_rows(lines: list[str], delimiter: str, width: int) -> np.ndar
 
 def text_formats(trial: Trial, folder: Path) -> None:
     """TRC and CSV write/read of the toolkit, numpy's savetxt/loadtxt and the previous code."""
-    from mocap.io.text_table import format_table, parse_table
+    from mocap.io.text_table import parse_table
+    from mocap.io.text_format import format_table
 
     frames, markers = trial.points.shape[:2]
     table = np.column_stack([trial.times, trial.points.reshape(frames, -1) * 1000.0])

@@ -25,7 +25,7 @@ from typing import Callable, Iterable, Sequence
 
 import numpy as np
 
-from mocap.rotations.angles import axis_names, check_sequence, unwrap_columns
+from mocap.rotations.angles import JointAngles, axis_names, check_sequence, unwrap_columns
 from mocap.body.angles import motion_joint_angles
 from mocap.body.segments import read_joint_map
 from mocap.errors import MocapError
@@ -421,6 +421,37 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
         angles = read_trial_angles(entry.path, markerset, sequence, lowpass_hz, max_gap_seconds,
                                    joint_map=joint_map)
         read.append((entry, angles))
+    return corpus_from_angles(read, samples, cycles, cycle_column, markerset=markerset_name,
+                              cleaning={"lowpass_hz": lowpass_hz,
+                                        "max_gap_seconds": max_gap_seconds})
+
+
+def corpus_from_angles(trials: Sequence[tuple[CorpusEntry, JointAngles]],
+                       samples: int = DEFAULT_SAMPLES, cycles: bool = False,
+                       cycle_column: str | None = None, **metadata) -> MotionCorpus:
+    """Time-normalise and stack joint angles already computed, one per trial.
+
+    :func:`read_corpus` reads the files and calls this; a program that has the angles in
+    memory (the demo) calls it directly, with no file written and read back.
+
+    Parameters
+    ----------
+    trials : sequence of (CorpusEntry, JointAngles)
+        Each trial's (path, person, action) and its angles (``values`` (frames, segments,
+        3) degrees, ``times`` (frames,) seconds); every trial has the same segments and
+        Euler sequence.
+    samples, cycles, cycle_column
+        As :func:`read_corpus`.
+    **metadata
+        ``markerset``, ``cleaning`` … recorded in the corpus.
+
+    Returns
+    -------
+    MotionCorpus
+    """
+    read = list(trials)
+    if not read:
+        raise MocapError("the corpus has no trials")
     reference_segments, reference_sequence = read[0][1].segments, read[0][1].sequence
     for entry, angles in read:
         if list(angles.segments) != list(reference_segments):
@@ -449,10 +480,9 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
         cells.setdefault((entry.person, entry.action), []).append((curve, duration, count))
         sources.setdefault((entry.person, entry.action), []).append(str(entry.path))
     return stack_corpus(cells, reference_segments, read[0][1].parents, reference_sequence,
-                        markerset=markerset_name, cycles=cycles,
+                        cycles=cycles,
                         cycle_column=None if reference is None else columns[reference],
-                        sources=sources,
-                        cleaning={"lowpass_hz": lowpass_hz, "max_gap_seconds": max_gap_seconds})
+                        sources=sources, **metadata)
 
 
 def _flat(angles) -> np.ndarray:

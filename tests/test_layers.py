@@ -87,7 +87,8 @@ def _inside(module: str, package: str) -> bool:
 
 #: The layers of ``mocap``, lowest first: a module may import its own layer and those below.
 MOCAP_LAYERS: tuple[tuple[str, ...], ...] = (
-    ("mocap.errors", "mocap.atomic", "mocap.progress", "mocap.tomlfile", "mocap.batch"),
+    ("mocap.errors", "mocap.atomic", "mocap.progress", "mocap.tomlfile", "mocap.batch",
+     "mocap.budget"),
     ("mocap.trial", "mocap.skeleton"),
     ("mocap.clean",),
     ("mocap.markersets",),
@@ -102,7 +103,8 @@ MOCAP_LAYERS: tuple[tuple[str, ...], ...] = (
 
 #: The only modules allowed at the top of ``mocap/``: containers and plumbing.
 LOOSE_MODULES = frozenset({"__init__", "__main__", "trial", "skeleton", "errors", "atomic",
-                           "progress", "tomlfile", "batch", "pipeline", "summary", "plot"})
+                           "progress", "tomlfile", "budget", "batch", "pipeline", "summary",
+                           "plot"})
 
 #: The longest module allowed, lines.
 MAX_MODULE_LINES = 600

@@ -49,7 +49,7 @@ from mocap.progress import progress, progress_bar
 from mocap.synthetic import ACTIONS, generate_corpus
 from mocap.synthetic.people import make_people
 from mocap.view import view_files
-from synthesis.corpus import load_corpus
+from synthesis.corpus import CorpusEntry, corpus_from_angles
 from synthesis.model import MotionModel
 from synthesis.regression import TOO_FEW_CELLS, can_fit
 from synthesis.plot import synthesis_figure
@@ -210,7 +210,11 @@ def _run(out: Path, final: Path, data: str | None, chosen, people: int, seed: in
                 title=f"{person} {ACTION}: joint angles from marker planes")
 
     with steps("stacking cycles into a people × actions × features tensor"):
-        corpus = load_corpus(out / "angles")
+        # the angles in memory, as computed: the CSV files are for the user, not read back
+        corpus = corpus_from_angles([(CorpusEntry(path, *cell), angles)
+                                     for cell, (path, angles) in names.items()],
+                                    markerset=chosen.name,
+                                    cleaning={"lowpass_hz": LOWPASS_HZ, "max_gap_seconds": None})
         summary["tensor_shape"] = [len(corpus.people), len(corpus.actions),
                                    corpus.samples * len(corpus.columns)]
 

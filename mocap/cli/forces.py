@@ -13,7 +13,7 @@ from mocap.cli.commands import Subparsers, summary
 from mocap.errors import MocapError, one_line
 from mocap.io import read
 from mocap.io.c3d.forceplates import plate_forces, total_forces
-from mocap.io.text_table import format_table
+from mocap.io.text_format import format_table
 from mocap.plot import save_figure
 
 

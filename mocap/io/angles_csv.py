@@ -13,8 +13,8 @@ import numpy as np
 from mocap.rotations.angles import CLINICAL_AXES, SEQUENCES, JointAngles, axis_names
 from mocap.atomic import atomic_path
 from mocap.errors import MocapError, MocapWarning
-from mocap.io.text_table import (check_label, check_times_increase, parse_table, read_text,
-                                 write_table)
+from mocap.io.text_table import check_label, check_times_increase, parse_table, read_text
+from mocap.io.text_format import write_table
 from mocap.markersets.model import MarkerSet
 
 
@@ -22,7 +22,7 @@ def write_angles_csv(angles: JointAngles, path: str | os.PathLike) -> None:
     """Write joint angles as CSV (docs/formats/angles-csv.md), all-or-nothing.
 
     Header ``time,<segment>.<axis>,…``; time in seconds, angles in degrees
-    with 6 decimals (``%.6f``, vectorised: :func:`mocap.io.text_table.write_table`); a
+    with 6 decimals (``%.6f``, vectorised: :func:`mocap.io.text_format.write_table`); a
     NaN angle is an empty cell.
     """
     frames, segments, _ = angles.values.shape

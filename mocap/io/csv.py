@@ -38,8 +38,8 @@ from mocap.budget import check_table_size
 from mocap.errors import MocapError
 from mocap.io.c3d.read import infer_unit_factor, unique_labels, unit_factor
 from mocap.io.text_table import (check_label, check_times_increase, coordinate_decimals,
-                                 format_table, mark_missing, parse_numeric_rows, parse_table,
-                                 read_head)
+                                 mark_missing, parse_numeric_rows, parse_table, read_head)
+from mocap.io.text_format import format_table
 from mocap.trial import Trial
 
 _AXIS_COLUMN = re.compile(r"^(?P<label>.+?)[_.: ](?P<axis>[xyzXYZ])$")

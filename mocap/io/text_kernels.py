@@ -5,7 +5,7 @@ Imported only for tables large enough to be worth loading numba (~1.5 s per proc
 mantissa of at most 2**53 times or divided by an exact power of ten, else the cell is
 handed back for Python's ``float``) and counts each row's cells (a row of fewer cells
 than ``width``: its count; of more: up to its last cell that is not blank). Writing needs no compiled loop
-(:func:`mocap.io.text_table._format_block`).
+(:func:`mocap.io.text_format._format_block`).
 """
 from __future__ import annotations
 

@@ -37,8 +37,9 @@ from mocap.budget import check_table_size
 from mocap.errors import MocapError
 from mocap.io import require_rate
 from mocap.io.c3d.read import infer_unit_factor, unique_labels, unit_disagreement, unit_factor
-from mocap.io.text_table import (check_label, coordinate_decimals, format_table, mark_missing,
-                                 parse_table, read_head)
+from mocap.io.text_table import (check_label, coordinate_decimals, mark_missing, parse_table,
+                                 read_head)
+from mocap.io.text_format import format_table
 from mocap.trial import Trial
 
 

@@ -3,7 +3,7 @@
 scipy.spatial.transform costs about 0.4 s of CPU to import and numba 0.5 s to import and
 load its cache: together more than the whole angle computation of 100 000 frames × 15
 segments. Euler angles come from closed forms (:mod:`mocap.rotations.euler`) and large CSV tables are
-written by numpy (:func:`mocap.io.text_table._format_block`). A structural test, not a
+written by numpy (:func:`mocap.io.text_format._format_block`). A structural test, not a
 timed one.
 """
 from __future__ import annotations

@@ -7,7 +7,8 @@ import pytest
 from mocap.cli import main
 from mocap.errors import MocapError
 from mocap.io import read, write
-from mocap.io.text_table import format_table, parse_table
+from mocap.io.text_table import parse_table
+from mocap.io.text_format import format_table
 from mocap.trial import Trial
 from tests.conftest import realdata_path
 
@@ -161,9 +162,9 @@ def test_write_table_writes_format_tables_bytes_block_by_block(tmp_path, monkeyp
     through the compiled loop, or through Python when one cell is beyond the loop's limit."""
     import io
 
-    from mocap.io import text_table
+    from mocap.io import text_format
 
-    monkeypatch.setattr(text_table, "WRITE_BLOCK_ROWS", 700)
+    monkeypatch.setattr(text_format, "WRITE_BLOCK_ROWS", 700)
     rng = np.random.default_rng(8)
     times = np.arange(2000) / 100.0
     values = rng.normal(0, 50, (2000, 60))
@@ -171,7 +172,7 @@ def test_write_table_writes_format_tables_bytes_block_by_block(tmp_path, monkeyp
     if huge:
         values[1500, 7] = 2e10                  # >= 9e15 millionths: the Python path
     handle = io.BytesIO()
-    text_table.write_table(handle, [times, values], 6, ",", nan="")
+    text_format.write_table(handle, [times, values], 6, ",", nan="")
     expected = format_table(np.column_stack([times, values]), 6, ",", nan="", as_bytes=True)
     assert handle.getvalue() == expected
     assert handle.getvalue().count(b"\n") == 2000 and (b"20000000000.000000" in expected) == huge
@@ -193,7 +194,7 @@ def test_large_tables_are_written_to_the_rounding_rule_cell_by_cell(nan):
     """The whole-array writer (8 digits per integer operation, one record per cell) gives
     the hand rule's text for every cell: ties, -0, NaN, 0-15 places, integer parts of 1 to
     16 digits, columns of different places side by side."""
-    from mocap.io.text_table import WRITE_BLOCK_ROWS, _format_block
+    from mocap.io.text_format import WRITE_BLOCK_ROWS, _format_block
 
     rng = np.random.default_rng(11)
     for trial in range(60):
