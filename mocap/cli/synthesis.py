@@ -121,11 +121,14 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--ridge", type=_ridge, default="auto", metavar="ALPHA",
                         help="relative ridge of signature fits, or 'auto' to choose it by "
                              "leave-one-out (default)")
-    parser.add_argument("--method", choices=("auto", "signature", "transfer"), default="auto",
-                        help="synthesis of a missing cell: N-mode SVD signature, action "
-                             "transfer (the person's other actions through a map learned "
-                             "across people), or auto (transfer for skeleton corpora, "
-                             "signature for joint-angle corpora; default)")
+    parser.add_argument("--method", choices=("auto", "interaction", "signature", "transfer"),
+                        default="auto",
+                        help="synthesis of a missing cell: interaction (the additive model, "
+                             "action mean + the person's offset, corrected by the N-mode SVD "
+                             "of the person x action interaction, mode, rank and ridge chosen "
+                             "by leave-one-out; rank 0 is the additive model), signature (the "
+                             "same with the people mode only), transfer (the older action "
+                             "transfer), or auto (= interaction; default)")
 
 
 def _load_corpus(args: argparse.Namespace):
@@ -201,6 +204,12 @@ def decompose(args: argparse.Namespace) -> int:
     if summary["method"] == "transfer":
         print("  missing cells are synthesised by action transfer (the person's other actions "
               "through a map learned across people); blends and new people by signatures")
+    for action, chosen in summary.get("interaction", {}).items():
+        gain = "the additive model (no interaction earned its place)" if not chosen["rank"] \
+            else (f"{chosen['mode']} mode, rank {chosen['rank']}: leave-one-out "
+                  f"{chosen['loo_rms']:.2f} against the additive model's "
+                  f"{chosen['additive_loo_rms']:.2f}")
+        print(f"  {action} from the other actions: {gain}")
     loo = summary["loo_rms_deg"]
     caveat = " (optimistic: imputed cells saw everyone; use 'mocap evaluate')" \
         if summary["imputed_people_rank"] else ""

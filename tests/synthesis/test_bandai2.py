@@ -98,7 +98,10 @@ def test_locomotion_synthesis_beats_baseline_and_additive(evaluation):
     assert rms([c.baseline_rms for c in cells]) >= 1.5 * synthesis
     assert rms([c.additive_rms for c in cells]) > synthesis
     assert np.mean([c.recognised == c.person for c in cells]) >= 0.9
-    assert figures["method"] == "transfer"
+    assert figures["method"] == "interaction"
+    paired = figures["versus_additive"]
+    assert paired["wins"] > paired["losses"] and paired["median_difference_deg"] < 0
+    assert figures["recognition_top3"] >= figures["recognition_accuracy"] >= 0.9
     # Overall too, and never below the take-to-take spread of the captures.
     assert figures["baseline_rms_deg"] > figures["additive_rms_deg"] > figures["synthesis_rms_deg"]
     assert figures["synthesis_rms_deg"] > figures["take_spread_rms_deg"] > 0
@@ -106,9 +109,11 @@ def test_locomotion_synthesis_beats_baseline_and_additive(evaluation):
 
 def test_hold_out_take_scores_unseen_takes(corpus):
     small = corpus.subset(actions=["walk", "run", "wave-both-hands"])
-    result = leave_one_out(small, hold_out="take").to_json()
+    # Action transfer: on these three actions the default model loses to the additive one
+    # (waves from walks and runs; docs/synthesis.md), which is not what is tested here.
+    result = leave_one_out(small, hold_out="take", method="transfer").to_json()
     assert result["hold_out"] == "take" and len(result["cells"]) == 21
-    cell = leave_one_out(small).to_json()
+    cell = leave_one_out(small, method="transfer").to_json()
     # A single take is further from any prediction than the mean of three takes.
     assert result["synthesis_rms_deg"] > cell["synthesis_rms_deg"]
     assert result["baseline_rms_deg"] > result["synthesis_rms_deg"]
@@ -145,7 +150,7 @@ def test_synthesised_cycle_goes_back_onto_the_rig(manifest, tmp_path, capsys):
     assert main(["synthesize", str(model_path), "--person", "elderly", "--action", "run",
                  "--cycles", "2", "-o", str(tmp_path / "run.bvh")]) == 0
     model = MotionModel.load(model_path)
-    assert model.method_ == "transfer" and model.representation == "rotvec"
+    assert model.method_ == "interaction" and model.representation == "rotvec"
     motion = read_bvh(tmp_path / "run.bvh")
     assert motion.names == model.rig["names"] and motion.frames == 2 * 39 + 1
     curve, duration = model.synthesize("elderly", "run")

@@ -1,0 +1,351 @@
+"""``InteractionModel``: the additive model plus the N-mode SVD of what it leaves.
+
+Data: people × actions × features, NaN where a cell is missing. The **additive model** is the
+main effects: a missing cell ``(p, b)`` is
+
+    d̂_{p,b} = m_b + ᾱ_p,      ᾱ_p = mean_{a∈O} (d_{p,a} − m_a),
+
+with ``m_a`` the mean of action ``a`` over the other people and ``O`` the person's other
+observed actions. What it leaves, the person × action **interaction**, is decomposed with the
+N-mode SVD and used to correct it. For a target action ``b`` the *donors* are the other people
+who have ``b`` and all of ``O``; their offsets ``x_{q,a} = d_{q,a} − m_a`` (means without the
+donor and the predicted person, so the donors' offsets are formed exactly as the predicted
+person's) minus each donor's own mean offset over ``O ∪ {b}`` form the interaction tensor
+``E`` (donors × actions × features). Two ways to use it, one per mode of ``E``:
+
+* ``mode="actions"`` (the person basis, Vasilescu's ``C_p``): the action-mode matrix ``V``
+  (leading ``r`` left singular vectors of ``E_(2)``, orthogonal to the all-ones vector) spans
+  how a person's actions differ from one another. The person's offset and basis are fitted
+  to their observed actions, per feature,
+
+      min_{α, C} Σ_{a∈O} ‖x_{p,a} − α − C v_a‖² + λ ‖C‖²,     d̂_{p,b} = m_b + α + C v_b,
+
+  which is a fixed weighting of the observed offsets, ``d̂ = m_b + Σ_a w_a x_{p,a}``.
+* ``mode="people"`` (the signature): bases ``B_a = U_Pᵀ E_a`` from the leading ``r``
+  people-mode singular vectors ``U_P``; the person's offset and signature ``s`` are fitted
+
+      min_{α, s} Σ_{a∈O} ‖x_{p,a} − α − B_aᵀ s‖² + λ ‖s‖²,       d̂_{p,b} = m_b + α + B_bᵀ s.
+
+In both, **rank 0 is the additive model exactly** (``α = ᾱ_p``), and the rank ``r`` and the
+ridge ``λ`` are chosen by leave-one-donor-out *inside the training donors*: each donor is
+predicted from a decomposition of the others, and the (rank, ridge) with the lowest total
+squared error is kept, rank 0 included — so the model departs from the additive one only as
+far as held-out donors reward it. ``mode="both"`` lets the same leave-one-donor-out choose the
+mode as well. The leave-one-donor-out residuals of the chosen configuration also give each
+feature's prediction variance (used to weight recognition distances).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mocap.errors import MocapError
+
+#: Ridge strengths tried by leave-one-donor-out (``λ = α · unit``; see each mode).
+ALPHAS = (0.0, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0)
+#: Donors needed before the interaction is decomposed (fewer: the additive model).
+MIN_DONORS = 4
+#: Largest people rank tried (every leave-one-out fold must reach it).
+MAX_PEOPLE_RANK = 12
+#: Relative leave-one-donor-out gain over the additive model a non-zero rank must show to be
+#: chosen (taken on the design split: bandai2 styles active/elderly/exhausted/feminine; see
+#: docs/synthesis.md).
+MARGIN = 0.05
+#: Also require the chosen configuration to beat the additive model on most donors.
+MAJORITY = True
+#: Modes of the interaction tensor a model may use.
+MODES = ("actions", "people", "both")
+
+
+@dataclass
+class Interaction:
+    """The configuration chosen for one (target action, observed actions, person) triple.
+
+    Attributes
+    ----------
+    mode : str
+        ``"actions"``, ``"people"`` or ``"additive"`` (rank 0).
+    rank : int
+        Rank of the interaction kept (0 = additive model).
+    alpha : float
+        Relative ridge.
+    loo_rms, additive_loo_rms : float
+        Leave-one-donor-out RMS error (feature units) of the chosen configuration and of the
+        additive model.
+    variance : ndarray, shape (features,)
+        Leave-one-donor-out mean squared error of each feature, chosen configuration.
+    """
+
+    mode: str
+    rank: int
+    alpha: float
+    loo_rms: float
+    additive_loo_rms: float
+    variance: np.ndarray
+
+
+def action_weights(values: np.ndarray, vectors: np.ndarray, alpha: float) -> np.ndarray:
+    """Weights ``w`` of the observed offsets in the action-mode prediction ``Σ_a w_a x_a``.
+
+    Parameters
+    ----------
+    values : ndarray, shape (..., r)
+        Action-mode eigenvalues (σ²) of the kept components (unused when r = 0).
+    vectors : ndarray, shape (..., m + 1, r)
+        Action-mode singular vectors; rows 0..m−1 the observed actions, row m the target.
+    alpha : float
+        Ridge on the person basis ``C`` (dimensionless: ``V`` is orthonormal).
+
+    Returns
+    -------
+    ndarray, shape (..., m)
+        With r = 0, ``1/m`` each (the additive model).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> action_weights(np.zeros(0), np.zeros((3, 0)), 0.0).tolist()
+    [0.5, 0.5]
+    """
+    m = vectors.shape[-2] - 1
+    rank = vectors.shape[-1]
+    ones = np.ones(vectors.shape[:-2] + (m, 1))
+    design = np.concatenate([ones, vectors[..., :m, :]], axis=-1)            # (..., m, 1+r)
+    row = np.concatenate([np.ones(vectors.shape[:-2] + (1,)), vectors[..., m, :]], axis=-1)
+    penalty = np.diag(np.r_[0.0, np.full(rank, alpha)])
+    system = np.einsum("...ki,...kj->...ij", design, design) + penalty      # (..., 1+r, 1+r)
+    inverse = np.linalg.pinv(system, rcond=1e-10, hermitian=True)
+    return np.einsum("...ki,...ij,...j->...k", design, inverse, row)
+
+
+@dataclass
+class InteractionModel:
+    """Additive main effects + N-mode SVD of the interaction residual (see module notes).
+
+    Parameters
+    ----------
+    mode : {"actions", "people", "both"}
+        Mode of the interaction tensor used to correct the additive model.
+    margin : float
+        Relative leave-one-donor-out gain a configuration other than the additive model must
+        show to be chosen (0: the lowest error wins).
+    max_rank : int, optional
+        0 forces the additive model (rank 0); None lets leave-one-donor-out choose.
+
+    Attributes
+    ----------
+    data_ : ndarray, shape (people, actions, features)
+    observed_ : ndarray, shape (people, actions), bool
+    """
+
+    mode: str = "actions"
+    margin: float = MARGIN
+    max_rank: int | None = None
+    data_: np.ndarray | None = field(default=None, repr=False)
+    observed_: np.ndarray | None = field(default=None, repr=False)
+    _cache: dict = field(default_factory=dict, repr=False)
+
+    def fit(self, data: np.ndarray) -> "InteractionModel":
+        """Remember the data; ranks and ridges are chosen per (target, observed set) on demand."""
+        if self.mode not in MODES:
+            raise MocapError(f"unknown interaction mode {self.mode!r}: "
+                             f"{', '.join(MODES)}")
+        data = np.asarray(data, dtype=float)
+        if data.ndim != 3:
+            raise MocapError("interaction data must be people × actions × features")
+        self.data_ = data
+        self.observed_ = np.isfinite(data).all(axis=2)
+        self._cache = {}
+        return self
+
+    # ------------------------------------------------------------------ main effects
+
+    def _means(self, *excluded: int | None) -> np.ndarray:
+        """Action means over the people not in ``excluded`` who have each action (NaN for an
+        action nobody else has), shape (actions, features)."""
+        keep = self.observed_.copy()
+        for person in excluded:
+            if person is not None:
+                keep[person] = False
+        counts = keep.sum(axis=0)
+        total = np.where(keep[..., None], self.data_, 0.0).sum(axis=0)
+        return total / np.where(counts > 0, counts, np.nan)[:, None]
+
+    def _observed_actions(self, person: int, target: int, means: np.ndarray) -> tuple:
+        return tuple(int(a) for a in np.flatnonzero(self.observed_[person])
+                     if a != target and np.isfinite(means[a]).all())
+
+    def additive(self, person: int, target: int) -> np.ndarray:
+        """The additive prediction ``m_b + mean_a (d_{p,a} − m_a)`` (shape (features,))."""
+        means = self._means(person)
+        observed = self._observed_actions(person, target, means)
+        if not observed:
+            return means[target]
+        return means[target] + np.mean([self.data_[person, a] - means[a] for a in observed],
+                                       axis=0)
+
+    # ------------------------------------------------------------------ the interaction
+
+    def _donors(self, target: int, observed: tuple, exclude: int | None
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Cells of the donors (Q, m + 1, F; observed actions, then the target), and the sums
+        (m + 1, F) and counts (m + 1,) of the means' pool (everyone but ``exclude``)."""
+        order = list(observed) + [target]
+        donors = [q for q in range(self.data_.shape[0]) if q != exclude
+                  and self.observed_[q, order].all()]
+        keep = self.observed_[:, order].copy()
+        if exclude is not None:
+            keep[exclude] = False
+        sums = np.where(keep[..., None], self.data_[:, order], 0.0).sum(axis=0)
+        return self.data_[donors][:, order], sums, keep.sum(axis=0).astype(float)
+
+    def _candidates(self, training: np.ndarray, x: np.ndarray, people_rank: int) -> list:
+        """Every configuration's prediction of one person's target offset.
+
+        Parameters
+        ----------
+        training : ndarray, shape (Q, m + 1, F)
+            Offsets of the training donors (observed actions, then the target).
+        x : ndarray, shape (m, F)
+            Offsets of the predicted person's observed actions.
+        people_rank : int
+            Largest people rank tried.
+
+        Returns
+        -------
+        list of (mode, rank, alpha, prediction (F,)); the first is the additive model.
+        """
+        m = x.shape[0]
+        result = [("additive", 0, float("inf"), x.mean(axis=0))]
+        if self.max_rank == 0:
+            return result
+        centred = training - training.mean(axis=1, keepdims=True)             # E (Q, m+1, F)
+        if self.mode in ("actions", "both"):
+            values, vectors = np.linalg.eigh(np.einsum("qaf,qbf->ab", centred, centred))
+            values, vectors = values[::-1], vectors[:, ::-1]
+            for rank in range(1, m + 1):
+                for alpha in ALPHAS:
+                    weights = action_weights(values[:rank], vectors[:, :rank], alpha)
+                    result.append(("actions", rank, alpha, weights @ x))
+        if self.mode in ("people", "both"):
+            # One observed action cannot tell an offset from a signature: there the people
+            # mode decomposes the offsets themselves (Vasilescu's uncentred signature).
+            result += _people_candidates(centred if m >= 2 else training, x, people_rank,
+                                         free_offset=m >= 2)
+        return result
+
+    def interaction(self, target: int, observed: tuple, exclude: int | None = None
+                    ) -> Interaction:
+        """Rank and ridge for predicting ``target`` from ``observed`` (``exclude``: the person
+        predicted, never a donor), chosen by leave-one-donor-out: each donor ``k`` in turn is
+        predicted from the others, whose offsets are then formed without ``k`` in the means."""
+        key = (target, observed, exclude)
+        if key in self._cache:
+            return self._cache[key]
+        cells, sums, counts = self._donors(target, observed, exclude)
+        features = self.data_.shape[2]
+        donors = cells.shape[0]
+        if donors < MIN_DONORS or not observed:
+            result = Interaction("additive", 0, float("inf"), float("nan"), float("nan"),
+                                 np.full(features, np.nan))
+            self._cache[key] = result
+            return result
+        m = len(observed)
+        counts = counts[:, None]
+        labels, predictions, truths = None, [], []
+        for k in range(donors):
+            others = np.arange(donors) != k
+            offset = cells[k] - (sums - cells[k]) / (counts - 1)                # as the person's
+            training = cells[others] - (sums - cells[k] - cells[others]) / (counts - 2)
+            candidates = self._candidates(training, offset[:m], donors - 2)
+            labels = labels or [c[:3] for c in candidates]
+            predictions.append([c[3] for c in candidates])
+            truths.append(offset[m])
+        predictions = np.asarray(predictions)                                   # (Q, C, F)
+        residuals = predictions - np.asarray(truths)[:, None]
+        folds = np.mean(residuals ** 2, axis=2)                                 # (Q, C)
+        errors = folds.mean(axis=0)
+        best = int(np.argmin(errors))
+        if errors[best] > (1.0 - self.margin) * errors[0] or \
+                MAJORITY and 2 * np.sum(folds[:, best] < folds[:, 0]) <= donors:
+            best = 0
+        mode, rank, alpha = labels[best]
+        result = Interaction(mode, rank, alpha, float(np.sqrt(errors[best])),
+                             float(np.sqrt(errors[0])), np.mean(residuals[:, best] ** 2, axis=0))
+        self._cache[key] = result
+        return result
+
+    def predict(self, person: int, target: int) -> tuple[np.ndarray, Interaction | None]:
+        """Prediction of cell ``(person, target)`` from the person's other observed actions.
+
+        Returns
+        -------
+        prediction : ndarray, shape (features,)
+        interaction : Interaction or None
+            The configuration used (None when the person has no other action: the baseline).
+        """
+        means = self._means(person)
+        if not np.isfinite(means[target]).all():
+            raise MocapError("nobody else performed this action")
+        observed = self._observed_actions(person, target, means)
+        if not observed:
+            return means[target], None
+        chosen = self.interaction(target, observed, person)
+        x = np.stack([self.data_[person, a] - means[a] for a in observed])      # (m, F)
+        correction = self._correction(chosen, target, observed, person, x)
+        return means[target] + correction, chosen
+
+    def _correction(self, chosen: Interaction, target: int, observed: tuple, person: int,
+                    x: np.ndarray) -> np.ndarray:
+        """The predicted cell's offset ``α + C v_b`` or ``α + B_bᵀ s``, bases from all donors."""
+        if chosen.rank == 0:
+            return x.mean(axis=0)
+        cells, sums, counts = self._donors(target, observed, person)
+        training = cells - (sums - cells) / (counts[:, None] - 1)
+        for mode, rank, alpha, prediction in self._candidates(training, x, cells.shape[0] - 2):
+            if (mode, rank, alpha) == (chosen.mode, chosen.rank, chosen.alpha):
+                return prediction
+        return x.mean(axis=0)             # the rank is not reached with every donor: additive
+
+
+def _people_candidates(centred: np.ndarray, x: np.ndarray, largest: int,
+                       free_offset: bool = True) -> list:
+    """People-mode (signature) predictions of a person's target offset for every rank and ridge.
+
+    With ``U`` the leading people-mode singular vectors of the interaction ``E`` and
+    ``Ẽ_a = E_a − Ē_O`` (bases centred over the observed actions, since the offset α is
+    free), the signature solves ``(Uᵀ H U + λ I) s = Uᵀ h`` with ``H = Σ_{a∈O} Ẽ_a Ẽ_aᵀ`` and
+    ``h = Σ_{a∈O} Ẽ_a x_a``; the prediction is ``x̄_O + Ẽ_bᵀ U s`` — all in the donors' space.
+
+    Parameters
+    ----------
+    centred : ndarray, shape (Q, m + 1, F)
+        Interaction of the training donors (offsets minus each donor's mean offset).
+    x : ndarray, shape (m, F)
+    largest : int
+        Largest rank tried (capped at :data:`MAX_PEOPLE_RANK`).
+    free_offset : bool
+        Fit the person's offset α with the signature (else α = 0 and ``centred`` holds the
+        donors' offsets themselves).
+
+    Returns
+    -------
+    list of ("people", rank, alpha, prediction (F,))
+    """
+    m = x.shape[0]
+    tilde = centred - centred[:, :m].mean(axis=1, keepdims=True) if free_offset else centred
+    start = x.mean(axis=0) if free_offset else np.zeros(x.shape[1])
+    values, vectors = np.linalg.eigh(np.einsum("qaf,raf->qr", centred, centred))
+    values, vectors = values[::-1], vectors[:, ::-1]
+    system = np.einsum("qaf,raf->qr", tilde[:, :m], tilde[:, :m])
+    side = np.einsum("qaf,af->q", tilde[:, :m], x)
+    result = []
+    for rank in range(1, min(largest, MAX_PEOPLE_RANK, len(values)) + 1):
+        u = vectors[:, :rank]
+        reduced, right = u.T @ system @ u, u.T @ side
+        unit = float(np.mean(values[:rank])) / m
+        for alpha in ALPHAS:
+            s = np.linalg.lstsq(reduced + alpha * unit * np.eye(rank), right, rcond=1e-10)[0]
+            result.append(("people", rank, alpha, start + (u @ s) @ tilde[:, m]))
+    return result
