@@ -31,7 +31,7 @@ from synthesis.nmode import Rank
 from synthesis.regression import SignatureModel
 from synthesis.signature import interpolate_signatures, posterior_scores
 from synthesis.skeletons import cycle_motion, trial_cycle
-from synthesis.interaction import InteractionModel
+from synthesis.interaction import MIN_DONORS, InteractionModel
 from synthesis.transfer import TransferModel
 
 #: File format version written into saved models.
@@ -326,9 +326,10 @@ class MotionModel:
         return model.predict(person, action)[0]
 
     def _synthesised_cell(self, person: int, action: int, timing: bool = False) -> np.ndarray:
-        """A captured angle cell as it is; a missing one from the cell model, or — when no
-        four people share the person's actions and this one (the interaction cannot be
-        learned) — from the person's signature, imputed if need be
+        """A captured cell (angles, or ``timing``) as it is; a missing one from the cell
+        model, or — when fewer than :data:`~synthesis.interaction.MIN_DONORS` people share
+        the person's actions and this one in a corpus of more people (missing cells stand in
+        the way) — from the person's signature, imputed if need be
         (:class:`synthesis.regression.SignatureModel`)."""
         if timing:
             model, interaction, signatures = (self.timing_cell_model, self.timing_interaction_,
@@ -340,8 +341,10 @@ class MotionModel:
             return model.data_[person, action]
         prediction, chosen = model.predict(person, action)
         signature = signatures.signatures_[person]
+        # Donors missing although the corpus has enough people: its missing cells stand in
+        # the way, and the (imputed) signatures fill them.
         if interaction is not None and (chosen is None or not np.isfinite(chosen.loo_rms)) \
-                and np.isfinite(signature).all():
+                and len(self.people) > MIN_DONORS and np.isfinite(signature).all():
             return signatures.predict(signature, action)
         return prediction
 
