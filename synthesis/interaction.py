@@ -119,6 +119,33 @@ def action_weights(values: np.ndarray, vectors: np.ndarray, alpha: float) -> np.
     return np.einsum("...ki,...ij,...j->...k", design, inverse, row)
 
 
+def action_weight_grid(vectors: np.ndarray) -> np.ndarray:
+    """:func:`action_weights` for every rank 1..m and every ridge of :data:`ALPHAS` at once.
+
+    Parameters
+    ----------
+    vectors : ndarray, shape (m + 1, m)
+        The m leading action-mode singular vectors (rows: observed actions, then the target).
+
+    Returns
+    -------
+    ndarray, shape (m, len(ALPHAS), m)
+        Entry ``[r − 1, i]``: the weights of rank r and ridge ``ALPHAS[i]``.
+    """
+    m = vectors.shape[1]
+    used = np.arange(m)[None, :] < np.arange(1, m + 1)[:, None]              # (R, m)
+    columns = np.concatenate([np.ones((m, 1), bool), used], axis=1)           # (R, 1+m)
+    design = np.concatenate([np.ones((m, 1)), vectors[:m]], axis=1)[None] * columns[:, None]
+    row = np.r_[1.0, vectors[m]][None] * columns                              # (R, 1+m)
+    # Unused components get a unit penalty and no column: their coefficient is 0.
+    penalty = np.where(columns[:, None], np.asarray(ALPHAS)[None, :, None], 1.0)
+    penalty[..., 0] = 0.0                                                     # α is free
+    system = np.einsum("rki,rkj->rij", design, design)[:, None] + \
+        penalty[..., None] * np.eye(m + 1)                                    # (R, A, 1+m, 1+m)
+    inverse = np.linalg.pinv(system, rcond=1e-10, hermitian=True)
+    return np.einsum("rki,raij,rj->rak", design, inverse, row)
+
+
 @dataclass
 class InteractionModel:
     """Additive main effects + N-mode SVD of the interaction residual (see module notes).
@@ -200,7 +227,8 @@ class InteractionModel:
         sums = np.where(keep[..., None], self.data_[:, order], 0.0).sum(axis=0)
         return self.data_[donors][:, order], sums, keep.sum(axis=0).astype(float)
 
-    def _candidates(self, training: np.ndarray, x: np.ndarray, people_rank: int) -> list:
+    def _candidates(self, training: np.ndarray, x: np.ndarray, people_rank: int
+                    ) -> tuple[list, np.ndarray]:
         """Every configuration's prediction of one person's target offset.
 
         Parameters
@@ -214,26 +242,28 @@ class InteractionModel:
 
         Returns
         -------
-        list of (mode, rank, alpha, prediction (F,)); the first is the additive model.
+        labels : list of (mode, rank, alpha); the first is the additive model
+        predictions : ndarray, shape (len(labels), F)
         """
         m = x.shape[0]
-        result = [("additive", 0, float("inf"), x.mean(axis=0))]
+        labels = [("additive", 0, float("inf"))]
+        blocks = [x.mean(axis=0)[None]]
         if self.max_rank == 0:
-            return result
+            return labels, blocks[0]
         centred = training - training.mean(axis=1, keepdims=True)             # E (Q, m+1, F)
         if self.mode in ("actions", "both"):
-            values, vectors = np.linalg.eigh(np.einsum("qaf,qbf->ab", centred, centred))
-            values, vectors = values[::-1], vectors[:, ::-1]
-            for rank in range(1, m + 1):
-                for alpha in ALPHAS:
-                    weights = action_weights(values[:rank], vectors[:, :rank], alpha)
-                    result.append(("actions", rank, alpha, weights @ x))
+            _, vectors = np.linalg.eigh(np.einsum("qaf,qbf->ab", centred, centred))
+            weights = action_weight_grid(vectors[:, ::-1][:, :m])              # (m, alphas, m)
+            labels += [("actions", rank + 1, alpha) for rank in range(m) for alpha in ALPHAS]
+            blocks.append((weights @ x).reshape(-1, x.shape[1]))
         if self.mode in ("people", "both"):
             # One observed action cannot tell an offset from a signature: there the people
             # mode decomposes the offsets themselves (Vasilescu's uncentred signature).
-            result += _people_candidates(centred if m >= 2 else training, x, people_rank,
-                                         free_offset=m >= 2)
-        return result
+            people_labels, predictions = _people_candidates(
+                centred if m >= 2 else training, x, people_rank, free_offset=m >= 2)
+            labels += people_labels
+            blocks.append(predictions)
+        return labels, np.concatenate(blocks)
 
     def interaction(self, target: int, observed: tuple, exclude: int | None = None
                     ) -> Interaction:
@@ -253,26 +283,26 @@ class InteractionModel:
             return result
         m = len(observed)
         counts = counts[:, None]
-        labels, predictions, truths = None, [], []
+        labels, residuals, folds = None, [], []
         for k in range(donors):
             others = np.arange(donors) != k
             offset = cells[k] - (sums - cells[k]) / (counts - 1)                # as the person's
             training = cells[others] - (sums - cells[k] - cells[others]) / (counts - 2)
-            candidates = self._candidates(training, offset[:m], donors - 2)
-            labels = labels or [c[:3] for c in candidates]
-            predictions.append([c[3] for c in candidates])
-            truths.append(offset[m])
-        predictions = np.asarray(predictions)                                   # (Q, C, F)
-        residuals = predictions - np.asarray(truths)[:, None]
-        folds = np.mean(residuals ** 2, axis=2)                                 # (Q, C)
+            fold_labels, predictions = self._candidates(training, offset[:m], donors - 2)
+            labels = labels or fold_labels
+            residual = predictions - offset[m]                                   # (C, F)
+            residuals.append(residual)
+            folds.append(np.einsum("cf,cf->c", residual, residual) / features)
+        folds = np.asarray(folds)                                               # (Q, C)
         errors = folds.mean(axis=0)
         best = int(np.argmin(errors))
         if errors[best] > (1.0 - self.margin) * errors[0] or \
                 MAJORITY and 2 * np.sum(folds[:, best] < folds[:, 0]) <= donors:
             best = 0
         mode, rank, alpha = labels[best]
+        variance = np.mean([residual[best] ** 2 for residual in residuals], axis=0)
         result = Interaction(mode, rank, alpha, float(np.sqrt(errors[best])),
-                             float(np.sqrt(errors[0])), np.mean(residuals[:, best] ** 2, axis=0))
+                             float(np.sqrt(errors[0])), variance)
         self._cache[key] = result
         return result
 
@@ -303,14 +333,13 @@ class InteractionModel:
             return x.mean(axis=0)
         cells, sums, counts = self._donors(target, observed, person)
         training = cells - (sums - cells) / (counts[:, None] - 1)
-        for mode, rank, alpha, prediction in self._candidates(training, x, cells.shape[0] - 2):
-            if (mode, rank, alpha) == (chosen.mode, chosen.rank, chosen.alpha):
-                return prediction
-        return x.mean(axis=0)             # the rank is not reached with every donor: additive
+        labels, predictions = self._candidates(training, x, cells.shape[0] - 2)
+        key = (chosen.mode, chosen.rank, chosen.alpha)
+        return predictions[labels.index(key)] if key in labels else x.mean(axis=0)             # the rank is not reached with every donor: additive
 
 
 def _people_candidates(centred: np.ndarray, x: np.ndarray, largest: int,
-                       free_offset: bool = True) -> list:
+                       free_offset: bool = True) -> tuple[list, np.ndarray]:
     """People-mode (signature) predictions of a person's target offset for every rank and ridge.
 
     With ``U`` the leading people-mode singular vectors of the interaction ``E`` and
@@ -331,7 +360,8 @@ def _people_candidates(centred: np.ndarray, x: np.ndarray, largest: int,
 
     Returns
     -------
-    list of ("people", rank, alpha, prediction (F,))
+    labels : list of ("people", rank, alpha)
+    predictions : ndarray, shape (len(labels), F)
     """
     m = x.shape[0]
     tilde = centred - centred[:, :m].mean(axis=1, keepdims=True) if free_offset else centred
@@ -340,12 +370,17 @@ def _people_candidates(centred: np.ndarray, x: np.ndarray, largest: int,
     values, vectors = values[::-1], vectors[:, ::-1]
     system = np.einsum("qaf,raf->qr", tilde[:, :m], tilde[:, :m])
     side = np.einsum("qaf,af->q", tilde[:, :m], x)
-    result = []
+    labels, blocks = [], [np.zeros((0, x.shape[1]))]
+    alphas = np.asarray(ALPHAS)
     for rank in range(1, min(largest, MAX_PEOPLE_RANK, len(values)) + 1):
         u = vectors[:, :rank]
-        reduced, right = u.T @ system @ u, u.T @ side
-        unit = float(np.mean(values[:rank])) / m
-        for alpha in ALPHAS:
-            s = np.linalg.lstsq(reduced + alpha * unit * np.eye(rank), right, rcond=1e-10)[0]
-            result.append(("people", rank, alpha, start + (u @ s) @ tilde[:, m]))
-    return result
+        # Every ridge from one eigen-decomposition of the reduced system (pseudo-inverse at 0).
+        eigenvalues, eigenvectors = np.linalg.eigh(u.T @ system @ u)
+        projected = eigenvectors.T @ (u.T @ side)
+        scale = eigenvalues[None] + alphas[:, None] * float(np.mean(values[:rank])) / m
+        tiny = 1e-10 * max(float(eigenvalues.max(initial=0.0)), 1e-300)
+        inverse = np.where(np.abs(scale) > tiny, 1.0 / np.where(scale == 0, 1.0, scale), 0.0)
+        signatures = (inverse * projected) @ eigenvectors.T                   # (alphas, r)
+        blocks.append(start + (signatures @ u.T) @ tilde[:, m])              # (alphas, F)
+        labels += [("people", rank, alpha) for alpha in ALPHAS]
+    return labels, np.concatenate(blocks)

@@ -325,19 +325,21 @@ class MotionModel:
             return model.data_[person, action]
         return model.predict(person, action)[0]
 
-    def _synthesised_cell(self, person: int, action: int, timing: bool = False) -> np.ndarray:
+    def _synthesised_cell(self, person: int, action: int, timing: bool = False,
+                          predict: bool = False) -> np.ndarray:
         """A captured cell (angles, or ``timing``) as it is; a missing one from the cell
         model, or — when fewer than :data:`~synthesis.interaction.MIN_DONORS` people share
         the person's actions and this one in a corpus of more people (missing cells stand in
         the way) — from the person's signature, imputed if need be
-        (:class:`synthesis.regression.SignatureModel`)."""
+        (:class:`synthesis.regression.SignatureModel`). With ``predict``, a captured cell is
+        predicted from the person's other cells too (when they have any)."""
         if timing:
             model, interaction, signatures = (self.timing_cell_model, self.timing_interaction_,
                                               self.timing_model_)
         else:
             model, interaction, signatures = (self.cell_model, self.interaction_,
                                               self.angle_model_)
-        if model.observed_[person, action]:
+        if model.observed_[person, action] and not (predict and model.observed_[person].sum() > 1):
             return model.data_[person, action]
         prediction, chosen = model.predict(person, action)
         signature = signatures.signatures_[person]
@@ -460,27 +462,36 @@ class MotionModel:
         except MocapError as error:
             raise MocapError(error.problem, error.path or path) from None
 
-    def distances(self, curve: np.ndarray) -> np.ndarray:
-        """RMS angle distance between a cycle and every person's motion of every action.
+    def distances(self, curve: np.ndarray, actions: Sequence[int] | None = None) -> np.ndarray:
+        """Weighted RMS distance between a cycle and every person's motion of every action.
+
+        A person's motion of an action is the model's prediction from their *other* actions
+        (their capture only when they have no other), for every person alike — so the person
+        whose cell was never captured is not the only one compared through a prediction; each
+        feature is weighted by :meth:`recognition_weights` (normalised to mean 1). Chosen on
+        the design split (docs/synthesis.md): bandai2 styles active/elderly/exhausted/feminine,
+        top-1 92 % against 79 % for the plain distance to the captures.
 
         Parameters
         ----------
         curve : ndarray, shape (samples, columns), degrees
             A cycle normalised like the corpus.
+        actions : sequence of int, optional
+            Action indices to compare with (default: all); the other columns are NaN.
 
         Returns
         -------
         ndarray, shape (people, actions), degrees
-            NaN for people without a signature.
+            NaN for people without a motion of that action.
         """
         self._check_fitted()
         flat = np.asarray(curve, dtype=float).ravel()
         table = np.full((len(self.people), len(self.actions)), np.nan)
-        for action in range(len(self.actions)):
+        for action in range(len(self.actions)) if actions is None else actions:
             weights = self.recognition_weights(action)
             for person in range(len(self.people)):
                 try:
-                    motion = self._synthesised_cell(person, action)
+                    motion = self._synthesised_cell(person, action, predict=True)
                 except MocapError:
                     continue
                 squared = (motion - flat) ** 2
@@ -502,11 +513,14 @@ class MotionModel:
         -------
         Recognition
         """
-        table = self.distances(curve)
-        scale = self.loo_rms if np.isfinite(self.loo_rms) else self.spread_rms_
         candidates = [self.action_index(action)] if action is not None \
             else list(range(len(self.actions)))
-        nearest = np.array([np.nanmin(table[:, a]) for a in range(len(self.actions))])
+        table = self.distances(curve, candidates)
+        scale = self.loo_rms if np.isfinite(self.loo_rms) else self.spread_rms_
+        nearest = np.full(len(self.actions), np.inf)
+        for a in candidates:
+            if np.isfinite(table[:, a]).any():
+                nearest[a] = np.nanmin(table[:, a])
         best_action = min(candidates, key=lambda a: nearest[a])
         column = table[:, best_action]
         valid = np.isfinite(column)

@@ -360,7 +360,7 @@ def person_spacing(model, action: str) -> float:
             cycle = model.synthesize_angles(person, action)
         except MocapError:
             continue
-        row = model.distances(cycle.values.reshape(cycle.frames, -1))[:, a]
+        row = model.distances(cycle.values.reshape(cycle.frames, -1), [a])[:, a]
         row[model.people.index(person)] = np.nan
         if np.isfinite(row).any():
             nearest.append(float(np.nanmin(row)))
