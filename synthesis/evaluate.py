@@ -140,6 +140,8 @@ class Evaluation:
     hold_out : str
         ``"cell"`` (score against the cell's mean capture) or ``"take"`` (against each take
         the model did not see).
+    whole_trials : list of str
+        Trials in which cycle detection found no complete cycle (time-normalised whole).
     """
 
     cells: list
@@ -147,6 +149,7 @@ class Evaluation:
     columns: list
     method: str = "signature"
     hold_out: str = "cell"
+    whole_trials: list = field(default_factory=list)
 
     def _overall(self, cells) -> dict:
         synthesis = _rms([c.synthesis_rms for c in cells])
@@ -205,6 +208,7 @@ class Evaluation:
                        "duration_s": c.duration, "predicted_duration_s": c.predicted_duration,
                        "recognised": c.recognised} for c in self.cells],
             "skipped": [{"person": p, "action": a, "reason": r} for p, a, r in self.skipped],
+            "trials_without_cycle": list(self.whole_trials),
             "actions": self.by_action(),
         }
         result.update(self._overall(self.cells))
@@ -234,6 +238,9 @@ class Evaluation:
             f"{self.baseline_rms:.2f}° ({times} lower), additive (mean + the person's offset) "
             f"{self.additive_rms:.2f}°",
         ]
+        if self.whole_trials:
+            lines.append(f"no complete cycle found (time-normalised whole) in "
+                         f"{len(self.whole_trials)} trial(s): {', '.join(self.whole_trials)}")
         if np.isfinite(overall["take_spread_rms_deg"]):
             lines.append(f"take-to-take spread of the captures: "
                          f"{overall['take_spread_rms_deg']:.2f}° (the floor)")
@@ -360,4 +367,7 @@ def leave_one_out(corpus: MotionCorpus, progress: Callable[[Iterable, str], Iter
     if not cells:
         raise MocapError("no cell could be evaluated: leave-one-out needs people with at least "
                          "two actions and at least 3 people who performed every action")
-    return Evaluation(cells, skipped, list(corpus.columns), method, hold_out)
+    used = {path for paths in corpus.sources.values() for path in paths}
+    whole = sorted(path for path, count in corpus.trial_cycles.items()
+                   if count == 0 and path in used)
+    return Evaluation(cells, skipped, list(corpus.columns), method, hold_out, whole)
