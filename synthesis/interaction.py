@@ -308,8 +308,16 @@ class InteractionModel:
         self._cache[key] = result
         return result
 
-    def predict(self, person: int, target: int) -> tuple[np.ndarray, Interaction | None]:
+    def predict(self, person: int, target: int, chosen: Interaction | None = None
+                ) -> tuple[np.ndarray, Interaction | None]:
         """Prediction of cell ``(person, target)`` from the person's other observed actions.
+
+        Parameters
+        ----------
+        person, target : int
+        chosen : Interaction, optional
+            Configuration to use instead of choosing one by leave-one-donor-out for this
+            person (falls back to the additive model where its rank is not reached).
 
         Returns
         -------
@@ -323,7 +331,8 @@ class InteractionModel:
         observed = self._observed_actions(person, target, means)
         if not observed:
             return means[target], None
-        chosen = self.interaction(target, observed, person)
+        if chosen is None:
+            chosen = self.interaction(target, observed, person)
         x = np.stack([self.data_[person, a] - means[a] for a in observed])      # (m, F)
         correction = self._correction(chosen, target, observed, person, x)
         return means[target] + correction, chosen
@@ -336,8 +345,11 @@ class InteractionModel:
         cells, sums, counts = self._donors(target, observed, person)
         training = cells - (sums - cells) / (counts[:, None] - 1)
         labels, predictions = self._candidates(training, x, cells.shape[0] - 2)
-        key = (chosen.mode, chosen.rank, chosen.alpha)
-        return predictions[labels.index(key)] if key in labels else x.mean(axis=0)             # the rank is not reached with every donor: additive
+        # The chosen rank, or the largest of its mode and ridge these donors reach.
+        reached = [i for i, (mode, rank, alpha) in enumerate(labels)
+                   if mode == chosen.mode and alpha == chosen.alpha and rank <= chosen.rank]
+        return predictions[max(reached, key=lambda i: labels[i][1])] if reached \
+            else x.mean(axis=0)             # the rank is not reached with every donor: additive
 
 
 def _people_candidates(centred: np.ndarray, x: np.ndarray, largest: int,

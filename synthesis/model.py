@@ -339,8 +339,14 @@ class MotionModel:
         else:
             model, interaction, signatures = (self.cell_model, self.interaction_,
                                               self.angle_model_)
-        if model.observed_[person, action] and not (predict and model.observed_[person].sum() > 1):
+        captured = model.observed_[person, action]
+        if captured and not (predict and model.observed_[person].sum() > 1):
             return model.data_[person, action]
+        if captured and interaction is not None:
+            # A recognition template: the configuration chosen for the action from all the
+            # others (the one whose variances weight the distance), not one per person.
+            others = tuple(a for a in range(len(self.actions)) if a != action)
+            return model.predict(person, action, model.interaction(action, others))[0]
         prediction, chosen = model.predict(person, action)
         signature = signatures.signatures_[person]
         # Donors missing although the corpus has enough people: its missing cells stand in
