@@ -140,7 +140,7 @@ class Evaluation:
     hold_out : str
         ``"cell"`` (score against the cell's mean capture) or ``"take"`` (against each take
         the model did not see).
-    whole_trials : list of str
+    whole_trials : list of (person, action, path)
         Trials in which cycle detection found no complete cycle (time-normalised whole).
     """
 
@@ -208,7 +208,8 @@ class Evaluation:
                        "duration_s": c.duration, "predicted_duration_s": c.predicted_duration,
                        "recognised": c.recognised} for c in self.cells],
             "skipped": [{"person": p, "action": a, "reason": r} for p, a, r in self.skipped],
-            "trials_without_cycle": list(self.whole_trials),
+            "trials_without_cycle": [{"person": p, "action": a, "path": t}
+                                     for p, a, t in self.whole_trials],
             "actions": self.by_action(),
         }
         result.update(self._overall(self.cells))
@@ -239,8 +240,11 @@ class Evaluation:
             f"{self.additive_rms:.2f}°",
         ]
         if self.whole_trials:
+            actions = sorted({a for _, a, _ in self.whole_trials})
+            counts = ", ".join(f"{a} {sum(t[1] == a for t in self.whole_trials)}"
+                               for a in actions)
             lines.append(f"no complete cycle found (time-normalised whole) in "
-                         f"{len(self.whole_trials)} trial(s): {', '.join(self.whole_trials)}")
+                         f"{len(self.whole_trials)} trial(s): {counts} (each named in --json)")
         if np.isfinite(overall["take_spread_rms_deg"]):
             lines.append(f"take-to-take spread of the captures: "
                          f"{overall['take_spread_rms_deg']:.2f}° (the floor)")
@@ -367,7 +371,7 @@ def leave_one_out(corpus: MotionCorpus, progress: Callable[[Iterable, str], Iter
     if not cells:
         raise MocapError("no cell could be evaluated: leave-one-out needs people with at least "
                          "two actions and at least 3 people who performed every action")
-    used = {path for paths in corpus.sources.values() for path in paths}
-    whole = sorted(path for path, count in corpus.trial_cycles.items()
-                   if count == 0 and path in used)
+    cell_of = {path: key for key, paths in corpus.sources.items() for path in paths}
+    whole = sorted(cell_of[path] + (path,) for path, count in corpus.trial_cycles.items()
+                   if count == 0 and path in cell_of)
     return Evaluation(cells, skipped, list(corpus.columns), method, hold_out, whole)

@@ -104,7 +104,9 @@ def test_locomotion_synthesis_beats_baseline_and_additive(evaluation):
     assert figures["recognition_top3"] >= figures["recognition_accuracy"] >= 0.9
     # Cycle detection says per trial where it found no cycle: every wave and raise take.
     whole = figures["trials_without_cycle"]
-    assert len(whole) == 42 and all("wave" in t or "raise" in t for t in whole)
+    assert len(whole) == 42 and {t["action"] for t in whole} == {"wave-both-hands",
+                                                                 "raise-up-both-hands"}
+    assert all(t["action"] in t["path"] and t["person"] in t["path"] for t in whole)
     # Overall too, and never below the take-to-take spread of the captures.
     assert figures["baseline_rms_deg"] > figures["additive_rms_deg"] > figures["synthesis_rms_deg"]
     assert figures["synthesis_rms_deg"] > figures["take_spread_rms_deg"] > 0
