@@ -87,13 +87,11 @@ class Interaction:
     variance: np.ndarray
 
 
-def action_weights(values: np.ndarray, vectors: np.ndarray, alpha: float) -> np.ndarray:
+def action_weights(vectors: np.ndarray, alpha: float) -> np.ndarray:
     """Weights ``w`` of the observed offsets in the action-mode prediction ``Σ_a w_a x_a``.
 
     Parameters
     ----------
-    values : ndarray, shape (..., r)
-        Action-mode eigenvalues (σ²) of the kept components (unused when r = 0).
     vectors : ndarray, shape (..., m + 1, r)
         Action-mode singular vectors; rows 0..m−1 the observed actions, row m the target.
     alpha : float
@@ -107,7 +105,7 @@ def action_weights(values: np.ndarray, vectors: np.ndarray, alpha: float) -> np.
     Examples
     --------
     >>> import numpy as np
-    >>> action_weights(np.zeros(0), np.zeros((3, 0)), 0.0).tolist()
+    >>> action_weights(np.zeros((3, 0)), 0.0).tolist()
     [0.5, 0.5]
     """
     m = vectors.shape[-2] - 1

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from synthesis.interaction import InteractionModel, action_weights
+from synthesis.interaction import ALPHAS, InteractionModel, action_weight_grid, action_weights
 
 
 def main_effects(people=9, actions=5, features=60, seed=0):
@@ -37,7 +37,18 @@ def test_rank_zero_is_the_additive_model_exactly():
         assert chosen.rank == 0 and chosen.mode == "additive"
     assert additive.predict(2, 1)[0] == pytest.approx(additive.additive(2, 1), abs=0)
     # The action-mode weights of rank 0 are the additive model's 1/m.
-    assert np.allclose(action_weights(np.zeros(0), np.zeros((4, 0)), 0.3), 1 / 3)
+    assert np.allclose(action_weights(np.zeros((4, 0)), 0.3), 1 / 3)
+
+
+def test_the_batched_action_grid_is_every_single_fit():
+    rng = np.random.default_rng(1)
+    for m in (1, 2, 4):
+        vectors, _ = np.linalg.qr(rng.normal(size=(m + 1, m)))
+        grid = action_weight_grid(vectors)
+        for rank in range(1, m + 1):
+            for i, alpha in enumerate(ALPHAS):
+                assert np.allclose(grid[rank - 1, i], action_weights(vectors[:, :rank], alpha),
+                                   atol=1e-12)
 
 
 def test_noise_without_interaction_keeps_the_additive_model():
@@ -87,3 +98,18 @@ def test_a_people_mode_interaction_is_found_by_the_signature_mode():
     prediction, chosen = model.predict(4, 2)
     assert chosen.mode == "people" and chosen.rank >= 2
     assert np.sqrt(np.mean((prediction - data[4, 2]) ** 2)) < 1e-6 * np.abs(data).max()
+
+
+def test_with_too_few_donors_evaluate_says_the_model_is_the_additive_one():
+    """Three people leave two donors per held-out person: every synthesised cell is the
+    additive model's, and the paired comparison reports ties only."""
+    from synthesis.evaluate import leave_one_out
+    from tests.synthesis.test_model import multilinear_corpus
+
+    corpus = multilinear_corpus(people=3)
+    result = leave_one_out(corpus).to_json()
+    assert result["method"] == "interaction" and len(result["cells"]) == 12
+    for cell in result["cells"]:
+        assert cell["synthesis_rms_deg"] == pytest.approx(cell["additive_rms_deg"], abs=1e-9)
+    assert result["versus_additive"] == {"wins": 0, "losses": 0, "ties": 12,
+                                         "median_difference_deg": pytest.approx(0, abs=1e-9)}
