@@ -5,9 +5,11 @@ Runs ``mocap decompose`` and ``mocap evaluate --leave-one-out`` on
 process each, so imports count), and reports wall and CPU seconds of each, beside the same
 commands with ``--body`` (every trial mapped onto the 15-segment body model, the older
 route; with a BVH reader that cannot map the rig this fails — printed, not raised).
-CPU seconds are the ones to compare on a shared machine. Never asserts.
+CPU seconds are the ones to compare on a shared machine. Then the same two commands with
+every ``--method`` (interaction = the default, signature, transfer = the previous default),
+with each one's CPU time as a ratio of transfer's. Never asserts.
 
-    PYTHONPATH=$PWD python benchmarks/synthesis_corpus.py [--manifest FILE.csv]
+    PYTHONPATH=$PWD python benchmarks/synthesis_corpus.py [--manifest FILE.csv] [--no-body]
 """
 from __future__ import annotations
 
@@ -39,16 +41,31 @@ def run(arguments: list[str]) -> tuple[float, float, int, str]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--manifest", default=str(DEFAULT))
+    parser.add_argument("--no-body", action="store_true", help="skip the --body runs")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:
         model = str(Path(folder) / "model.npz")
-        for label, extra in (("rig joints (new)", []), ("body model (--body)", ["--body"])):
+        routes = [("rig joints (new)", [])] + ([] if args.no_body
+                                               else [("body model (--body)", ["--body"])])
+        for label, extra in routes:
             for command in (["decompose", "--manifest", args.manifest, "--cycles", "-o", model],
                             ["evaluate", "--manifest", args.manifest, "--cycles",
                              "--leave-one-out", "--json"]):
                 wall, cpu, status, last = run(command + extra)
                 note = "" if status == 0 else f"  exit {status}: {last}"
                 print(f"{label:<22} {command[0]:<10} wall {wall:7.2f} s  cpu {cpu:7.2f} s{note}")
+        print()
+        cpus: dict = {}
+        for method in ("transfer", "interaction", "signature"):
+            for command in (["decompose", "--manifest", args.manifest, "--cycles", "-o", model],
+                            ["evaluate", "--manifest", args.manifest, "--cycles",
+                             "--leave-one-out", "--json"]):
+                wall, cpu, status, last = run(command + ["--method", method])
+                cpus[(method, command[0])] = cpu
+                ratio = cpu / cpus[("transfer", command[0])]
+                note = "" if status == 0 else f"  exit {status}: {last}"
+                print(f"--method {method:<12} {command[0]:<10} wall {wall:7.2f} s  cpu "
+                      f"{cpu:7.2f} s  ({ratio:.2f}x transfer's cpu){note}")
 
 
 if __name__ == "__main__":

@@ -232,6 +232,9 @@ class MotionCorpus:
     rig : dict, optional
         Skeleton to write synthesised motions on: ``names``, ``parents``, ``offsets``
         (metres), ``joints`` (feature joints), ``on_body`` (mapped onto the body model).
+    trial_cycles : dict of str to int
+        Skeleton corpora read with cycles: trial path → complete cycles found (0: none, the
+        trial was time-normalised whole).
     """
 
     people: list[str]
@@ -254,6 +257,7 @@ class MotionCorpus:
     phases: np.ndarray | None = None
     takes: dict = field(default_factory=dict)
     rig: dict | None = None
+    trial_cycles: dict = field(default_factory=dict)
 
     #: Per-cell arrays (first two axes people × actions) and their "missing" value.
     _CELL_ARRAYS = (("angles", np.nan), ("durations", np.nan), ("cycle_counts", 0),

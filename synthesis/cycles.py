@@ -7,7 +7,7 @@ One trial's angle curves (frames, columns) become one gait cycle of ``samples`` 
   interpolation, over the samples where it is defined (NaN where markers were missing); gaps
   are bridged by linear interpolation of the unwrapped angle (:func:`interpolate_missing`).
 * **One cycle per trial** (default): the whole trial is the cycle; it is resampled linearly to
-  ``samples`` instants spanning its first to its last frame (:func:`resample`), and the cycle's
+  ``samples`` instants spanning its first to its last frame (:func:`mocap.clean.resample.resample`), and the cycle's
   duration is the trial's duration (last time − first time).
 * **Cycle detection** (``cycles=True``, :func:`detect_cycles`): the cycles are cut at the
   maxima of one reference angle, by default the angle that moves most over the corpus (usually
@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mocap.clean.resample import resample
 from mocap.rotations.angles import unwrap_columns
 from mocap.errors import MocapError, MocapWarning
 from synthesis.rotations import yaw_matrices
@@ -68,34 +69,6 @@ def interpolate_missing(times: np.ndarray, values: np.ndarray,
                              "(its markers are missing); fill the gaps or drop the trial", source)
         values[~rows, column] = np.interp(times[~rows], times[rows], values[rows, column])
     return values
-
-
-def resample(times: np.ndarray, values: np.ndarray, start: float, end: float,
-             samples: int) -> np.ndarray:
-    """Linear interpolation of every column at ``samples`` instants from ``start`` to ``end``.
-
-    The one resampling of curves: trial → cycle here, and a model's cycle to another sample
-    count (:meth:`synthesis.model.MotionModel.synthesize`).
-
-    Parameters
-    ----------
-    times : ndarray, shape (frames,), seconds, increasing
-    values : ndarray, shape (frames, columns), without NaN
-    start, end : float
-        Seconds; both instants are included.
-    samples : int
-
-    Returns
-    -------
-    ndarray, shape (samples, columns)
-    """
-    instants = np.linspace(start, end, samples)
-    # Vectorised over columns: locate each instant once, then blend its two neighbours.
-    right = np.clip(np.searchsorted(times, instants, side="right"), 1, len(times) - 1)
-    left = right - 1
-    span = times[right] - times[left]
-    weight = np.clip((instants - times[left]) / np.where(span > 0, span, 1.0), 0.0, 1.0)
-    return values[left] * (1.0 - weight)[:, None] + values[right] * weight[:, None]
 
 
 def centre_branch(curves: np.ndarray) -> np.ndarray:

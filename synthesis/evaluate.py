@@ -46,6 +46,41 @@ def rotation_errors(corpus: MotionCorpus, first: np.ndarray, second: np.ndarray)
     return np.degrees((a.inv() * b).magnitude()).reshape(samples, -1)
 
 
+def paired_comparison(cells) -> dict:
+    """Cell-by-cell comparison of the synthesis with the additive model.
+
+    Parameters
+    ----------
+    cells : list of CellResult
+
+    Returns
+    -------
+    dict
+        ``wins`` / ``losses`` / ``ties``: cells whose synthesis error is below / above / within
+        0.005° of the additive model's; ``median_difference_deg``: median of (synthesis −
+        additive) RMS error over the cells, degrees (negative: the model earned its complexity).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as Cell
+    >>> paired_comparison([Cell(synthesis_rms=1.0, additive_rms=2.0),
+    ...                    Cell(synthesis_rms=3.0, additive_rms=2.5),
+    ...                    Cell(synthesis_rms=2.0, additive_rms=2.0)])
+    {'wins': 1, 'losses': 1, 'ties': 1, 'median_difference_deg': 0.0}
+    """
+    differences = np.array([c.synthesis_rms - c.additive_rms for c in cells], dtype=float)
+    differences = differences[np.isfinite(differences)]
+    return {"wins": int(np.sum(differences < -TIE_DEG)),
+            "losses": int(np.sum(differences > TIE_DEG)),
+            "ties": int(np.sum(np.abs(differences) <= TIE_DEG)),
+            "median_difference_deg": float(np.median(differences)) if differences.size
+            else float("nan")}
+
+
+#: Cells whose synthesis and additive errors differ by at most this much are ties, degrees.
+TIE_DEG = 0.005
+
+
 def _rms(values) -> float:
     values = np.asarray(values, dtype=float)
     return float(np.sqrt(np.mean(values ** 2))) if values.size else float("nan")
@@ -69,6 +104,9 @@ class CellResult:
     take_spread_rms : float
         RMS angle between each take of the cell and the mean of its other takes (NaN with one
         take): the floor no model can beat.
+    recognised_rank : int
+        How many people were nearer the held-out capture than the right one (0 = recognised;
+        below 3 = in the top 3).
     captured, synthesised, baseline : ndarray, shape (samples, columns)
     """
 
@@ -84,6 +122,7 @@ class CellResult:
     baseline: np.ndarray = field(repr=False, default=None)
     additive_rms: float = float("nan")
     take_spread_rms: float = float("nan")
+    recognised_rank: int = 0
 
 
 @dataclass
@@ -101,6 +140,8 @@ class Evaluation:
     hold_out : str
         ``"cell"`` (score against the cell's mean capture) or ``"take"`` (against each take
         the model did not see).
+    whole_trials : list of (person, action, path)
+        Trials in which cycle detection found no complete cycle (time-normalised whole).
     """
 
     cells: list
@@ -108,6 +149,7 @@ class Evaluation:
     columns: list
     method: str = "signature"
     hold_out: str = "cell"
+    whole_trials: list = field(default_factory=list)
 
     def _overall(self, cells) -> dict:
         synthesis = _rms([c.synthesis_rms for c in cells])
@@ -121,6 +163,8 @@ class Evaluation:
                 else float("inf"),
                 "recognition_accuracy": float(np.mean([c.recognised == c.person
                                                        for c in cells])),
+                "recognition_top3": float(np.mean([c.recognised_rank < 3 for c in cells])),
+                "versus_additive": paired_comparison(cells),
                 "take_spread_rms_deg": _rms(spreads) if spreads else float("nan")}
 
     @property
@@ -164,6 +208,8 @@ class Evaluation:
                        "duration_s": c.duration, "predicted_duration_s": c.predicted_duration,
                        "recognised": c.recognised} for c in self.cells],
             "skipped": [{"person": p, "action": a, "reason": r} for p, a, r in self.skipped],
+            "trials_without_cycle": [{"person": p, "action": a, "path": t}
+                                     for p, a, t in self.whole_trials],
             "actions": self.by_action(),
         }
         result.update(self._overall(self.cells))
@@ -193,13 +239,24 @@ class Evaluation:
             f"{self.baseline_rms:.2f}° ({times} lower), additive (mean + the person's offset) "
             f"{self.additive_rms:.2f}°",
         ]
+        if self.whole_trials:
+            actions = sorted({a for _, a, _ in self.whole_trials})
+            counts = ", ".join(f"{a} {sum(t[1] == a for t in self.whole_trials)}"
+                               for a in actions)
+            lines.append(f"no complete cycle found (time-normalised whole) in "
+                         f"{len(self.whole_trials)} trial(s): {counts} (each named in --json)")
         if np.isfinite(overall["take_spread_rms_deg"]):
             lines.append(f"take-to-take spread of the captures: "
                          f"{overall['take_spread_rms_deg']:.2f}° (the floor)")
+        paired = overall["versus_additive"]
         lines += [
+            f"against the additive model: {paired['wins']} cells better, {paired['losses']} "
+            f"worse, {paired['ties']} equal; median difference "
+            f"{paired['median_difference_deg']:+.2f}°",
             f"cycle duration RMS error: {self.duration_rms * 1000:.0f} ms",
             f"person recognition: {sum(c.recognised == c.person for c in self.cells)}/"
-            f"{len(self.cells)} = {100 * self.recognition_accuracy:.0f} %",
+            f"{len(self.cells)} = {100 * self.recognition_accuracy:.0f} % "
+            f"(top 3: {100 * overall['recognition_top3']:.0f} %)",
         ]
         return "\n".join(lines)
 
@@ -290,7 +347,9 @@ def leave_one_out(corpus: MotionCorpus, progress: Callable[[Iterable, str], Iter
                 synthesis=rotation_errors(corpus, curve, captured),
                 baseline=rotation_errors(corpus, baseline, captured),
                 additive=rotation_errors(corpus, additive, captured),
-                duration=duration, recognised=recognition.person, captured=captured,
+                duration=duration, recognised=recognition.person,
+                rank=sum(d < recognition.distances[person]
+                         for d in recognition.distances.values()), captured=captured,
                 curve=curve, base=baseline))
     cells = []
     for (person, action), runs in scores.items():
@@ -304,6 +363,7 @@ def leave_one_out(corpus: MotionCorpus, progress: Callable[[Iterable, str], Iter
             duration=float(corpus.durations[p, a]),
             predicted_duration=float(np.mean([r["duration"] for r in runs])),
             recognised=max(recognised, key=recognised.count),      # majority over takes
+            recognised_rank=int(np.median([r["rank"] for r in runs])),
             take_spread_rms=_take_spread(corpus, (person, action)),
             captured=runs[0]["captured"], synthesised=runs[0]["curve"],
             baseline=runs[0]["base"]))
@@ -311,4 +371,7 @@ def leave_one_out(corpus: MotionCorpus, progress: Callable[[Iterable, str], Iter
     if not cells:
         raise MocapError("no cell could be evaluated: leave-one-out needs people with at least "
                          "two actions and at least 3 people who performed every action")
-    return Evaluation(cells, skipped, list(corpus.columns), method, hold_out)
+    cell_of = {path: key for key, paths in corpus.sources.items() for path in paths}
+    whole = sorted(cell_of[path] + (path,) for path, count in corpus.trial_cycles.items()
+                   if count == 0 and path in cell_of)
+    return Evaluation(cells, skipped, list(corpus.columns), method, hold_out, whole)

@@ -20,7 +20,7 @@ timing).
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Iterable
 
@@ -51,24 +51,72 @@ def same_skeleton(motions: list) -> bool:
 
 @dataclass
 class RigSignals:
-    """What the whole corpus shares for cutting cycles: the feet, the walking axis, a leg."""
+    """What the whole corpus shares for cutting cycles: the feet, the walking axis, a leg.
+
+    ``axes`` holds the axes of actions whose feet do not swing along the walking axis
+    (sidesteps: across it), found by :func:`cut_action`; a new trial without a cycle along the
+    walking axis is tried along them.
+    """
 
     feet: tuple
     axis: np.ndarray
     leg_length: float
+    axes: dict = field(default_factory=dict)
+
+    def separation(self, frames) -> np.ndarray:
+        """Horizontal foot separation of one trial in its heading frame, (frames, 2) metres."""
+        return leg_separation(frames.positions, frames.heading, self.feet)
 
     def signal(self, frames) -> np.ndarray:
         """Leg signal of one trial (:class:`synthesis.rotations.SkeletonFrames`), metres."""
-        return leg_separation(frames.positions, frames.heading, self.feet) @ self.axis
+        return self.separation(frames) @ self.axis
 
     def to_json(self) -> dict:
         return {"feet": [int(f) for f in self.feet], "axis": [float(v) for v in self.axis],
-                "leg_length": float(self.leg_length)}
+                "leg_length": float(self.leg_length),
+                "axes": {a: [float(v) for v in axis] for a, axis in self.axes.items()}}
 
     @classmethod
     def from_json(cls, value: dict) -> "RigSignals":
         return cls(tuple(value["feet"]), np.asarray(value["axis"], float),
-                   float(value["leg_length"]))
+                   float(value["leg_length"]),
+                   {a: np.asarray(v, float) for a, v in (value.get("axes") or {}).items()})
+
+
+def cut_action(times: list, separations: list, axis: np.ndarray, leg_length: float
+               ) -> tuple[list, np.ndarray | None]:
+    """Cycles of one action's trials along the walking axis or, failing that, its own axis.
+
+    Walking backwards swings the feet along the walking axis like walking forwards, but a
+    sidestep swings them across it: when most trials show no complete cycle along ``axis``,
+    the action's own swing axis (:func:`synthesis.cycles.walking_axis` of its trials) is tried.
+
+    Parameters
+    ----------
+    times : list of ndarray, shape (frames,), seconds
+    separations : list of ndarray, shape (frames, 2), metres
+        Foot separation of each trial in its heading frame.
+    axis : ndarray, shape (2,)
+        The corpus' walking axis.
+    leg_length : float, metres
+
+    Returns
+    -------
+    events : list of ndarray, shape (cycles, 3)
+        ``[start, middle, end]`` seconds per trial (maybe empty).
+    own_axis : ndarray, shape (2,), or None
+        The action's own axis when it was used.
+    """
+    events = [leg_cycles(t, s @ axis, leg_length) for t, s in zip(times, separations)]
+    if 2 * sum(len(e) > 0 for e in events) >= len(events):
+        return events, None
+    own = walking_axis(separations)
+    if abs(float(own @ axis)) > 0.9:              # the same axis: nothing new to try
+        return events, None
+    again = [leg_cycles(t, s @ own, leg_length) for t, s in zip(times, separations)]
+    if sum(len(e) > 0 for e in again) > sum(len(e) > 0 for e in events):
+        return again, own
+    return events, None
 
 
 def rig_signals(frames: list, parents: list[int]) -> RigSignals:
@@ -180,9 +228,18 @@ def read_skeleton_corpus(entries: list, samples: int, cycles: bool, body: bool =
                           "time-normalised whole", CycleWarning, stacklevel=2)
     events: list = [None] * len(entries)
     if signals is not None:
-        events = [trial_events(t, signals.signal(f), signals) for t, f in zip(times, frames)]
+        separations = [signals.separation(f) for f in frames]
         for action in sorted({e.action for e in entries}):
             mine = [k for k, e in enumerate(entries) if e.action == action]
+            found, own = cut_action([times[k] for k in mine], [separations[k] for k in mine],
+                                    signals.axis, signals.leg_length)
+            for k, cut in zip(mine, found):
+                events[k] = cut
+            if own is not None:
+                signals.axes[action] = own
+                warnings.warn(f"action {action!r}: the feet swing across the walking direction "
+                              "(a sidestep?); its cycles are cut along its own axis",
+                              CycleWarning, stacklevel=2)
             with_cycles = [k for k in mine if len(events[k])]
             if 2 * len(with_cycles) < len(mine):
                 warnings.warn(f"action {action!r} is not cyclic (no complete gait cycle in "
@@ -234,7 +291,8 @@ def read_skeleton_corpus(entries: list, samples: int, cycles: bool, body: bool =
         angles=angles, durations=durations, cycle_counts=counts, cycles=cycles,
         cycle_column="leg signal" if cycles else None, sources=sources,
         representation="rotvec", rotation_means=means, root=root, phases=phases, takes=takes,
-        rig=rig)
+        rig=rig, trial_cycles={} if signals is None else
+        {str(e.path): 0 if events[k] is None else len(events[k]) for k, e in enumerate(entries)})
 
 
 def trial_cycle(motion, rig: dict, means: np.ndarray, samples: int, cycles: bool,
@@ -273,7 +331,11 @@ def trial_cycle(motion, rig: dict, means: np.ndarray, samples: int, cycles: bool
     events = None
     if cycles and rig.get("signals"):
         signals = RigSignals.from_json(rig["signals"])
-        events = trial_events(times, signals.signal(frames), signals)
+        separation = signals.separation(frames)
+        events = trial_events(times, separation @ signals.axis, signals)
+        for axis in signals.axes.values():      # actions cut along their own axis
+            if len(events) == 0:
+                events = trial_events(times, separation @ axis, signals)
         if len(events) == 0:
             warnings.warn(f"{source or 'trial'}: no complete cycle (fewer than two repetitions "
                           "of the movement); the trial is used whole", CycleWarning,

@@ -51,6 +51,7 @@ from mocap.synthetic.people import make_people
 from mocap.view import view_files
 from synthesis.corpus import CorpusEntry, corpus_from_angles
 from synthesis.model import MotionModel
+from synthesis.model_file import save_model
 from synthesis.regression import TOO_FEW_CELLS, can_fit
 from synthesis.plot import synthesis_figure
 
@@ -224,7 +225,7 @@ def _run(out: Path, final: Path, data: str | None, chosen, people: int, seed: in
         training = replace(training, sources={key: [shown(path) for path in paths]
                                               for key, paths in training.sources.items()})
         model = MotionModel().fit(training)
-        model.save(out / "model.npz")
+        save_model(model, out / "model.npz")
 
     with steps(f"synthesising {person}'s {ACTION} from their other actions"), \
             progress_bar(3, "synthesis") as bar:

@@ -27,6 +27,7 @@ from mocap.progress import progress
 from synthesis.corpus import load_corpus
 from synthesis.evaluate import leave_one_out
 from synthesis.model import MotionModel
+from synthesis.model_file import load_model, read_trial_curve, save_model
 from synthesis.plot import plot_evaluation
 from synthesis.rotations import feature_joints
 
@@ -120,11 +121,14 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--ridge", type=_ridge, default="auto", metavar="ALPHA",
                         help="relative ridge of signature fits, or 'auto' to choose it by "
                              "leave-one-out (default)")
-    parser.add_argument("--method", choices=("auto", "signature", "transfer"), default="auto",
-                        help="synthesis of a missing cell: N-mode SVD signature, action "
-                             "transfer (the person's other actions through a map learned "
-                             "across people), or auto (transfer for skeleton corpora, "
-                             "signature for joint-angle corpora; default)")
+    parser.add_argument("--method", choices=("auto", "interaction", "signature", "transfer"),
+                        default="auto",
+                        help="synthesis of a missing cell: interaction (the additive model, "
+                             "action mean + the person's offset, corrected by the N-mode SVD "
+                             "of the person x action interaction, mode, rank and ridge chosen "
+                             "by leave-one-out; rank 0 is the additive model), signature (the "
+                             "same with the people mode only), transfer (the older action "
+                             "transfer), or auto (= interaction; default)")
 
 
 def _load_corpus(args: argparse.Namespace):
@@ -180,7 +184,7 @@ def decompose(args: argparse.Namespace) -> int:
     _check_output(args.output)
     corpus = _load_corpus(args)
     model = MotionModel(**_model_options(args)).fit(corpus)
-    model.save(args.output)
+    save_model(model, args.output)
     summary = model.summary()
     if args.json:
         _print_json(summary)
@@ -200,6 +204,12 @@ def decompose(args: argparse.Namespace) -> int:
     if summary["method"] == "transfer":
         print("  missing cells are synthesised by action transfer (the person's other actions "
               "through a map learned across people); blends and new people by signatures")
+    for action, chosen in summary.get("interaction", {}).items():
+        gain = "the additive model (no interaction earned its place)" if not chosen["rank"] \
+            else (f"{chosen['mode']} mode, rank {chosen['rank']}: leave-one-out "
+                  f"{chosen['loo_rms']:.2f} against the additive model's "
+                  f"{chosen['additive_loo_rms']:.2f}")
+        print(f"  {action} from the other actions: {gain}")
     loo = summary["loo_rms_deg"]
     caveat = " (optimistic: imputed cells saw everyone; use 'mocap evaluate')" \
         if summary["imputed_people_rank"] else ""
@@ -234,7 +244,7 @@ def synthesize(args: argparse.Namespace) -> int:
                          "--from TRIAL for a new person")
     if args.to is not None and args.person is None:
         raise MocapError("--to blends two known people: give --person too")
-    model = MotionModel.load(args.model)
+    model = load_model(args.model)
     model.action_index(args.action)
     if args.person is not None:
         if args.to is not None:
@@ -249,7 +259,7 @@ def synthesize(args: argparse.Namespace) -> int:
             raise MocapError("more --from-action than --from trials")
         observations = []
         for k, path in enumerate(args.trials):
-            curve, duration = model.read_trial(path)
+            curve, duration = read_trial_curve(model, path)
             action = _trial_action(model, path, curve, duration,
                                    actions[k] if k < len(actions) else None)
             observations.append((action, curve, duration))
@@ -314,8 +324,8 @@ def _write_rig_cycle(model, args: argparse.Namespace, signature, who: str, suffi
 def recognize(args: argparse.Namespace) -> int:
     """``mocap recognize``: most likely person (and action) of a trial."""
 
-    model = MotionModel.load(args.model)
-    curve, duration = model.read_trial(args.trial)
+    model = load_model(args.model)
+    curve, duration = read_trial_curve(model, args.trial)
     result = model.recognize(curve, args.action)
     limit = args.max_distance if args.max_distance is not None else \
         UNKNOWN_FACTOR * person_spacing(model, result.action)
@@ -353,7 +363,7 @@ def person_spacing(model, action: str) -> float:
             cycle = model.synthesize_angles(person, action)
         except MocapError:
             continue
-        row = model.distances(cycle.values.reshape(cycle.frames, -1))[:, a]
+        row = model.distances(cycle.values.reshape(cycle.frames, -1), [a])[:, a]
         row[model.people.index(person)] = np.nan
         if np.isfinite(row).any():
             nearest.append(float(np.nanmin(row)))

@@ -122,8 +122,20 @@ def test_evaluate_leave_one_out_with_plot(capsys, tmp_path, corpus):
     assert result["synthesis_rms_deg"] < 0.5 and result["recognition_accuracy"] == 1.0
     assert result["baseline_rms_deg"] > result["synthesis_rms_deg"]
     assert (tmp_path / "loo.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # The paired comparison with the additive model, overall and per action: on an exactly
+    # multilinear corpus every cell is won, by the additive model's whole error.
+    differences = [c["synthesis_rms_deg"] - c["additive_rms_deg"] for c in result["cells"]]
+    assert result["versus_additive"] == {"wins": 20, "losses": 0, "ties": 0,
+                                         "median_difference_deg": float(np.median(differences))}
+    for action, figures in result["actions"].items():
+        mine = [d for c, d in zip(result["cells"], differences) if c["action"] == action]
+        assert figures["versus_additive"]["wins"] == len(mine) == 5
+        assert figures["versus_additive"]["median_difference_deg"] == \
+            pytest.approx(float(np.median(mine)))
+    assert result["recognition_top3"] == 1.0
     status, out, _ = run(capsys, "evaluate", folder, "--samples", 40, "--leave-one-out")
     assert "overall RMS joint-rotation error" in out and "person recognition: 20/20" in out
+    assert "against the additive model: 20 cells better, 0 worse" in out and "(top 3: 100 %)" in out
 
 
 @pytest.mark.parametrize("argv, message", [

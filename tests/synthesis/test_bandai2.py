@@ -14,6 +14,7 @@ from mocap.cli import main
 from mocap.skeleton import Motion
 from synthesis.corpus import load_corpus, read_manifest
 from synthesis.cycles import CycleWarning
+from synthesis.model_file import load_model
 from synthesis.evaluate import leave_one_out
 from synthesis.rotations import (features_to_rotations, geodesic_deg, rotation_features,
                                  skeleton_frames)
@@ -98,7 +99,15 @@ def test_locomotion_synthesis_beats_baseline_and_additive(evaluation):
     assert rms([c.baseline_rms for c in cells]) >= 1.5 * synthesis
     assert rms([c.additive_rms for c in cells]) > synthesis
     assert np.mean([c.recognised == c.person for c in cells]) >= 0.9
-    assert figures["method"] == "transfer"
+    assert figures["method"] == "interaction"
+    paired = figures["versus_additive"]
+    assert paired["wins"] > paired["losses"] and paired["median_difference_deg"] < 0
+    assert figures["recognition_top3"] >= figures["recognition_accuracy"] >= 0.9
+    # Cycle detection says per trial where it found no cycle: every wave and raise take.
+    whole = figures["trials_without_cycle"]
+    assert len(whole) == 42 and {t["action"] for t in whole} == {"wave-both-hands",
+                                                                 "raise-up-both-hands"}
+    assert all(t["action"] in t["path"] and t["person"] in t["path"] for t in whole)
     # Overall too, and never below the take-to-take spread of the captures.
     assert figures["baseline_rms_deg"] > figures["additive_rms_deg"] > figures["synthesis_rms_deg"]
     assert figures["synthesis_rms_deg"] > figures["take_spread_rms_deg"] > 0
@@ -106,9 +115,11 @@ def test_locomotion_synthesis_beats_baseline_and_additive(evaluation):
 
 def test_hold_out_take_scores_unseen_takes(corpus):
     small = corpus.subset(actions=["walk", "run", "wave-both-hands"])
-    result = leave_one_out(small, hold_out="take").to_json()
+    # Action transfer: on these three actions the default model loses to the additive one
+    # (waves from walks and runs; docs/synthesis.md), which is not what is tested here.
+    result = leave_one_out(small, hold_out="take", method="transfer").to_json()
     assert result["hold_out"] == "take" and len(result["cells"]) == 21
-    cell = leave_one_out(small).to_json()
+    cell = leave_one_out(small, method="transfer").to_json()
     # A single take is further from any prediction than the mean of three takes.
     assert result["synthesis_rms_deg"] > cell["synthesis_rms_deg"]
     assert result["baseline_rms_deg"] > result["synthesis_rms_deg"]
@@ -144,8 +155,8 @@ def test_synthesised_cycle_goes_back_onto_the_rig(manifest, tmp_path, capsys):
                  "--actions", "walk,run,walk-turn-left", "-o", str(model_path)]) == 0
     assert main(["synthesize", str(model_path), "--person", "elderly", "--action", "run",
                  "--cycles", "2", "-o", str(tmp_path / "run.bvh")]) == 0
-    model = MotionModel.load(model_path)
-    assert model.method_ == "transfer" and model.representation == "rotvec"
+    model = load_model(model_path)
+    assert model.method_ == "interaction" and model.representation == "rotvec"
     motion = read_bvh(tmp_path / "run.bvh")
     assert motion.names == model.rig["names"] and motion.frames == 2 * 39 + 1
     curve, duration = model.synthesize("elderly", "run")

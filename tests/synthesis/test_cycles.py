@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 
 from mocap.errors import MocapError
-from synthesis.cycles import detect_cycles, normalise_cycles, resample
+from mocap.clean.resample import resample
+from synthesis.cycles import detect_cycles, normalise_cycles
 
 
 def test_resample_is_exact_for_linear_signals():
@@ -50,3 +51,36 @@ def test_cycle_detection_without_repetition_is_a_clear_error():
     times = np.arange(100) / 100.0
     with pytest.raises(MocapError, match="no complete cycle"):
         normalise_cycles(times, np.column_stack([times ** 2]), cycles=True)
+
+
+def _separations(period, seconds=4.0, rate=30.0, across=False, backwards=False):
+    """Foot separation (X across, Z along the walking direction) of a gait, metres."""
+    times = np.arange(0.0, seconds, 1.0 / rate)
+    swing = 0.3 * np.sin(2 * np.pi * times / period) * (-1 if backwards else 1)
+    steady = 0.2 + 0.01 * np.cos(2 * np.pi * times / period)
+    along = np.column_stack([steady, swing])
+    return times, (along[:, ::-1] if across else along)
+
+
+def test_sidesteps_are_cut_along_their_own_axis_and_walks_along_the_walking_axis():
+    from synthesis.skeletons import cut_action
+    axis = np.array([0.0, 1.0])                      # the corpus' walking axis (Z)
+    times, sidestep = _separations(1.2, across=True)
+    events, own = cut_action([times, times], [sidestep, sidestep * 1.1], axis, 0.9)
+    assert own is not None and abs(own[0]) > 0.99    # across the walking direction
+    for cycles in events:
+        assert len(cycles) >= 2
+        assert np.allclose(cycles[:, 2] - cycles[:, 0], 1.2, atol=0.02)
+    for backwards in (False, True):                  # walking backwards: the walking axis
+        times, walk = _separations(1.1, backwards=backwards)
+        events, own = cut_action([times], [walk], axis, 0.9)
+        assert own is None and np.allclose(events[0][:, 2] - events[0][:, 0], 1.1, atol=0.02)
+
+
+def test_a_run_at_30_hz_is_cut_into_its_short_cycles():
+    """0.7 s run cycles are 21 frames at 30 Hz: every complete one is found, to the frame."""
+    from synthesis.skeletons import cut_action
+    times, run = _separations(0.7, seconds=3.0)
+    events, own = cut_action([times], [run], np.array([0.0, 1.0]), 0.9)
+    assert own is None and len(events[0]) >= 3
+    assert np.allclose(events[0][:, 2] - events[0][:, 0], 0.7, atol=1 / 30)

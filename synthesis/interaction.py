@@ -1,0 +1,398 @@
+"""``InteractionModel``: the additive model plus the N-mode SVD of what it leaves.
+
+Data: people × actions × features, NaN where a cell is missing. The **additive model** is the
+main effects: a missing cell ``(p, b)`` is
+
+    d̂_{p,b} = m_b + ᾱ_p,      ᾱ_p = mean_{a∈O} (d_{p,a} − m_a),
+
+with ``m_a`` the mean of action ``a`` over the other people and ``O`` the person's other
+observed actions. What it leaves, the person × action **interaction**, is decomposed with the
+N-mode SVD and used to correct it. For a target action ``b`` the *donors* are the other people
+who have ``b`` and all of ``O``; their offsets ``x_{q,a} = d_{q,a} − m_a`` (means without the
+donor and the predicted person, so the donors' offsets are formed exactly as the predicted
+person's) minus each donor's own mean offset over ``O ∪ {b}`` form the interaction tensor
+``E`` (donors × actions × features). Two ways to use it, one per mode of ``E``:
+
+* ``mode="actions"`` (the person basis, Vasilescu's ``C_p``): the action-mode matrix ``V``
+  (leading ``r`` left singular vectors of ``E_(2)``, orthogonal to the all-ones vector) spans
+  how a person's actions differ from one another. The person's offset and basis are fitted
+  to their observed actions, per feature,
+
+      min_{α, C} Σ_{a∈O} ‖x_{p,a} − α − C v_a‖² + λ ‖C‖²,     d̂_{p,b} = m_b + α + C v_b,
+
+  which is a fixed weighting of the observed offsets, ``d̂ = m_b + Σ_a w_a x_{p,a}``.
+* ``mode="people"`` (the signature): bases ``B_a = U_Pᵀ E_a`` from the leading ``r``
+  people-mode singular vectors ``U_P``; the person's offset and signature ``s`` are fitted
+
+      min_{α, s} Σ_{a∈O} ‖x_{p,a} − α − B_aᵀ s‖² + λ ‖s‖²,       d̂_{p,b} = m_b + α + B_bᵀ s.
+
+In both, **rank 0 is the additive model exactly** (``α = ᾱ_p``), and the rank ``r`` and the
+ridge ``λ`` are chosen by leave-one-donor-out *inside the training donors*: each donor is
+predicted from a decomposition of the others, and the (rank, ridge) with the lowest total
+squared error is kept, rank 0 included — so the model departs from the additive one only as
+far as held-out donors reward it. ``mode="both"`` lets the same leave-one-donor-out choose the
+mode as well. The leave-one-donor-out residuals of the chosen configuration also give each
+feature's prediction variance (used to weight recognition distances).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mocap.errors import MocapError
+
+#: Ridge strengths tried by leave-one-donor-out (``λ = α · unit``; see each mode).
+ALPHAS = (0.0, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0)
+#: Donors needed before the interaction is decomposed (fewer: the additive model); 3 rather
+#: than 4 on the design split (four-style bandai2 corpora: 0.68 against 1.00 of the additive
+#: error; docs/synthesis.md).
+MIN_DONORS = 3
+#: Largest people rank tried (every leave-one-out fold must reach it).
+MAX_PEOPLE_RANK = 12
+#: Relative leave-one-donor-out gain over the additive model a non-zero rank must show to be
+#: chosen (taken on the design split: bandai2 styles active/elderly/exhausted/feminine; see
+#: docs/synthesis.md).
+MARGIN = 0.05
+#: Also require the chosen configuration to beat the additive model on most donors.
+MAJORITY = True
+#: Modes of the interaction tensor a model may use.
+MODES = ("actions", "people", "both")
+
+
+@dataclass
+class Interaction:
+    """The configuration chosen for one (target action, observed actions, person) triple.
+
+    Attributes
+    ----------
+    mode : str
+        ``"actions"``, ``"people"`` or ``"additive"`` (rank 0).
+    rank : int
+        Rank of the interaction kept (0 = additive model).
+    alpha : float
+        Relative ridge.
+    loo_rms, additive_loo_rms : float
+        Leave-one-donor-out RMS error (feature units) of the chosen configuration and of the
+        additive model.
+    variance : ndarray, shape (features,)
+        Leave-one-donor-out mean squared error of each feature, chosen configuration.
+    """
+
+    mode: str
+    rank: int
+    alpha: float
+    loo_rms: float
+    additive_loo_rms: float
+    variance: np.ndarray
+
+
+def action_weights(vectors: np.ndarray, alpha: float) -> np.ndarray:
+    """Weights ``w`` of the observed offsets in the action-mode prediction ``Σ_a w_a x_a``.
+
+    Parameters
+    ----------
+    vectors : ndarray, shape (..., m + 1, r)
+        Action-mode singular vectors; rows 0..m−1 the observed actions, row m the target.
+    alpha : float
+        Ridge on the person basis ``C`` (dimensionless: ``V`` is orthonormal).
+
+    Returns
+    -------
+    ndarray, shape (..., m)
+        With r = 0, ``1/m`` each (the additive model).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> action_weights(np.zeros((3, 0)), 0.0).tolist()
+    [0.5, 0.5]
+    """
+    m = vectors.shape[-2] - 1
+    rank = vectors.shape[-1]
+    ones = np.ones(vectors.shape[:-2] + (m, 1))
+    design = np.concatenate([ones, vectors[..., :m, :]], axis=-1)            # (..., m, 1+r)
+    row = np.concatenate([np.ones(vectors.shape[:-2] + (1,)), vectors[..., m, :]], axis=-1)
+    penalty = np.diag(np.r_[0.0, np.full(rank, alpha)])
+    system = np.einsum("...ki,...kj->...ij", design, design) + penalty      # (..., 1+r, 1+r)
+    inverse = np.linalg.pinv(system, rcond=1e-10, hermitian=True)
+    return np.einsum("...ki,...ij,...j->...k", design, inverse, row)
+
+
+def action_weight_grid(vectors: np.ndarray) -> np.ndarray:
+    """:func:`action_weights` for every rank 1..m and every ridge of :data:`ALPHAS` at once.
+
+    Parameters
+    ----------
+    vectors : ndarray, shape (m + 1, m)
+        The m leading action-mode singular vectors (rows: observed actions, then the target).
+
+    Returns
+    -------
+    ndarray, shape (m, len(ALPHAS), m)
+        Entry ``[r − 1, i]``: the weights of rank r and ridge ``ALPHAS[i]``.
+    """
+    m = vectors.shape[1]
+    used = np.arange(m)[None, :] < np.arange(1, m + 1)[:, None]              # (R, m)
+    columns = np.concatenate([np.ones((m, 1), bool), used], axis=1)           # (R, 1+m)
+    design = np.concatenate([np.ones((m, 1)), vectors[:m]], axis=1)[None] * columns[:, None]
+    row = np.r_[1.0, vectors[m]][None] * columns                              # (R, 1+m)
+    # Unused components get a unit penalty and no column: their coefficient is 0.
+    penalty = np.where(columns[:, None], np.asarray(ALPHAS)[None, :, None], 1.0)
+    penalty[..., 0] = 0.0                                                     # α is free
+    system = np.einsum("rki,rkj->rij", design, design)[:, None] + \
+        penalty[..., None] * np.eye(m + 1)                                    # (R, A, 1+m, 1+m)
+    inverse = np.linalg.pinv(system, rcond=1e-10, hermitian=True)
+    return np.einsum("rki,raij,rj->rak", design, inverse, row)
+
+
+@dataclass
+class InteractionModel:
+    """Additive main effects + N-mode SVD of the interaction residual (see module notes).
+
+    Parameters
+    ----------
+    mode : {"actions", "people", "both"}
+        Mode of the interaction tensor used to correct the additive model.
+    margin : float
+        Relative leave-one-donor-out gain a configuration other than the additive model must
+        show to be chosen (0: the lowest error wins).
+    max_rank : int, optional
+        0 forces the additive model (rank 0); None lets leave-one-donor-out choose.
+
+    Attributes
+    ----------
+    data_ : ndarray, shape (people, actions, features)
+    observed_ : ndarray, shape (people, actions), bool
+    """
+
+    mode: str = "actions"
+    margin: float = MARGIN
+    max_rank: int | None = None
+    data_: np.ndarray | None = field(default=None, repr=False)
+    observed_: np.ndarray | None = field(default=None, repr=False)
+    _cache: dict = field(default_factory=dict, repr=False)
+
+    def fit(self, data: np.ndarray) -> "InteractionModel":
+        """Remember the data; ranks and ridges are chosen per (target, observed set) on demand."""
+        if self.mode not in MODES:
+            raise MocapError(f"unknown interaction mode {self.mode!r}: "
+                             f"{', '.join(MODES)}")
+        data = np.asarray(data, dtype=float)
+        if data.ndim != 3:
+            raise MocapError("interaction data must be people × actions × features")
+        self.data_ = data
+        self.observed_ = np.isfinite(data).all(axis=2)
+        self._cache = {}
+        return self
+
+    # ------------------------------------------------------------------ main effects
+
+    def _means(self, *excluded: int | None) -> np.ndarray:
+        """Action means over the people not in ``excluded`` who have each action (NaN for an
+        action nobody else has), shape (actions, features)."""
+        keep = self.observed_.copy()
+        for person in excluded:
+            if person is not None:
+                keep[person] = False
+        counts = keep.sum(axis=0)
+        total = np.where(keep[..., None], self.data_, 0.0).sum(axis=0)
+        return total / np.where(counts > 0, counts, np.nan)[:, None]
+
+    def _observed_actions(self, person: int, target: int, means: np.ndarray) -> tuple:
+        return tuple(int(a) for a in np.flatnonzero(self.observed_[person])
+                     if a != target and np.isfinite(means[a]).all())
+
+    def additive(self, person: int, target: int) -> np.ndarray:
+        """The additive prediction ``m_b + mean_a (d_{p,a} − m_a)`` (shape (features,))."""
+        means = self._means(person)
+        observed = self._observed_actions(person, target, means)
+        if not observed:
+            return means[target]
+        return means[target] + np.mean([self.data_[person, a] - means[a] for a in observed],
+                                       axis=0)
+
+    # ------------------------------------------------------------------ the interaction
+
+    def _donors(self, target: int, observed: tuple, exclude: int | None
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Cells of the donors (Q, m + 1, F; observed actions, then the target), and the sums
+        (m + 1, F) and counts (m + 1,) of the means' pool (everyone but ``exclude``)."""
+        order = list(observed) + [target]
+        donors = [q for q in range(self.data_.shape[0]) if q != exclude
+                  and self.observed_[q, order].all()]
+        keep = self.observed_[:, order].copy()
+        if exclude is not None:
+            keep[exclude] = False
+        sums = np.where(keep[..., None], self.data_[:, order], 0.0).sum(axis=0)
+        return self.data_[donors][:, order], sums, keep.sum(axis=0).astype(float)
+
+    def _candidates(self, training: np.ndarray, x: np.ndarray, people_rank: int
+                    ) -> tuple[list, np.ndarray]:
+        """Every configuration's prediction of one person's target offset.
+
+        Parameters
+        ----------
+        training : ndarray, shape (Q, m + 1, F)
+            Offsets of the training donors (observed actions, then the target).
+        x : ndarray, shape (m, F)
+            Offsets of the predicted person's observed actions.
+        people_rank : int
+            Largest people rank tried.
+
+        Returns
+        -------
+        labels : list of (mode, rank, alpha); the first is the additive model
+        predictions : ndarray, shape (len(labels), F)
+        """
+        m = x.shape[0]
+        labels = [("additive", 0, float("inf"))]
+        blocks = [x.mean(axis=0)[None]]
+        if self.max_rank == 0:
+            return labels, blocks[0]
+        centred = training - training.mean(axis=1, keepdims=True)             # E (Q, m+1, F)
+        if self.mode in ("actions", "both"):
+            _, vectors = np.linalg.eigh(np.einsum("qaf,qbf->ab", centred, centred))
+            weights = action_weight_grid(vectors[:, ::-1][:, :m])              # (m, alphas, m)
+            labels += [("actions", rank + 1, alpha) for rank in range(m) for alpha in ALPHAS]
+            blocks.append((weights @ x).reshape(-1, x.shape[1]))
+        if self.mode in ("people", "both"):
+            # One observed action cannot tell an offset from a signature: there the people
+            # mode decomposes the offsets themselves (Vasilescu's uncentred signature).
+            people_labels, predictions = _people_candidates(
+                centred if m >= 2 else training, x, people_rank, free_offset=m >= 2)
+            labels += people_labels
+            blocks.append(predictions)
+        return labels, np.concatenate(blocks)
+
+    def interaction(self, target: int, observed: tuple, exclude: int | None = None
+                    ) -> Interaction:
+        """Rank and ridge for predicting ``target`` from ``observed`` (``exclude``: the person
+        predicted, never a donor), chosen by leave-one-donor-out: each donor ``k`` in turn is
+        predicted from the others, whose offsets are then formed without ``k`` in the means."""
+        key = (target, observed, exclude)
+        if key in self._cache:
+            return self._cache[key]
+        cells, sums, counts = self._donors(target, observed, exclude)
+        features = self.data_.shape[2]
+        donors = cells.shape[0]
+        if donors < MIN_DONORS or not observed:
+            result = Interaction("additive", 0, float("inf"), float("nan"), float("nan"),
+                                 np.full(features, np.nan))
+            self._cache[key] = result
+            return result
+        m = len(observed)
+        counts = counts[:, None]
+        labels, residuals, folds = None, [], []
+        for k in range(donors):
+            others = np.arange(donors) != k
+            offset = cells[k] - (sums - cells[k]) / (counts - 1)                # as the person's
+            training = cells[others] - (sums - cells[k] - cells[others]) / (counts - 2)
+            fold_labels, predictions = self._candidates(training, offset[:m], donors - 2)
+            labels = labels or fold_labels
+            residual = predictions - offset[m]                                   # (C, F)
+            residuals.append(residual)
+            folds.append(np.einsum("cf,cf->c", residual, residual) / features)
+        folds = np.asarray(folds)                                               # (Q, C)
+        errors = folds.mean(axis=0)
+        best = int(np.argmin(errors))
+        if errors[best] > (1.0 - self.margin) * errors[0] or \
+                MAJORITY and 2 * np.sum(folds[:, best] < folds[:, 0]) <= donors:
+            best = 0
+        mode, rank, alpha = labels[best]
+        variance = np.mean([residual[best] ** 2 for residual in residuals], axis=0)
+        result = Interaction(mode, rank, alpha, float(np.sqrt(errors[best])),
+                             float(np.sqrt(errors[0])), variance)
+        self._cache[key] = result
+        return result
+
+    def predict(self, person: int, target: int, chosen: Interaction | None = None
+                ) -> tuple[np.ndarray, Interaction | None]:
+        """Prediction of cell ``(person, target)`` from the person's other observed actions.
+
+        Parameters
+        ----------
+        person, target : int
+        chosen : Interaction, optional
+            Configuration to use instead of choosing one by leave-one-donor-out for this
+            person (falls back to the additive model where its rank is not reached).
+
+        Returns
+        -------
+        prediction : ndarray, shape (features,)
+        interaction : Interaction or None
+            The configuration used (None when the person has no other action: the baseline).
+        """
+        means = self._means(person)
+        if not np.isfinite(means[target]).all():
+            raise MocapError("nobody else performed this action")
+        observed = self._observed_actions(person, target, means)
+        if not observed:
+            return means[target], None
+        if chosen is None:
+            chosen = self.interaction(target, observed, person)
+        x = np.stack([self.data_[person, a] - means[a] for a in observed])      # (m, F)
+        correction = self._correction(chosen, target, observed, person, x)
+        return means[target] + correction, chosen
+
+    def _correction(self, chosen: Interaction, target: int, observed: tuple, person: int,
+                    x: np.ndarray) -> np.ndarray:
+        """The predicted cell's offset ``α + C v_b`` or ``α + B_bᵀ s``, bases from all donors."""
+        if chosen.rank == 0:
+            return x.mean(axis=0)
+        cells, sums, counts = self._donors(target, observed, person)
+        training = cells - (sums - cells) / (counts[:, None] - 1)
+        labels, predictions = self._candidates(training, x, cells.shape[0] - 2)
+        # The chosen rank, or the largest of its mode and ridge these donors reach.
+        reached = [i for i, (mode, rank, alpha) in enumerate(labels)
+                   if mode == chosen.mode and alpha == chosen.alpha and rank <= chosen.rank]
+        return predictions[max(reached, key=lambda i: labels[i][1])] if reached \
+            else x.mean(axis=0)             # the rank is not reached with every donor: additive
+
+
+def _people_candidates(centred: np.ndarray, x: np.ndarray, largest: int,
+                       free_offset: bool = True) -> tuple[list, np.ndarray]:
+    """People-mode (signature) predictions of a person's target offset for every rank and ridge.
+
+    With ``U`` the leading people-mode singular vectors of the interaction ``E`` and
+    ``Ẽ_a = E_a − Ē_O`` (bases centred over the observed actions, since the offset α is
+    free), the signature solves ``(Uᵀ H U + λ I) s = Uᵀ h`` with ``H = Σ_{a∈O} Ẽ_a Ẽ_aᵀ`` and
+    ``h = Σ_{a∈O} Ẽ_a x_a``; the prediction is ``x̄_O + Ẽ_bᵀ U s`` — all in the donors' space.
+
+    Parameters
+    ----------
+    centred : ndarray, shape (Q, m + 1, F)
+        Interaction of the training donors (offsets minus each donor's mean offset).
+    x : ndarray, shape (m, F)
+    largest : int
+        Largest rank tried (capped at :data:`MAX_PEOPLE_RANK`).
+    free_offset : bool
+        Fit the person's offset α with the signature (else α = 0 and ``centred`` holds the
+        donors' offsets themselves).
+
+    Returns
+    -------
+    labels : list of ("people", rank, alpha)
+    predictions : ndarray, shape (len(labels), F)
+    """
+    m = x.shape[0]
+    tilde = centred - centred[:, :m].mean(axis=1, keepdims=True) if free_offset else centred
+    start = x.mean(axis=0) if free_offset else np.zeros(x.shape[1])
+    values, vectors = np.linalg.eigh(np.einsum("qaf,raf->qr", centred, centred))
+    values, vectors = values[::-1], vectors[:, ::-1]
+    system = np.einsum("qaf,raf->qr", tilde[:, :m], tilde[:, :m])
+    side = np.einsum("qaf,af->q", tilde[:, :m], x)
+    labels, blocks = [], [np.zeros((0, x.shape[1]))]
+    alphas = np.asarray(ALPHAS)
+    for rank in range(1, min(largest, MAX_PEOPLE_RANK, len(values)) + 1):
+        u = vectors[:, :rank]
+        # Every ridge from one eigen-decomposition of the reduced system (pseudo-inverse at 0).
+        eigenvalues, eigenvectors = np.linalg.eigh(u.T @ system @ u)
+        projected = eigenvectors.T @ (u.T @ side)
+        scale = eigenvalues[None] + alphas[:, None] * float(np.mean(values[:rank])) / m
+        tiny = 1e-10 * max(float(eigenvalues.max(initial=0.0)), 1e-300)
+        inverse = np.where(np.abs(scale) > tiny, 1.0 / np.where(scale == 0, 1.0, scale), 0.0)
+        signatures = (inverse * projected) @ eigenvectors.T                   # (alphas, r)
+        blocks.append(start + (signatures @ u.T) @ tilde[:, m])              # (alphas, F)
+        labels += [("people", rank, alpha) for alpha in ALPHAS]
+    return labels, np.concatenate(blocks)

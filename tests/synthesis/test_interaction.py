@@ -1,0 +1,115 @@
+"""InteractionModel: rank 0 is the additive model exactly; the interaction is used only when
+held-out donors reward it."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from synthesis.interaction import ALPHAS, InteractionModel, action_weight_grid, action_weights
+
+
+def main_effects(people=9, actions=5, features=60, seed=0):
+    """``μ_a + α_p`` per cell (shape (people, actions, features)) and a generator."""
+    rng = np.random.default_rng(seed)
+    return (rng.normal(0, 10, (1, actions, features)) + rng.normal(0, 5, (people, 1, features)),
+            rng)
+
+
+def test_rank_zero_is_the_additive_model_exactly():
+    data, rng = main_effects()
+    data = data + rng.normal(0, 3, data.shape)            # an interaction of any kind
+    data[2, 1] = np.nan
+    data[5, 3] = np.nan                                     # two incomplete people
+    additive = InteractionModel(max_rank=0).fit(data)
+    for person, action in [(2, 1), (5, 3), (0, 4), (7, 0)]:
+        masked = data.copy()
+        masked[person, action] = np.nan
+        model = InteractionModel(max_rank=0).fit(masked)
+        others = [a for a in range(5) if a != action and np.isfinite(masked[person, a]).all()]
+        keep = np.isfinite(masked).all(axis=2)
+        keep[person] = False
+        means = np.array([masked[keep[:, a], a].mean(axis=0) for a in range(5)])
+        expected = means[action] + np.mean([masked[person, a] - means[a] for a in others],
+                                           axis=0)
+        prediction, chosen = model.predict(person, action)
+        assert np.array_equal(prediction, model.additive(person, action))
+        assert np.allclose(prediction, expected, atol=1e-12)
+        assert chosen.rank == 0 and chosen.mode == "additive"
+    assert additive.predict(2, 1)[0] == pytest.approx(additive.additive(2, 1), abs=0)
+    # The action-mode weights of rank 0 are the additive model's 1/m.
+    assert np.allclose(action_weights(np.zeros((4, 0)), 0.3), 1 / 3)
+
+
+def test_the_batched_action_grid_is_every_single_fit():
+    rng = np.random.default_rng(1)
+    for m in (1, 2, 4):
+        vectors, _ = np.linalg.qr(rng.normal(size=(m + 1, m)))
+        grid = action_weight_grid(vectors)
+        for rank in range(1, m + 1):
+            for i, alpha in enumerate(ALPHAS):
+                assert np.allclose(grid[rank - 1, i], action_weights(vectors[:, :rank], alpha),
+                                   atol=1e-12)
+
+
+def test_noise_without_interaction_keeps_the_additive_model():
+    """Main effects plus white noise: nothing for the interaction to learn, and the donors'
+    leave-one-out says so for (almost) every cell."""
+    data, rng = main_effects(people=10)
+    data = data + rng.normal(0, 2, data.shape)
+    chosen = []
+    for person in range(10):
+        for action in range(5):
+            masked = data.copy()
+            masked[person, action] = np.nan
+            model = InteractionModel("both").fit(masked)
+            chosen.append(model.predict(person, action)[1].rank)
+    assert np.mean(np.array(chosen) == 0) >= 0.9
+
+
+@pytest.mark.parametrize("mode", ["actions", "both"])
+def test_an_action_mode_interaction_is_found_and_used(mode):
+    """Cells ``μ_a + α_p + v_a c_p`` (rank-1 action-mode interaction, small noise): the held-out
+    cell is predicted far better than by the additive model, with rank 1."""
+    data, rng = main_effects(people=8)
+    v = np.array([2.0, -1.0, 1.5, -0.5, -2.0])
+    data = data + v[None, :, None] * rng.normal(0, 4, (8, 1, 60)) + rng.normal(0, 0.1, data.shape)
+    errors, additive = [], []
+    for person, action in [(0, 0), (3, 2), (6, 4)]:
+        masked = data.copy()
+        masked[person, action] = np.nan
+        model = InteractionModel(mode).fit(masked)
+        prediction, chosen = model.predict(person, action)
+        assert chosen.rank >= 1 and chosen.loo_rms < 0.5 * chosen.additive_loo_rms
+        errors.append(np.sqrt(np.mean((prediction - data[person, action]) ** 2)))
+        additive.append(np.sqrt(np.mean((model.additive(person, action)
+                                         - data[person, action]) ** 2)))
+    assert max(errors) < 0.2 * min(additive)
+
+
+def test_a_people_mode_interaction_is_found_by_the_signature_mode():
+    """Cells ``μ_a + α_p + B_aᵀ s_p`` (rank-2 signatures): the people mode recovers them."""
+    data, rng = main_effects(people=9)
+    bases = rng.normal(0, 3, (5, 2, 60))
+    signatures = rng.normal(0, 1, (9, 2))
+    data = data + np.einsum("pi,aif->paf", signatures, bases)
+    masked = data.copy()
+    masked[4, 2] = np.nan
+    model = InteractionModel("people").fit(masked)
+    prediction, chosen = model.predict(4, 2)
+    assert chosen.mode == "people" and chosen.rank >= 2
+    assert np.sqrt(np.mean((prediction - data[4, 2]) ** 2)) < 1e-6 * np.abs(data).max()
+
+
+def test_with_too_few_donors_evaluate_says_the_model_is_the_additive_one():
+    """Three people leave two donors per held-out person: every synthesised cell is the
+    additive model's, and the paired comparison reports ties only."""
+    from synthesis.evaluate import leave_one_out
+    from tests.synthesis.test_model import multilinear_corpus
+
+    corpus = multilinear_corpus(people=3)
+    result = leave_one_out(corpus).to_json()
+    assert result["method"] == "interaction" and len(result["cells"]) == 12
+    for cell in result["cells"]:
+        assert cell["synthesis_rms_deg"] == pytest.approx(cell["additive_rms_deg"], abs=1e-9)
+    assert result["versus_additive"] == {"wins": 0, "losses": 0, "ties": 12,
+                                         "median_difference_deg": pytest.approx(0, abs=1e-9)}
