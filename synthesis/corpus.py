@@ -29,6 +29,7 @@ from mocap.rotations.angles import JointAngles, axis_names, check_sequence, unwr
 from mocap.body.angles import motion_joint_angles
 from mocap.body.segments import read_joint_map
 from mocap.errors import MocapError
+from mocap.io import file_kind
 from mocap.io.angles_csv import read_angles_csv
 from mocap.io.discovery import find_files, is_angle_csv, parse_trial_name
 from mocap.io.motion import MARKER_SUFFIXES, MOTION_SUFFIXES, read_motion
@@ -166,7 +167,7 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
         markerset = load_markerset(markerset)
     if is_angle_csv(path) and not _named_like_markers(path, markerset):
         return read_angles_csv(path)
-    if path.suffix.lower() in (".bvh", ".amc"):
+    if file_kind(path) == "motion":
         return _skeleton_angles(path, sequence, joint_map)
     if markerset is None:
         raise MocapError("marker trials need markerset= to turn markers into joint angles",

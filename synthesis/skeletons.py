@@ -29,7 +29,8 @@ import numpy as np
 from mocap.body.retarget import reduce_to_segments
 from mocap.body.segments import read_joint_map
 from mocap.errors import MocapError
-from mocap.io.motion import MOTION_SUFFIXES, read_motion
+from mocap.io import file_kind
+from mocap.io.motion import read_motion
 from mocap.skeleton import Motion, Skeleton
 from synthesis.cycles import (CycleWarning, foot_joints, leg_cycles, leg_separation,
                               register_cycle, walking_axis)
@@ -38,8 +39,8 @@ from synthesis.rotations import (ROOT_FEATURES, chordal_mean, features_to_rotati
                                  yaw_matrices)
 
 def is_skeleton_trial(path: str | Path) -> bool:
-    """True for a BVH file or an AMC motion."""
-    return Path(path).suffix.lower() in MOTION_SUFFIXES
+    """True for a BVH file or an AMC motion (:func:`mocap.io.file_kind`)."""
+    return file_kind(path) == "motion"
 
 
 def same_skeleton(motions: list) -> bool:

@@ -162,6 +162,25 @@ class CheckReport:
     def weight(self) -> float:
         return self.mass_kg * GRAVITY
 
+    def to_dataframe(self):
+        """The per-frame series as a pandas DataFrame: index ``time`` (s), the residual
+        force (N) and torque (N·m) on the root in world axes (Y up), the total contact force
+        (N), the lowest body point's height (mm) and each joint's torque (N·m, in the
+        joint's frame) as ``<segment>_torque_x`` …. Needs pandas (the ``tables`` extra)."""
+        from mocap.errors import import_pandas
+
+        pandas = import_pandas()
+        columns = {}
+        for name, values in (("residual_force", self.residual_force),
+                             ("residual_torque", self.residual_torque),
+                             ("contact_force", self.contact_forces.sum(axis=1))):
+            columns.update({f"{name}_{axis}": values[:, i] for i, axis in enumerate("xyz")})
+        columns["lowest_point_mm"] = self.lowest_point_mm
+        for j, joint in enumerate(self.joint_names):
+            columns.update({f"{joint}_torque_{axis}": self.joint_torques[:, j, i]
+                            for i, axis in enumerate("xyz")})
+        return pandas.DataFrame(columns, index=pandas.Index(self.times, name="time"))
+
     def summary(self) -> dict:
         """The ``docs/formats/check-json.md`` JSON object (plain Python types)."""
         force = np.linalg.norm(self.residual_force, axis=1)

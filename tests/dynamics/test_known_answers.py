@@ -238,3 +238,19 @@ def test_limits_and_margins_are_in_the_json(tmp_path, capsys):
     force = json.loads(capsys.readouterr().out)["limits"]["residual_force_rms_pct_bw"]
     assert force["source"] == "given" and force["limit"] == 50.0
     assert force["margin"] == pytest.approx(-50.0, abs=0.1)
+
+
+def test_the_report_as_a_table_holds_the_known_answer():
+    """CheckReport.to_dataframe: a still body is held by the floor alone - the contact
+    forces carry its weight, the residual is zero - frame by frame in the table."""
+    pandas = pytest.importorskip("pandas")
+    still, _ = _still("marker body", None)
+    report = check_motion(reduce_to_segments(_moved(still, "still", 1.0), partial=True),
+                          body_mass=MASS)
+    table = report.to_dataframe()
+    assert isinstance(table, pandas.DataFrame) and len(table) == report.frames
+    assert table.index.name == "time" and table.index[1] == pytest.approx(1.0 / report.rate)
+    np.testing.assert_allclose(table["contact_force_y"], MASS * 9.81, rtol=0.01)
+    assert np.abs(table[["residual_force_x", "residual_force_y",
+                         "residual_force_z"]].to_numpy()).max() < 0.01 * MASS * 9.81
+    assert {f"{joint}_torque_z" for joint in report.joint_names} <= set(table.columns)
