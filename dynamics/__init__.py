@@ -16,7 +16,7 @@ The core simulator (lecture "Physical Simulations"):
 - :mod:`dynamics.scenes.schema`   scene TOML (``docs/formats/scene-toml.md``): reading, type-checked tables, examples
 - :mod:`dynamics.scenes.build`    scene document -> ``Scene`` (particle ``System``, rigid bodies)
 - :mod:`dynamics.scenes.run`      ``run_scene`` -> ``SimulationResult`` -> ``.npz``
-  (example scenes: ``dynamics/scenes/examples/*.toml``, the single copy)
+  (example scenes: ``data/scenes/*.toml``, the single copy)
 - :mod:`dynamics.viz.render`      GIF / MP4 of a run
 
 The Pinocchio humanoid (Pinocchio's model/data split: the model is built once, the

@@ -2,7 +2,7 @@
 
 Every key is checked: an unknown key, a wrong type or an impossible value is a
 :class:`mocap.errors.MocapError` naming the file, the table and the key (:class:`Table`).
-The shipped example scenes (``dynamics/scenes/examples/*.toml``) document every
+The shipped example scenes (``data/scenes/*.toml``) document every
 table; :func:`example_scene_path` finds them by name. :mod:`dynamics.scenes.build` turns
 a document into a simulation, :mod:`dynamics.scenes.run` runs it.
 """
@@ -16,6 +16,7 @@ import numpy as np
 
 from mocap.errors import MocapError
 from mocap.io.text_table import read_text
+from mocap.resources import data_path
 from mocap.tomlfile import parse_toml
 
 #: Largest magnitude of any number in a scene (SI units: metres, kg, N/m, s, K ...). Far
@@ -32,7 +33,7 @@ def _is_number(value) -> bool:
 
 
 #: Folder of the example scenes shipped with the package.
-SCENES_DIR = Path(__file__).resolve().parent / "examples"
+SCENES_DIR = data_path("scenes")
 
 TOP_LEVEL_TABLES = {"simulation", "gravity", "damping", "particle", "spring", "cloth", "rope",
               "lattice", "fluid", "heat", "plane", "sphere", "capsule", "box", "wind", "rigid",

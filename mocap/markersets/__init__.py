@@ -13,8 +13,8 @@ virtual
     :func:`hip_joint_centre_offset`).
 axes
     The three-marker frame (:func:`frame_from_markers`) and a segment's axis permutation.
-presets/
-    The shipped marker sets (``synthetic15``, ``plugingait-lower``).
+``data/markersets/``
+    The shipped marker sets (``synthetic15``, ``plugingait-lower``, ``plugingait-full``).
 
 Examples
 --------

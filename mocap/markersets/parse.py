@@ -78,14 +78,15 @@ from typing import Any
 import numpy as np
 
 from mocap.errors import MocapError, reading
+from mocap.resources import data_path
 from mocap.tomlfile import parse_toml
 from mocap.markersets.axes import AXIS_NAMES, axes_matrix
 from mocap.markersets.model import MarkerSet, Segment, VirtualMarker
 from mocap.markersets.virtual import HJC_METHODS, JOINT_CENTRES, VIRTUAL_TYPES
 
-#: The shipped presets: a folder beside this module (a plain path: importlib.resources and
-#: the zipfile and tempfile modules it loads cost ~20 ms of every command's start-up).
-PRESETS = Path(__file__).with_name("presets")
+#: The shipped presets: ``data/markersets`` (a plain path: importlib.resources and the
+#: zipfile and tempfile modules it loads cost ~20 ms of every command's start-up).
+PRESETS = data_path("markersets")
 
 
 def preset_names() -> list[str]:

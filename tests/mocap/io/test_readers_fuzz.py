@@ -29,7 +29,7 @@ from mocap.synthetic import synthesize_trial
 from mocap.trial import Trial
 
 ROOT = Path(__file__).resolve().parents[3]
-PRESET = ROOT / "mocap" / "markersets" / "presets" / "synthetic15.toml"
+PRESET = ROOT / "data" / "markersets" / "synthetic15.toml"
 
 FUZZ = settings(max_examples=60, derandomize=True, deadline=None, database=None,
                 suppress_health_check=[HealthCheck.too_slow,
