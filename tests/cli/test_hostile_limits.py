@@ -69,7 +69,7 @@ def test_an_asf_chain_of_ten_thousand_bones_or_one_too_deep_is_refused(tmp_path,
 
 # ---------------------------------------------------------------- scenes
 
-SCENES = ROOT / "dynamics" / "scenes" / "examples"
+SCENES = ROOT / "data" / "scenes"
 
 
 def test_a_cloth_beyond_the_memory_budget_is_refused_before_it_is_built(tmp_path, capsys):

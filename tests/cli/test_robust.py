@@ -24,7 +24,7 @@ from mocap.synthetic import synthesize_trial
 
 ROOT = Path(__file__).resolve().parents[2]
 DATA = ROOT / "tests" / "data"
-SCENE = ROOT / "dynamics" / "scenes" / "examples" / "swinging-rope.toml"
+SCENE = ROOT / "data" / "scenes" / "swinging-rope.toml"
 
 
 def _mocap(*argv: str, **kwargs) -> subprocess.Popen:
@@ -524,8 +524,7 @@ def test_segment_names_that_would_corrupt_the_angle_csv_are_refused(walk, tmp_pa
     """A marker set whose segment is named 'pel,vis' (or holds a line break) wrote an angle
     CSV whose header had more columns than its rows."""
     from mocap.markersets import parse
-    text = (parse.PRESETS if hasattr(parse, "PRESETS") else
-            Path(parse.__file__).parent / "presets") / "synthetic15.toml"
+    text = parse.PRESETS / "synthetic15.toml"
     for bad in ("pel,vis", "pel\\nvis"):
         toml = tmp_path / "set.toml"
         toml.write_text(Path(text).read_text().replace('"pelvis"', f'"{bad}"'))
