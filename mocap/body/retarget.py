@@ -166,6 +166,8 @@ def motion_from_trial(trial, markerset, up: str = "z") -> Motion:
             _end_site_from_markers(motion.skeleton, index, local)
     _default_end_sites(motion.skeleton)
     _calibrate_soles(motion)
+    if trial.frames:
+        motion.start_time = float(trial.time_base()[1][0])     # the trial's own clock
     return motion
 
 

@@ -108,6 +108,8 @@ def model_coordinates(motion, model: str) -> tuple[np.ndarray, list[str], np.nda
     Returns
     -------
     times : ndarray, shape (frames,), seconds
+        The motion's own clock (``motion.start_time`` onwards: a C3D's frame 1 at 0 s), as
+        in the TRC of the same trial, so OpenSim's tools line the files up.
     labels : list of str
         Model coordinate names, pelvis translations first; coordinates of segments the
         motion lacks are left out.
@@ -133,7 +135,7 @@ def model_coordinates(motion, model: str) -> tuple[np.ndarray, list[str], np.nda
         labels.append(name)
         columns.append(sign * angles.values[:, angles.segments.index(segment), index:index + 1])
     values = np.column_stack(columns)
-    return angles.times, labels, values
+    return motion.start_time + angles.times, labels, values
 
 
 def write_model_mot(motion, path, model: str, precision: int = 6) -> None:
