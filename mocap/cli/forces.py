@@ -75,8 +75,8 @@ def load_plates(path: str | Path, rate: str = "analog", baseline: bool = False,
 
 def run_forces(args: argparse.Namespace) -> int:
     """Handler of ``mocap forces``."""
-    for option, suffixes in ((args.output, (".csv", ".mot")), (args.plot, (".png", ".pdf", ".svg")),
-                             (args.external_loads, (".xml",))):
+    for option, suffixes in ((args.output, (".csv", ".mot")), (args.external_loads, (".xml",)),
+                             (args.plot, (".png", ".pdf", ".svg"))):
         if option and Path(option).suffix.lower() not in suffixes:
             raise MocapError("must be a " + " or ".join(suffixes) + " file", option)
     opensim = bool(args.output) and Path(args.output).suffix.lower() == ".mot"
@@ -92,10 +92,6 @@ def run_forces(args: argparse.Namespace) -> int:
         write_grf_mot(args.output, reactions, start_time=float(trial.time_base()[1][0]))
         if args.external_loads:
             write_external_loads(args.external_loads, args.output, bodies)
-        feet = ", ".join(f"{body}: " + (", ".join(f"plate{p.plate.index + 1}" for p in own)
-                                        or "no plate")
-                         for body, own in _feet_plates(trial, plates).items())
-        print(f"{args.output}: " + (feet or "one force per plate (no foot markers)"))
     elif args.output:
         write_forces_csv(parts, args.output)
     if args.plot:
@@ -119,6 +115,11 @@ def run_forces(args: argparse.Namespace) -> int:
                   f"analog samples) the total peak Fz is {kept:.0f} N; at the plates' "
                   f"{measured.rate:g} Hz it is {peak:.0f} N ({100 * (1 - kept / peak):.0f} % "
                   f"lower: the heel-strike transient is averaged away)", file=sys.stderr)
+    if opensim:
+        feet = ", ".join(f"{body}: " + (", ".join(f"plate{p.plate.index + 1}" for p in own)
+                                        or "no plate")
+                         for body, own in _feet_plates(trial, plates).items())
+        print(f"{args.output}: " + (feet or "one force per plate (no foot markers)"))
     for written in (args.output, args.external_loads):
         if written:
             print(f"wrote {written}")
