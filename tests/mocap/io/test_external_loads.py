@@ -108,8 +108,8 @@ def test_the_set_shares_one_clock_and_the_static_calibrates_the_coordinates(tmp_
     for path in (plain, calibrated):
         np.testing.assert_allclose(read_mot(path).times, times, atol=1e-9)
     assert read_mot(grf).times[0] == pytest.approx(times[0])
-    generic = tmp_path / "generic.mot"            # joint angles on the 15-segment body
-    assert main(["export", str(trial_path), "-m", "plugingait-lower", "--body",
+    generic = tmp_path / "generic.mot"            # the generic joint-angle .mot
+    assert main(["export", str(trial_path), "-m", "plugingait-lower",
                  "-o", str(generic)]) == 0
     np.testing.assert_allclose(read_mot(generic).times, times, atol=1e-9)
     # Vicon's angles stored in the C3D: the calibrated export matches them, the plain one
