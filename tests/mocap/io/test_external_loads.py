@@ -138,6 +138,33 @@ def test_external_loads_and_static_misuse_is_one_line(tmp_path, walk, capsys):
     assert not list(tmp_path.iterdir())
 
 
+def test_without_foot_markers_the_plates_are_written_one_by_one(tmp_path, walk):
+    """No heel or toe markers: one force per plate (plate1_, plate2_ columns, the same
+    numbers as the plates), and no ExternalLoads file (no body to apply them to)."""
+    from mocap.errors import MocapError
+    from mocap.io import read
+    from mocap.io.c3d.forceplates import plate_forces
+    from mocap.io.external_loads import (foot_reactions, write_external_loads,
+                                         write_grf_mot)
+
+    trial = read(walk[0])
+    feetless = trial.select([label for label in trial.labels
+                             if label not in ("RHEE", "RTOE", "LHEE", "LTOE")])
+    plates = plate_forces(trial)
+    parts, bodies = foot_reactions(feetless, plates)
+    assert list(parts) == ["plate1_", "plate2_"] and bodies == {}
+    write_grf_mot(tmp_path / "g.mot", parts, start_time=2.85)
+    storage = read_mot(tmp_path / "g.mot")
+    loaded = np.isfinite(plates[1].cop).all(axis=1)
+    np.testing.assert_allclose(storage.column("plate2_ground_force_vy")[loaded],
+                               plates[1].force[loaded, 2], atol=1e-6)
+    np.testing.assert_allclose(storage.column("plate2_ground_force_pz")[loaded],
+                               -plates[1].cop[loaded, 1], atol=1e-6)
+    with pytest.raises(MocapError, match="not assigned to feet"):
+        write_external_loads(tmp_path / "l.xml", tmp_path / "g.mot", bodies)
+    assert not (tmp_path / "l.xml").exists()
+
+
 # ------------------------------------------------------------------ OpenSim IK and ID
 
 #: Dempster's segment mass fractions and centre of mass (fraction from the proximal
