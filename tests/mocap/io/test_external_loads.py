@@ -32,6 +32,7 @@ WINDOW = (3.0, 4.3)
 def opensim():
     module = require_module("opensim")
     module.Logger.setLevelString("error")
+    module.Logger.removeFileSink()          # no opensim.log in the working directory
     return module
 
 
