@@ -136,6 +136,11 @@ class Motion:
         *replacing* ``skeleton.offsets`` (BVH position channels on a joint, as Blender and
         bvhio read them); row 0 is unused (the root moves by ``root_translation``).
         None: every segment keeps its offset.
+    start_time : float, seconds
+        Time of the first frame on the source's clock (a marker trial's
+        :meth:`~mocap.trial.Trial.time_base`: a C3D's (first_frame − 1) / rate, a TRC's
+        first Time); 0 for a BVH. ``times`` count from the first frame; the OpenSim files
+        (:mod:`mocap.io.opensim_models`) carry ``start_time + times``.
 
     Examples
     --------
@@ -152,6 +157,7 @@ class Motion:
     rate: float
     metadata: dict = field(default_factory=dict)
     translations: np.ndarray | None = None
+    start_time: float = field(default=0.0, kw_only=True)
 
     def __post_init__(self) -> None:
         self.root_translation = np.asarray(self.root_translation, dtype=float).reshape(-1, 3)

@@ -166,6 +166,8 @@ def motion_from_trial(trial, markerset, up: str = "z") -> Motion:
             _end_site_from_markers(motion.skeleton, index, local)
     _default_end_sites(motion.skeleton)
     _calibrate_soles(motion)
+    if trial.frames:
+        motion.start_time = float(trial.time_base()[1][0])     # the trial's own clock
     return motion
 
 
@@ -323,6 +325,7 @@ def reduce_to_segments(motion: Motion, partial: bool = False,
     reduced = motion_from_frames(rotations, origins, names, body_parents(names),
                                  motion.rate, up="y", metadata=dict(motion.metadata))
     reduced.root_translation = world_p[:, chosen[0]] - reduced.skeleton.offsets[0]
+    reduced.start_time = motion.start_time
     # End sites of the leaves: the furthest point of the original subtree.
     ends_index, ends = motion.end_site_positions((world_r, world_p))
     everything = np.concatenate([world_p, ends], axis=1)

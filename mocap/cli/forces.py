@@ -13,6 +13,8 @@ from mocap.cli.commands import Subparsers, summary
 from mocap.errors import MocapError, one_line
 from mocap.io import read
 from mocap.io.c3d.forceplates import plate_forces, total_forces
+from mocap.io.external_loads import (FEET, assign_feet, foot_reactions, write_external_loads,
+                                     write_grf_mot)
 from mocap.io.text_format import format_table
 from mocap.plot import save_figure
 
@@ -26,12 +28,18 @@ def register(subparsers: Subparsers) -> None:
                     "pressure (m) and free moment (N·m) of each plate and of all plates "
                     "together, in the lab frame. Without -o, print one line per plate.",
         epilog="Examples: mocap forces walk.c3d;  mocap forces walk.c3d -o grf.csv --rate "
-               "marker;  mocap forces walk.c3d --plot grf.png")
+               "marker;  mocap forces walk.c3d --plot grf.png;  mocap forces walk.c3d -o "
+               "grf.mot --external-loads loads.xml (OpenSim, docs/opensim.md)")
     forces.add_argument("trial", metavar="TRIAL.c3d", help="a C3D file with force plates")
-    forces.add_argument("-o", "--output", metavar="GRF.csv",
-                        help="write a CSV: time_s, then per plate and for the total "
-                             "Fx Fy Fz (N), COPx COPy COPz (m), Tx Ty Tz (N·m, free moment); "
-                             "an unloaded plate's COP is an empty cell")
+    forces.add_argument("-o", "--output", metavar="GRF.csv|GRF.mot",
+                        help="write a CSV: time_s from the first frame, then per plate and "
+                             "for the total Fx Fy Fz (N), COPx COPy COPz (m), Tx Ty Tz (N·m, "
+                             "free moment); an unloaded plate's COP is an empty cell. Or a "
+                             ".mot: OpenSim's external loads (per foot r_/l_ ground_force_v*, "
+                             "_p*, ground_torque_*; Y up, the trial's own times)")
+    forces.add_argument("--external-loads", metavar="LOADS.xml",
+                        help="with -o GRF.mot: also write OpenSim's ExternalLoads XML "
+                             "applying each foot's reaction to calcn_r / calcn_l")
     forces.add_argument("--rate", choices=("analog", "marker"), default="analog",
                         help="samples of the output: the analog rate (default) or the "
                              "marker frames")
@@ -67,12 +75,24 @@ def load_plates(path: str | Path, rate: str = "analog", baseline: bool = False,
 
 def run_forces(args: argparse.Namespace) -> int:
     """Handler of ``mocap forces``."""
-    for option, suffixes in ((args.output, (".csv",)), (args.plot, (".png", ".pdf", ".svg"))):
+    for option, suffixes in ((args.output, (".csv", ".mot")), (args.external_loads, (".xml",)),
+                             (args.plot, (".png", ".pdf", ".svg"))):
         if option and Path(option).suffix.lower() not in suffixes:
             raise MocapError("must be a " + " or ".join(suffixes) + " file", option)
+    opensim = bool(args.output) and Path(args.output).suffix.lower() == ".mot"
+    if args.external_loads and not opensim:
+        raise MocapError("--external-loads goes with -o GRF.mot (the file it applies)")
     trial, plates, total = load_plates(args.trial, args.rate, args.baseline, args.threshold)
     parts = [(f"plate{p.plate.index + 1}", p) for p in plates] + [("total", total)]
-    if args.output:
+    if opensim:
+        reactions, bodies = foot_reactions(trial, plates)
+        if args.external_loads and not bodies:
+            raise MocapError("--external-loads needs the feet (RHEE, RTOE, LHEE, LTOE) to "
+                             "say which foot stands on which plate", args.trial)
+        write_grf_mot(args.output, reactions, start_time=float(trial.time_base()[1][0]))
+        if args.external_loads:
+            write_external_loads(args.external_loads, args.output, bodies)
+    elif args.output:
         write_forces_csv(parts, args.output)
     if args.plot:
         save_figure(plot_forces(parts, title=one_line(Path(args.trial).name)), args.plot, format=Path(args.plot).suffix[1:].lower())
@@ -95,9 +115,21 @@ def run_forces(args: argparse.Namespace) -> int:
                   f"analog samples) the total peak Fz is {kept:.0f} N; at the plates' "
                   f"{measured.rate:g} Hz it is {peak:.0f} N ({100 * (1 - kept / peak):.0f} % "
                   f"lower: the heel-strike transient is averaged away)", file=sys.stderr)
-    if args.output:
-        print(f"wrote {args.output}")
+    if opensim:
+        feet = ", ".join(f"{body}: " + (", ".join(f"plate{p.plate.index + 1}" for p in own)
+                                        or "no plate")
+                         for body, own in _feet_plates(trial, plates).items())
+        print(f"{args.output}: " + (feet or "one force per plate (no foot markers)"))
+    for written in (args.output, args.external_loads):
+        if written:
+            print(f"wrote {written}")
     return 0
+
+
+def _feet_plates(trial, plates: list) -> dict:
+    """OpenSim body -> the plates assigned to it (empty without foot markers)."""
+    feet = assign_feet(trial, [p for p in plates if not p.plate.problem]) or {}
+    return {FEET[side][0]: own for side, own in feet.items()}
 
 
 def write_forces_csv(parts: list, path: str | Path) -> None:

@@ -66,6 +66,11 @@ def register(subparsers: Subparsers) -> None:
                              "(pelvis_tilt … pelvis_tx/ty/tz, hip_flexion_r, knee_angle_r, "
                              "ankle_angle_r …) with its names, signs and units, Y up "
                              "(docs/opensim.md)")
+    export.add_argument("--static", metavar="STATIC.c3d",
+                        help="with --model and a Plug-in Gait marker trial: the standing "
+                             "trial of the same subject; the hip, knee and ankle coordinates "
+                             "are then Plug-in Gait's calibrated clinical angles (as mocap "
+                             "angles --static gives them)")
     from mocap.cli.io import add_output_options
     add_output_options(export)
     export.set_defaults(func=run_export)
@@ -126,12 +131,30 @@ def run_export(args: argparse.Namespace) -> int:
                          "Y up already; csv angles are in the Z-up lab)")
     if args.format != "bvh" and (args.out_units or args.round_rate):
         raise MocapError("--out-units and --round-rate apply to --format bvh only")
+    plugingait = bool(args.markerset) and str(args.markerset).startswith("plugingait")
+    if args.static is not None:
+        if not (args.model and plugingait):
+            raise MocapError("--static calibrates Plug-in Gait's angles for an OpenSim "
+                             "model: it goes with a marker trial, -m plugingait-lower (or "
+                             "-full) and --model")
+        if not Path(args.static).is_file():
+            raise MocapError("static trial not found", args.static)
     motion = _load(args)
     if args.body:
         motion = reduce_to_segments(motion)
+    clinical = None
+    if args.model and plugingait:
+        if args.static is None:
+            print(f"warning: {args.output}: hip, knee and ankle coordinates from the marker "
+                  f"set's segment frames, uncalibrated (ankle and hip adduction several "
+                  f"degrees off Plug-in Gait's): give --static STATIC.c3d", file=sys.stderr)
+        else:
+            from mocap.pipeline import clinical_angles
+            clinical = clinical_angles(args.motion, args.static).angles
     notes = export_motion(motion, args.output, args.format, sequence=args.sequence,
                           model=args.model, up=args.up, precision=args.precision,
-                          units=args.out_units or "cm", round_rate=args.round_rate)
+                          units=args.out_units or "cm", round_rate=args.round_rate,
+                          clinical=clinical)
     _report_input(args, motion)
     for note in notes:
         print(f"note: {args.output}: {note}", file=sys.stderr)

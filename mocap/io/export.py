@@ -31,7 +31,7 @@ EXPORT_FORMATS = ("bvh", "csv", "c3d", "trc", "mot", "json")
 def export_motion(motion, path: str | Path, file_format: str, sequence: str = "ZXY",
                   model: str | None = None, up: str = "z",
                   precision: int | None = None, units: str = "cm",
-                  round_rate: bool = False) -> list[str]:
+                  round_rate: bool = False, clinical=None) -> list[str]:
     """Write a motion in one of :data:`EXPORT_FORMATS` (all-or-nothing).
 
     Parameters
@@ -55,6 +55,10 @@ def export_motion(motion, path: str | Path, file_format: str, sequence: str = "Z
         Length unit of a BVH output (Blender works in metres).
     round_rate : bool
         Resample a BVH output to the nearest whole frame rate (default: kept exactly).
+    clinical : JointAngles, optional
+        ``mot`` with ``model``: Plug-in Gait's calibrated clinical angles of the motion's
+        frames, which give the hip, knee and ankle coordinates
+        (:func:`mocap.io.opensim_models.model_coordinates`).
 
     Returns
     -------
@@ -69,7 +73,8 @@ def export_motion(motion, path: str | Path, file_format: str, sequence: str = "Z
     if file_format == "bvh":
         write_bvh(motion, path, units=units, round_rate=round_rate)
     elif file_format == "mot" and model:
-        write_model_mot(motion, path, model, precision=6 if precision is None else precision)
+        write_model_mot(motion, path, model, precision=6 if precision is None else precision,
+                        clinical=clinical)
     elif file_format == "mot":
         write_motion_mot(motion, path, sequence=sequence)
     elif file_format == "csv":

@@ -66,6 +66,7 @@ def write_mot(path: str | os.PathLike, times: np.ndarray, labels: list[str],
 def write_motion_mot(motion, path: str | os.PathLike, sequence: str = "ZXY") -> None:
     """Write a :class:`~mocap.skeleton.Motion` as joint coordinates in a ``.mot`` file.
 
+    Times are the motion's own clock (``start_time`` onwards, as the trial's TRC).
     Columns: ``<root>_tx``, ``_ty``, ``_tz`` (root origin, metres, in the Z-up lab: X
     anterior, Y left, Z up) then ``<joint>_<axis>`` for every joint: the joint angles of
     :func:`mocap.body.angles.motion_joint_angles` (rotation relative to the parent in the lab's
@@ -86,7 +87,7 @@ def write_motion_mot(motion, path: str | os.PathLike, sequence: str = "ZXY") -> 
     labels = [f"{sk.names[0]}_t{a}" for a in "xyz"]
     labels += [f"{_safe(n)}_{letter}" for n in sk.names for letter in letters]
     values = np.column_stack([root, angles.reshape(motion.frames, -1)])
-    write_mot(path, motion.times, labels, values,
+    write_mot(path, motion.start_time + motion.times, labels, values,
               name=os.path.splitext(os.path.basename(os.fspath(path)))[0])
 
 

@@ -95,7 +95,38 @@ MODELS = {"gait2392": _model(arms=False), "rajagopal": _model(arms=True)}
 TRANSLATIONS = ("pelvis_tx", "pelvis_ty", "pelvis_tz")
 
 
-def model_coordinates(motion, model: str) -> tuple[np.ndarray, list[str], np.ndarray]:
+#: Plug-in Gait clinical angle (joint, plane index) -> sign of the model coordinate: the
+#: hips as Vicon gives them (flexion, adduction, internal rotation positive on both sides,
+#: as gait2392's), knee flexion negated, ankle dorsiflexion as it is.
+CLINICAL = {"hip_flexion_{s}": ("hip", 0, 1.0), "hip_adduction_{s}": ("hip", 1, 1.0),
+            "hip_rotation_{s}": ("hip", 2, 1.0), "knee_angle_{s}": ("knee", 0, -1.0),
+            "ankle_angle_{s}": ("ankle", 0, 1.0)}
+
+
+def clinical_coordinates(angles) -> dict[str, np.ndarray]:
+    """Hip, knee and ankle coordinates from Plug-in Gait's calibrated clinical angles.
+
+    Parameters
+    ----------
+    angles : JointAngles
+        :func:`mocap.pipeline.clinical_angles`' ``angles``: segments ``l_hip`` …
+        ``r_ankle``, axes flexion, adduction, rotation, values (frames, 8, 3) degrees.
+
+    Returns
+    -------
+    dict of str to ndarray, shape (frames,)
+        ``hip_flexion_r`` … ``ankle_angle_l`` in degrees (:data:`CLINICAL`).
+    """
+    result = {}
+    for side in ("r", "l"):
+        for name, (joint, plane, sign) in CLINICAL.items():
+            column = angles.values[:, angles.segments.index(f"{side}_{joint}"), plane]
+            result[name.format(s=side)] = sign * column
+    return result
+
+
+def model_coordinates(motion, model: str, clinical=None
+                      ) -> tuple[np.ndarray, list[str], np.ndarray]:
     """The coordinates of an OpenSim model that a motion defines.
 
     Parameters
@@ -104,10 +135,17 @@ def model_coordinates(motion, model: str) -> tuple[np.ndarray, list[str], np.nda
         Any motion (BVH, ASF/AMC, marker trial with a marker set); mapped onto the
         15-segment body first.
     model : {"gait2392", "rajagopal"}
+    clinical : JointAngles, optional
+        Plug-in Gait's calibrated clinical angles of the same frames
+        (:func:`mocap.pipeline.clinical_angles` with the static): the hip, knee and ankle
+        coordinates are taken from them (:func:`clinical_coordinates`) instead of the
+        marker set's segment angles; the pelvis and lumbar stay the motion's.
 
     Returns
     -------
     times : ndarray, shape (frames,), seconds
+        The motion's own clock (``motion.start_time`` onwards: a C3D's frame 1 at 0 s), as
+        in the TRC of the same trial, so OpenSim's tools line the files up.
     labels : list of str
         Model coordinate names, pelvis translations first; coordinates of segments the
         motion lacks are left out.
@@ -133,14 +171,25 @@ def model_coordinates(motion, model: str) -> tuple[np.ndarray, list[str], np.nda
         labels.append(name)
         columns.append(sign * angles.values[:, angles.segments.index(segment), index:index + 1])
     values = np.column_stack(columns)
-    return angles.times, labels, values
+    if clinical is not None:
+        if clinical.values.shape[0] != values.shape[0]:
+            raise MocapError(f"{clinical.values.shape[0]} frames of clinical angles for a "
+                             f"motion of {values.shape[0]}")
+        for name, column in clinical_coordinates(clinical).items():
+            if name not in labels:
+                labels.append(name)
+                values = np.column_stack([values, column])
+            else:
+                values[:, labels.index(name)] = column
+    return motion.start_time + angles.times, labels, values
 
 
-def write_model_mot(motion, path, model: str, precision: int = 6) -> None:
-    """Write a motion as a ``.mot`` of the model's coordinates (all-or-nothing)."""
+def write_model_mot(motion, path, model: str, precision: int = 6, clinical=None) -> None:
+    """Write a motion as a ``.mot`` of the model's coordinates (all-or-nothing); see
+    :func:`model_coordinates` for ``clinical``."""
     from mocap.io.mot import write_mot
 
-    times, labels, values = model_coordinates(motion, model)
+    times, labels, values = model_coordinates(motion, model, clinical)
     write_mot(path, times, labels, values,
               name=os.path.splitext(os.path.basename(os.fspath(path)))[0],
               precision=precision)
