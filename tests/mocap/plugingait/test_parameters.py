@@ -22,16 +22,23 @@ def test_definitions_are_the_identities_vicons_stored_values_satisfy():
     # time; our timing must then give back Vicon's step time, cadence and supports.
     v = {n: x for (c, n), x in _vicon(mocap.read(realdata_path(*SUB_LABELS))).items()
          if c == "Right"}
-    T = v["Stride Time"]
+    T, rate = v["Stride Time"], 60.0
     fo, ofo, ofc = (T * v[n] / 100 for n in ("Foot Off", "Opposite Foot Off",
                                              "Opposite Foot Contact"))
-    stride, step, *_ = cycle_timing([0.0, T], [fo], [ofc], [ofo])[0]
-    assert step == pytest.approx(v["Step Time"], abs=1e-5)
-    assert 120 / stride == pytest.approx(v["Cadence"], abs=1e-4)
-    assert v["Opposite Foot Contact"] - v["Opposite Foot Off"] == pytest.approx(
-        v["Single Support"], abs=1e-4)
-    assert v["Opposite Foot Off"] + v["Foot Off"] - v["Opposite Foot Contact"] == \
-        pytest.approx(v["Double Support"], abs=1e-4)
+    events = [GaitEvent(side, label, time * rate) for side, label, time in (
+        ("r", FOOT_STRIKE, 0.0), ("l", FOOT_OFF, ofo), ("l", FOOT_STRIKE, ofc),
+        ("r", FOOT_OFF, fo), ("r", FOOT_STRIKE, T))]
+    trial = Trial(["C7"], np.zeros((int(T * rate) + 2, 1, 3)), rate)  # no heels
+    right = gait_parameters(trial, events)[1]
+    assert right.cycles == 1 and np.isnan(right.stride_length)
+    for field, name in (("stride_time", "Stride Time"), ("step_time", "Step Time"),
+                        ("cadence", "Cadence"), ("foot_off", "Foot Off"),
+                        ("opposite_foot_off", "Opposite Foot Off"),
+                        ("opposite_foot_contact", "Opposite Foot Contact"),
+                        ("single_support", "Single Support"),
+                        ("double_support", "Double Support")):
+        assert getattr(right, field) == pytest.approx(v[name], abs=1e-4), name
+    assert cycle_timing([0.0, 1.0], [0.6], [0.5], [0.1])[0, 1] == pytest.approx(0.5)
 
 
 def test_a_synthetic_walk_gives_its_stride_and_step():
