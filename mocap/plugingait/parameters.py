@@ -178,5 +178,17 @@ def to_dataframe(parameters: list[GaitParameters]):
     return pandas.DataFrame(rows)
 
 
+def write_parameters(parameters: list[GaitParameters], path) -> None:
+    """One row per side: CSV, or JSON (a list of objects) when ``path`` ends .json."""
+    from mocap.atomic import atomic_path
+
+    frame = to_dataframe(parameters)
+    with atomic_path(path) as tmp:
+        if str(path).lower().endswith(".json"):
+            frame.to_json(tmp, orient="records", indent=1)
+        else:
+            frame.to_csv(tmp, index=False)
+
+
 __all__ = ["GaitParameters", "VICON_NAMES", "cycle_timing", "gait_parameters",
-           "to_dataframe"]
+           "to_dataframe", "write_parameters"]
