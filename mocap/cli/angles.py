@@ -80,6 +80,10 @@ def register(subparsers: Subparsers) -> None:
                              "markers) normalised to 0-100 %% in 101 samples as a tidy CSV "
                              "(side, cycle, percent, angles) and the mean +- SD plot beside "
                              "it (.png); with several inputs a folder")
+    parser.add_argument("--parameters", metavar="OUT.csv|OUT.json",
+                        help="also write Vicon's gait-cycle parameters (cadence, speed, "
+                             "stride and step time and length, foot off, support), one row "
+                             "per side with Vicon's names and units; one input only")
     parser.add_argument("--fill-gaps", type=options.SECONDS_GAP, metavar="SECONDS",
                         help="fill gaps up to this long before computing angles, each marker "
                              "from its own segment (rigid with its other markers and, for "
@@ -144,6 +148,11 @@ def run_angles(args: argparse.Namespace) -> int:
     folder_mode = (len(files) > 1 or any(Path(i).is_dir() for i in args.inputs)
                    or output.is_dir() or args.output.endswith(os.sep))
     args.cycles_folder = folder_mode and args.cycles is not None
+    if getattr(args, "parameters", None) is not None:
+        if folder_mode:
+            raise MocapError("--parameters takes one input file", args.inputs[0])
+        if Path(args.parameters).suffix.lower() not in (".csv", ".json"):
+            raise MocapError("--parameters is written as .csv or .json", args.parameters)
     if not folder_mode:
         if output.suffix.lower() != ".csv":
             raise MocapError("the angles are written as CSV: name the output .csv (or a "
@@ -263,6 +272,10 @@ def _angles_one(source: Path, target: Path, plot: Path | None, markerset,
         plot_angles(angles, plot, title=f"{source.name} ({markerset.name}, {label})")
     if cycles is not None:
         _write_cycles(cycles, source, args)
+    if getattr(args, "parameters", None) is not None:
+        from mocap.plugingait.parameters import gait_parameters, write_parameters
+
+        write_parameters(gait_parameters(trial), args.parameters)
 
 
 def _clinical_angles(trial, args: argparse.Namespace):
