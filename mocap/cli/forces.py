@@ -61,6 +61,11 @@ def load_plates(path: str | Path, rate: str = "analog", baseline: bool = False,
     if Path(path).suffix.lower() != ".c3d":
         raise MocapError("force plates are read from C3D files only", path)
     trial = read(path)
+    return (trial, *_reactions(trial, path, rate, baseline, threshold))
+
+
+def _reactions(trial, path: str | Path, rate: str, baseline: bool, threshold: float):
+    """Per-plate and total reactions of a trial already read (MocapError without plates)."""
     plates = plate_forces(trial, rate=rate, baseline=baseline, threshold=threshold)
     if not plates:
         raise MocapError("no force plates (FORCE_PLATFORM:USED is 0 or absent)", path)
@@ -70,7 +75,7 @@ def load_plates(path: str | Path, rate: str = "analog", baseline: bool = False,
     if not usable:
         raise MocapError("no force plate has believable corners: "
                          + "; ".join(p.plate.problem for p in plates), path)
-    return trial, plates, total_forces(usable, threshold)
+    return plates, total_forces(usable, threshold)
 
 
 def run_forces(args: argparse.Namespace) -> int:
@@ -108,7 +113,7 @@ def run_forces(args: argparse.Namespace) -> int:
               + ignored)
     if args.rate == "marker" and total.rate < (trial.analog_rate or total.rate):
         # averaging each frame's analog samples flattens the heel-strike transient
-        measured = load_plates(args.trial, "analog", args.baseline, args.threshold)[2]
+        measured = _reactions(trial, args.trial, "analog", args.baseline, args.threshold)[1]
         peak, kept = np.abs(measured.force[:, 2]).max(), np.abs(total.force[:, 2]).max()
         if peak > 0 and kept < 0.99 * peak:
             print(f"note: at the marker rate ({total.rate:g} Hz, each frame the mean of its "

@@ -110,7 +110,7 @@ def _read(path: Path, asf: str | os.PathLike | None, units: str | None,
             raise MocapError("a joint-angle CSV carries no skeleton, so it plays only on the "
                              "15-segment body (pelvis, thorax, …); it has other segments: "
                              + ", ".join(foreign[:6]) + (" …" if len(foreign) > 6 else "")
-                             + " (mocap.body.segments.reduce_to_segments gives one)", path)
+                             + " (mocap.body.retarget.reduce_to_segments gives one)", path)
         return motion_from_angles(angles)
     if kind == "markers":
         if not markerset:
