@@ -12,7 +12,7 @@ import numpy as np
 from mocap.cli import options
 from mocap.cli.commands import Subparsers, summary
 from mocap.errors import MocapError, MocapWarning, one_line
-from mocap.io import file_kind, format_of, read, suffixes, write
+from mocap.io import format_of, motion_suffixes, read, suffixes, write
 from mocap.io.discovery import find_files
 from mocap.progress import progress, write_line
 from mocap.summary import format_summary, summarise
@@ -127,7 +127,7 @@ def run_info(args: argparse.Namespace) -> int:
 
 def _summary_of(path: Path) -> dict:
     """``summarise`` of a marker file, or :func:`motion_summary` of a BVH or AMC."""
-    if file_kind(path) == "motion":
+    if path.suffix.lower() in motion_suffixes():     # by suffix: no header read twice
         return motion_summary(path)
     return summarise(read_marker_file(path, quiet=True))
 

@@ -129,17 +129,18 @@ def is_angle_csv(path: str | Path) -> bool:
             header = next(csv.reader(handle), [])
     except (OSError, UnicodeDecodeError, csv.Error):
         return False
-    header = [name.strip() for name in header]
-    if len(header) < 4 or header[0].lower() != "time" or (len(header) - 1) % 3:
+    # column by column, stopping at the first that does not fit: a marker CSV's header of
+    # millions of columns is refused by its reader's size check, not matched here whole
+    if len(header) < 4 or header[0].strip().lower() != "time" or (len(header) - 1) % 3:
         return False
-    matches = [_ANGLE_COLUMN.match(name) for name in header[1:]]
-    if not all(matches):
-        return False
-    triples = [matches[i:i + 3] for i in range(0, len(matches), 3)]
-    first = "".join(m.group("axis") for m in triples[0])
-    for triple in triples:
-        if len({m.group("segment") for m in triple}) != 1:
+    first = None
+    for start in range(1, len(header), 3):
+        triple = [_ANGLE_COLUMN.match(name.strip()) for name in header[start:start + 3]]
+        if not all(triple) or len({m.group("segment") for m in triple}) != 1:
             return False
-        if "".join(m.group("axis") for m in triple) != first:
+        axes = "".join(m.group("axis") for m in triple)
+        if first is None:
+            first = axes
+        elif axes != first:
             return False
     return True
