@@ -45,8 +45,8 @@ class Trial:
     frame_numbers, frame_times : ndarray, shape (frames,), or None
         A TRC file's Frame# and Time columns as read (kept when the trial is written again).
     events : list of dict
-        Gait events of the file (C3D EVENT group): ``label``, ``context``, ``time`` (s),
-        ``frame`` (0-based index into ``points``).
+        Gait events of the file (C3D EVENT group): ``label``, ``context``, ``time`` (s
+        from the trial's first frame), ``frame`` (0-based index into ``points``).
     parameters : dict
         The C3D parameter groups, ``group → name → value`` (force plates in
         ``FORCE_PLATFORM``, subject measurements in ``PROCESSING``); empty for other files.
@@ -197,6 +197,54 @@ class Trial:
         """
         columns = [self.index(label) for label in labels]
         return self.with_markers(labels, self.points[:, columns, :])
+
+    def slice(self, start: int = 0, stop: int | None = None) -> "Trial":
+        """A copy holding frames ``start:stop`` (0-based, as Python slices), keeping
+        everything else in step: the analog samples of those frames, the events inside
+        them (``frame`` and ``time`` re-counted from the new first frame), ``first_frame`` and
+        ``start_time`` (so :meth:`time_base` gives each kept frame its old number and
+        time), a TRC file's Frame# and Time columns, segment poses, model outputs and
+        gap-filling masks.
+
+        >>> trial = Trial(["A"], np.arange(12.0).reshape(4, 1, 3), 100.0, first_frame=11,
+        ...               events=[{"label": "Foot Strike", "frame": 2, "time": 0.12}])
+        >>> part = trial.slice(1, 3)
+        >>> part.frames, part.first_frame, part.time_base()[1], part.events[0]["frame"]
+        (2, 12, array([0.11, 0.12]), 1)
+        >>> part.events[0]["time"]
+        0.11
+        """
+        begin, end, _ = slice(start, stop).indices(self.frames)
+        end = max(end, begin)
+        numbers, times = self.time_base()
+        picked = slice(begin, end)
+        analogs = self.analogs
+        if analogs is not None and self.analog_rate and self.rate > 0 and self.frames:
+            per_frame = analogs.shape[0] / self.frames
+            analogs = analogs[int(round(begin * per_frame)):int(round(end * per_frame))].copy()
+        shift = begin / self.rate if self.rate > 0 else 0.0
+        events = [dict(event, frame=int(event["frame"]) - begin,
+                       **({"time": float(event["time"]) - shift} if "time" in event else {}))
+                  for event in self.events if begin <= int(event.get("frame", -1)) < end]
+        poses = self.poses
+        if poses is not None:
+            poses = replace(poses, rotations=poses.rotations[picked],
+                            positions=poses.positions[picked])
+        modelled = self.modelled
+        if modelled is not None:
+            modelled = dict(modelled, values=np.asarray(modelled["values"])[picked])
+        keep_columns = self.frame_numbers is not None and self.frame_times is not None \
+            and len(self.frame_numbers) == self.frames
+        return replace(
+            self, points=self.points[picked].copy(), analogs=analogs,
+            analog_labels=list(self.analog_labels), metadata=dict(self.metadata),
+            events=events, poses=poses, modelled=modelled,
+            first_frame=int(numbers[begin]) if end > begin else int(self.first_frame),
+            start_time=float(times[begin]) if end > begin else self.start_time,
+            frame_numbers=self.frame_numbers[picked].copy() if keep_columns else None,
+            frame_times=self.frame_times[picked].copy() if keep_columns else None,
+            filled=None if self.filled is None else
+            {label: mask[picked].copy() for label, mask in self.filled.items()})
 
 
 def runs(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

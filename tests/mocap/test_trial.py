@@ -39,3 +39,33 @@ def test_a_trc_keeps_its_frame_numbers_and_times(tmp_path):
     np.testing.assert_array_equal(back.frame_numbers, numbers)
     np.testing.assert_allclose(back.frame_times, times, atol=1e-9)
     assert back.first_frame == walk.first_frame and back.start_time == times[0]
+
+
+def test_slicing_frames_keeps_analogs_events_and_clock_in_step(tmp_path):
+    """Frames 40..149 of a walk: every analog sample of those frames, the events inside
+    them, and the old frame numbers and times; ezc3d reads the written slice back on the
+    same clock."""
+    import ezc3d
+
+    from mocap.io import write
+    walk = read(realdata_path(*WALK))
+    part = walk.slice(40, 150)
+    ratio = walk.analogs.shape[0] // walk.frames
+    assert part.frames == 110 and part.analogs.shape == (110 * ratio, walk.analogs.shape[1])
+    np.testing.assert_array_equal(part.analogs, walk.analogs[40 * ratio:150 * ratio])
+    np.testing.assert_array_equal(part.modelled["values"], walk.modelled["values"][40:150])
+    numbers, times = walk.time_base()
+    np.testing.assert_array_equal(part.time_base()[0], numbers[40:150])
+    np.testing.assert_allclose(part.time_base()[1], times[40:150], atol=1e-12)
+    inside = [e for e in walk.events if 40 <= e["frame"] < 150]
+    assert [e["frame"] for e in part.events] == [e["frame"] - 40 for e in inside]
+    np.testing.assert_allclose([e["time"] for e in part.events],
+                               [e["time"] - 0.4 for e in inside], atol=1e-12)
+    for event in part.events:       # time counts from the first frame, as the reader's
+        assert abs(event["frame"] / part.rate - event["time"]) < 1e-9
+    path = tmp_path / "part.c3d"
+    write(part, path)
+    c3d = ezc3d.c3d(str(path))
+    assert c3d["header"]["points"]["first_frame"] + 1 == walk.first_frame + 40
+    assert c3d["data"]["analogs"].shape[-1] == 110 * ratio
+    assert walk.frames > 150 and walk.slice(5, 5).frames == 0
