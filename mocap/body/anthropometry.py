@@ -1,7 +1,7 @@
 """Segment masses, centres of mass and inertias from de Leva (1996), scaled to a skeleton.
 
 de Leva P. (1996) "Adjustments to Zatsiorsky-Seluyanov's segment inertia parameters",
-J. Biomech. 29(9):1223-1230, table 4. Mass as a fraction of body mass; centre of mass as
+J. Biomech. 29(9):1223-1230, table 4, stored in ``data/bodies/de-leva-1996.toml``. Mass as a fraction of body mass; centre of mass as
 a fraction of the segment length from the proximal end (from the upper end for head and
 trunk); radii of gyration as fractions of the segment length.
 
@@ -41,40 +41,32 @@ import numpy as np
 
 from mocap.body.segments import BODY_PARENTS, BODY_SEGMENTS, default_skeleton
 from mocap.errors import MocapError
+from mocap.resources import data_path
 from mocap.skeleton import Motion
+from mocap.tomlfile import parse_toml
 
+def _de_leva_table() -> dict:
+    """de Leva's table 4 as stored in ``data/bodies/de-leva-1996.toml`` (source cited there)."""
+    path = data_path("bodies", "de-leva-1996.toml")
+    return parse_toml(path.read_text(encoding="utf-8"), path, "body table")
+
+
+_TABLE = _de_leva_table()
+_KINDS = ("head", "upper_trunk", "mid_trunk", "lower_trunk", "upperarm", "forearm", "hand",
+          "thigh", "shank", "foot")
 #: (mass fraction, COM fraction from proximal/upper end, r_sag, r_trans, r_long), male.
-DE_LEVA_MALE = {
-    "head": (0.0694, 0.5976, 0.362, 0.376, 0.312),
-    "upper_trunk": (0.1596, 0.2999, 0.716, 0.454, 0.659),
-    "mid_trunk": (0.1633, 0.4502, 0.482, 0.383, 0.468),
-    "lower_trunk": (0.1117, 0.6115, 0.615, 0.551, 0.587),
-    "upperarm": (0.0271, 0.5772, 0.285, 0.269, 0.158),
-    "forearm": (0.0162, 0.4574, 0.276, 0.265, 0.121),
-    "hand": (0.0061, 0.7900, 0.628, 0.513, 0.401),
-    "thigh": (0.1416, 0.4095, 0.329, 0.329, 0.149),
-    "shank": (0.0433, 0.4395, 0.251, 0.246, 0.102),
-    "foot": (0.0137, 0.4415, 0.257, 0.245, 0.124),
-}
-#: Lengths (mm) of the reference male, used only to merge the trunk parts.
-_LENGTHS_MALE = {"upper_trunk": 170.7, "mid_trunk": 215.5}
-DE_LEVA_FEMALE = {
-    "head": (0.0668, 0.5894, 0.330, 0.359, 0.318),
-    "upper_trunk": (0.1545, 0.2077, 0.746, 0.502, 0.718),
-    "mid_trunk": (0.1465, 0.4512, 0.433, 0.354, 0.415),
-    "lower_trunk": (0.1247, 0.4920, 0.433, 0.402, 0.444),
-    "upperarm": (0.0255, 0.5754, 0.278, 0.260, 0.148),
-    "forearm": (0.0138, 0.4559, 0.261, 0.257, 0.094),
-    "hand": (0.0056, 0.7474, 0.531, 0.454, 0.335),
-    "thigh": (0.1478, 0.3612, 0.369, 0.364, 0.162),
-    "shank": (0.0481, 0.4352, 0.267, 0.263, 0.092),
-    "foot": (0.0129, 0.4014, 0.299, 0.279, 0.139),
-}
-_LENGTHS_FEMALE = {"upper_trunk": 142.5, "mid_trunk": 205.3}
+DE_LEVA_MALE = {kind: tuple(_TABLE["male"][kind]) for kind in _KINDS}
+DE_LEVA_FEMALE = {kind: tuple(_TABLE["female"][kind]) for kind in _KINDS}
+#: Lengths (mm) of the reference subjects, used only to merge the trunk parts.
+_LENGTHS_MALE = {part: _TABLE["male"]["reference_lengths_mm"][part]
+                 for part in ("upper_trunk", "mid_trunk")}
+_LENGTHS_FEMALE = {part: _TABLE["female"]["reference_lengths_mm"][part]
+                   for part in ("upper_trunk", "mid_trunk")}
 #: de Leva's hand length (wrist joint centre to the third metacarpale), mm, and the
 #: wrist-to-fingertip length of the same reference subject (Winter: 0.108 of the height).
-_HAND_LENGTH = {"male": 86.2, "female": 78.0}
-_FINGERTIP_HAND = {"male": 0.108 * 1741.0, "female": 0.108 * 1735.0}
+_HAND_LENGTH = {sex: _TABLE[sex]["reference_lengths_mm"]["hand"] for sex in ("male", "female")}
+_FINGERTIP_HAND = {sex: 0.108 * _TABLE[sex]["reference_lengths_mm"]["stature"]
+                   for sex in ("male", "female")}
 
 
 def _merged_thorax(table: dict, lengths: dict) -> tuple[float, float, float, float, float]:
