@@ -4,7 +4,6 @@ worker killed. Each refusal is one line naming the file, exit 2, nothing written
 each test failed on the code before issue 23 (a hang past 10 s, or a traceback)."""
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
 from mocap.cli import main
@@ -19,12 +18,9 @@ def _one_error_line(capsys) -> str:
     return err[0]
 
 
-def _timed_refusal(argv: list[str], capsys, seconds: float = 2.0) -> str:
-    """The one error line of ``argv``, refused within ``seconds`` of CPU time (CPU, not wall
-    time: the suite shares its machine)."""
-    start = time.process_time()
+def _refusal(argv: list[str], capsys) -> str:
+    """The one error line of ``argv``, exit 2 (how quickly: ``benchmarks/hostile.py``)."""
     assert main(argv) == 2
-    assert time.process_time() - start < seconds
     return _one_error_line(capsys)
 
 
@@ -50,7 +46,7 @@ def test_an_amc_of_two_million_empty_frames_is_refused_before_it_is_parsed(tmp_p
     amc = tmp_path / "s_01.amc"
     amc.write_text(":FULLY-SPECIFIED\n:DEGREES\n" +
                    "\n".join(str(k) for k in range(1, 2_000_001)) + "\n")
-    line = _timed_refusal(["export", str(amc), "-f", "bvh", "-o", str(tmp_path / "o.bvh")],
+    line = _refusal(["export", str(amc), "-f", "bvh", "-o", str(tmp_path / "o.bvh")],
                           capsys)
     assert "s_01.amc" in line and "2000000 frames × 31 joints" in line, line
     assert not (tmp_path / "o.bvh").exists()
@@ -61,7 +57,7 @@ def test_an_asf_chain_of_ten_thousand_bones_or_one_too_deep_is_refused(tmp_path,
     amc.write_text(":FULLY-SPECIFIED\n:DEGREES\n1\nroot 0 0 0 0 0 0\n")
     for count, words in ((10_000, "10000 bones, more than 4999"), (600, "deeper than 500")):
         asf = _asf_chain(tmp_path / "c.asf", count)
-        line = _timed_refusal(["export", str(amc), "--asf", str(asf), "-f", "bvh", "-o",
+        line = _refusal(["export", str(amc), "--asf", str(asf), "-f", "bvh", "-o",
                                str(tmp_path / "o.bvh")], capsys)
         assert "c.asf" in line and words in line, line
     assert not (tmp_path / "o.bvh").exists()
@@ -78,7 +74,7 @@ def test_a_cloth_beyond_the_memory_budget_is_refused_before_it_is_built(tmp_path
     scene = tmp_path / "cloth.toml"
     scene.write_text((SCENES / "hanging-cloth.toml").read_text().replace(
         "resolution = [32, 32]", "resolution = [1414, 1414]"))
-    line = _timed_refusal(["simulate", str(scene), "-o", str(tmp_path / "o.npz")], capsys)
+    line = _refusal(["simulate", str(scene), "-o", str(tmp_path / "o.npz")], capsys)
     assert "cloth.toml: [[cloth]] #1: 'resolution' would make 1999396 particles" in line
     assert "more than the budget of 1000 MB" in line, line
     assert not (tmp_path / "o.npz").exists()
@@ -90,7 +86,7 @@ def test_a_singular_rigid_body_is_refused_with_its_name(tmp_path, capsys):
     for size in ("[1e-200, 1e-200, 1e-200]", "[0.3, 1e-9, 1e-9]"):
         scene = tmp_path / "box.toml"
         scene.write_text(source.replace("size = [0.3, 0.12, 0.04]", f"size = {size}"))
-        line = _timed_refusal(["simulate", str(scene), "-o", str(tmp_path / "o.npz")],
+        line = _refusal(["simulate", str(scene), "-o", str(tmp_path / "o.npz")],
                               capsys)
         assert "box.toml: [[rigid]] #1: 'size'" in line and "cannot be inverted" in line, line
     assert not (tmp_path / "o.npz").exists()
@@ -126,7 +122,7 @@ def test_a_truncated_or_bomb_model_file_is_one_line(tmp_path, capsys):
             path.write_bytes(content)
         for argv in (["synthesize", str(path), "--person", "p0", "--action", "walk", "-o",
                       str(tmp_path / "s.csv")], ["recognize", str(path), str(DATA / "mocapbank_walk.bvh")]):
-            line = _timed_refusal(argv, capsys)
+            line = _refusal(argv, capsys)
             assert name in line and words in line, line
     assert not (tmp_path / "s.csv").exists()
 
@@ -186,7 +182,7 @@ def test_a_fluid_cutoff_pairing_every_particle_is_refused(tmp_path, capsys):
     scene.write_text((SCENES / "fluid-drop.toml").read_text()
                      .replace("cutoff = 0.025 ", "cutoff = 5.0 ")
                      .replace("size = [0.2, 0.2, 0.2]", "size = [0.5, 0.5, 0.5]"))
-    line = _timed_refusal(["simulate", str(scene), "-o", str(tmp_path / "o.npz")], capsys)
+    line = _refusal(["simulate", str(scene), "-o", str(tmp_path / "o.npz")], capsys)
     assert "fluid.toml: [[fluid]] #1: 'cutoff' 5 m over a spacing of 0.02 m" in line, line
     assert "MB of pairs, more than the budget" in line
     assert not (tmp_path / "o.npz").exists()

@@ -8,7 +8,6 @@ TRC file", a header naming 10⁶ markers took seconds and gigabytes)."""
 from __future__ import annotations
 
 import math
-import time
 import warnings
 from pathlib import Path
 
@@ -194,9 +193,7 @@ def test_declared_sizes_beyond_memory_are_one_line_in_well_under_a_second(
         path.write_bytes("\n".join(head).encode() + b"\n" + garbage.tobytes())
         words = "fewer than one per cell"
     for command in (["info", str(path)], ["convert", str(path), str(tmp_path / "o.c3d")]):
-        start = time.process_time()
-        assert main(command) == 2
-        assert time.process_time() - start < 1.5
+        assert main(command) == 2          # how quickly: benchmarks/hostile.py
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and str(path) in err[0] and words in err[0], err
     assert not (tmp_path / "o.c3d").exists()
