@@ -12,7 +12,8 @@ stride time ``T = s1 - s0``). Within it, with percentages of ``T`` from ``s0``:
 - Stride Length: horizontal distance of the side's heel marker (HEE, else the
   ankle marker ANK) from ``s0`` to ``s1``;
   Step Length: the side's heel at ``s1`` minus the other heel at the opposite foot
-  contact, along the stride (m);
+  contact, along the stride (m); Step Width: the same step across the stride, i.e. the
+  horizontal distance of the other heel from the line of this side's two strikes (m);
 - Walking Speed: Stride Length / ``T`` (m/s).
 
 The identities for cadence, step time, speed and support are those Vicon's stored
@@ -37,6 +38,7 @@ VICON_NAMES = {
     "step_time": ("Step Time", "s"),
     "stride_length": ("Stride Length", "m"),
     "step_length": ("Step Length", "m"),
+    "step_width": ("Step Width", "m"),
     "foot_off": ("Foot Off", "%"),
     "opposite_foot_off": ("Opposite Foot Off", "%"),
     "opposite_foot_contact": ("Opposite Foot Contact", "%"),
@@ -50,7 +52,7 @@ class GaitParameters:
     """One side's gait-cycle parameters (means over ``cycles`` complete cycles).
 
     Units: cadence steps/min; walking_speed m/s; stride_time, step_time s;
-    stride_length, step_length m; foot_off … double_support % of the stride.
+    stride_length, step_length, step_width m; foot_off … double_support % of the stride.
     NaN where the events or heel markers needed are missing.
     """
 
@@ -62,6 +64,7 @@ class GaitParameters:
     step_time: float
     stride_length: float
     step_length: float
+    step_width: float
     foot_off: float
     opposite_foot_off: float
     opposite_foot_contact: float
@@ -147,17 +150,20 @@ def gait_parameters(trial: Trial, events: list[GaitEvent] | None = None
             ofc = s0 + row[4] * (s1 - s0) / 100.0
             step = (_heel(trial, side, s1) - _heel(trial, other, ofc))[:2]
             length = float(np.hypot(*stride))
-            lengths.append([length, float(step @ stride) / length if length else np.nan])
-        lengths = np.array(lengths, float).reshape(-1, 2)
+            along = float(step @ stride) / length if length else np.nan
+            across = abs(float(stride[0] * step[1] - stride[1] * step[0])) / length \
+                if length else np.nan
+            lengths.append([length, along, across])
+        lengths = np.array(lengths, float).reshape(-1, 3)
         with warnings.catch_warnings():  # an all-NaN column is a NaN mean, not news
             warnings.simplefilter("ignore", RuntimeWarning)
             t = np.nanmean(timing, axis=0) if len(timing) else np.full(5, np.nan)
-            L = np.nanmean(lengths, axis=0) if len(lengths) else np.full(2, np.nan)
+            L = np.nanmean(lengths, axis=0) if len(lengths) else np.full(3, np.nan)
         stride_t, step_t, fo, ofo, ofc = t
         out.append(GaitParameters(
             side=side, cycles=len(timing), cadence=120.0 / stride_t,
             walking_speed=L[0] / stride_t, stride_time=stride_t, step_time=step_t,
-            stride_length=L[0], step_length=L[1], foot_off=fo, opposite_foot_off=ofo,
+            stride_length=L[0], step_length=L[1], step_width=L[2], foot_off=fo, opposite_foot_off=ofo,
             opposite_foot_contact=ofc, single_support=ofc - ofo,
             double_support=ofo + (fo - ofc)))
     return out

@@ -57,12 +57,33 @@ def test_a_synthetic_walk_gives_its_stride_and_step():
     assert left_p.stride_time == pytest.approx(1.29)
     assert left_p.stride_length == pytest.approx(1.19)  # heel at frame 129: x = 1.29 - 0.1
     assert left_p.step_length == pytest.approx(1.19 - 0.6)
+    assert left_p.step_width == pytest.approx(0.2)      # heels at y = +0.1 and -0.1
     assert left_p.walking_speed == pytest.approx(1.19 / 1.29)
     assert left_p.opposite_foot_contact == pytest.approx(100 * 0.6 / 1.29)
     assert np.isnan(right_p.stride_time)
     frame = to_dataframe([left_p, right_p])
     assert list(frame["Context"]) == ["Left", "Right"]
     assert frame.loc[0, "Stride Length (m)"] == pytest.approx(1.19)
+    assert frame.loc[0, "Step Width (m)"] == pytest.approx(0.2)
+
+
+def test_step_width_is_across_the_stride_whatever_the_walking_direction():
+    # The same walk turned 30° about the vertical: lengths and width do not change.
+    rate, frames = 100.0, 130
+    t = np.arange(frames) / rate
+    left = np.stack([np.clip(t - 0.1, 0, 1.2), np.full(frames, 0.13), np.zeros(frames)], 1)
+    right = np.stack([0.6 + np.clip(t - 0.7, 0, 1.2), np.full(frames, -0.1),
+                      np.zeros(frames)], 1)
+    c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
+    turn = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    points = np.stack([left, right], 1) @ turn.T
+    events = [GaitEvent("l", FOOT_STRIKE, 0), GaitEvent("r", FOOT_OFF, 10),
+              GaitEvent("r", FOOT_STRIKE, 60), GaitEvent("l", FOOT_OFF, 70),
+              GaitEvent("l", FOOT_STRIKE, 130 - 1)]
+    left_p = gait_parameters(Trial(["LHEE", "RHEE"], points, rate), events)[0]
+    assert left_p.step_width == pytest.approx(0.23)
+    assert left_p.step_length == pytest.approx(1.19 - 0.6)
+    assert left_p.stride_length == pytest.approx(1.19)
 
 
 def test_left_stride_matches_vicons_stored_analysis():
