@@ -47,11 +47,11 @@ def generated_walk(path: Path) -> tuple[Path, Subject]:
             points.append(centre + rotation @ (np.array(offset) * [1, sign, 1]))
     walk = Trial(labels, np.stack(points, axis=1), trial.rate, units="mm")
     io.write(walk, path)                                  # C3D in millimetres
-    # What the lab measures (widths = 2 x (marker offset - marker radius), mm) and what a
-    # static trial would calibrate: the toe marker 6 cm below and 13 cm ahead of the ankle.
+    # What the lab measures (widths = 2 x (marker offset - marker radius), metres) and what
+    # a static trial would calibrate: the toe marker 6 cm below and 13 cm ahead of the ankle.
     flexion = np.arctan2(0.06, 0.13)                       # plantar-flexion offset, rad
-    return path, Subject(marker_diameter=14.0, knee_width={"l": 96.0, "r": 96.0},
-                         ankle_width={"l": 76.0, "r": 76.0}, calibrated=True,
+    return path, Subject(marker_diameter=0.014, knee_width={"l": 0.096, "r": 0.096},
+                         ankle_width={"l": 0.076, "r": 0.076}, calibrated=True,
                          static_plantar_flexion={"l": flexion, "r": flexion},
                          static_rotation_offset={"l": 0.0, "r": 0.0})
 

@@ -44,20 +44,22 @@ def chord(plane: np.ndarray, joint: np.ndarray, marker: np.ndarray, delta: float
 
     Parameters
     ----------
-    plane, joint, marker : ndarray, shape (frames, 3), millimetres
-        Wand (plane) marker, proximal joint centre, the marker on the joint.
+    plane, joint, marker : ndarray, shape (frames, 3), metres
+        Wand (plane) marker, proximal joint centre, the marker on the joint
+        (any one length unit: the construction is scale-free).
     delta : float
-        Millimetres (half the joint width plus the marker radius).
+        Metres, or the unit of the points (half the joint width plus the marker
+        radius).
     rotation : float
         Radians: the angle about the segment axis from the wand's plane to the
         plane (joint, J, marker) (Plug-in Gait's thigh / shank rotation
         offsets).  The axis depends on ``J``, so the centre is found by a fixed
         number of vectorised fixed-point ``iterations`` (the angle converges
-        geometrically; 6 give < 1e-6 mm for offsets below 30 degrees).
+        geometrically; 6 give < 1e-9 m for offsets below 30 degrees).
 
     Returns
     -------
-    ndarray, shape (frames, 3), millimetres; NaN where an input is NaN.
+    ndarray, shape (frames, 3), the points' unit; NaN where an input is NaN.
     """
     axis = joint - marker                                    # v2
     length = np.linalg.norm(axis, axis=-1, keepdims=True)

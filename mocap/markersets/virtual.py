@@ -144,6 +144,20 @@ def pelvis_frame(rasi: np.ndarray, lasi: np.ndarray, sacr: np.ndarray
     return np.stack([x, y, z], axis=-1), origin
 
 
+def davis_asis_trochanter(leg_length: float) -> float:
+    """ASIS-trochanter distance regressed from the leg length, metres.
+
+    Plug-in Gait's ``0.1288 L - 48.56`` mm (Davis et al. 1991), with ``L`` and the
+    result in metres.
+
+    Examples
+    --------
+    >>> round(davis_asis_trochanter(0.9), 5)
+    0.06736
+    """
+    return 0.1288 * leg_length - 0.04856
+
+
 def hip_joint_centre_offset(method: str, side: str, pelvis_width: float,
                             pelvis_depth: float | None = None,
                             leg_length: float | None = None,
@@ -166,7 +180,7 @@ def hip_joint_centre_offset(method: str, side: str, pelvis_width: float,
         Metres (davis).
     asis_trochanter : float, optional
         Measured ASIS-trochanter distance of this side, metres (davis); default the
-        regression ``0.1288 L - 48.56`` mm.
+        regression :func:`davis_asis_trochanter` of ``leg_length``.
 
     Examples
     --------
@@ -181,16 +195,13 @@ def hip_joint_centre_offset(method: str, side: str, pelvis_width: float,
         x, y, z = (-0.24 * pd - 9.9) / 1000, (0.33 * pw + 7.3) / 1000, \
             (-0.30 * pw - 10.9) / 1000
     elif method == "davis":
-        length = leg_length * 1000.0
-        radius = marker_diameter * 1000.0 / 2.0
-        c = 0.115 * length - 15.3
-        at = (0.1288 * length - 48.56 if asis_trochanter is None
-              else asis_trochanter * 1000.0)
+        radius = marker_diameter / 2.0
+        c = 0.115 * leg_length - 0.0153          # Davis et al. 1991: 0.115 L - 15.3 mm
+        at = davis_asis_trochanter(leg_length) if asis_trochanter is None else asis_trochanter
         theta, beta = DAVIS_THETA, DAVIS_BETA
         x = c * np.cos(theta) * np.sin(beta) - (at + radius) * np.cos(beta)
-        y = -(c * np.sin(theta) - pelvis_width * 1000.0 / 2.0)
+        y = -(c * np.sin(theta) - pelvis_width / 2.0)
         z = -c * np.cos(theta) * np.cos(beta) - (at + radius) * np.sin(beta)
-        x, y, z = x / 1000, y / 1000, z / 1000
     else:
         raise ValueError(f"unknown hip joint centre method {method!r}")
     return np.array([x, sign * y, z])

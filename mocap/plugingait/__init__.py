@@ -27,5 +27,10 @@ there: the pelvis frame and the Davis hip joint centre
 its Cardan angles are :func:`mocap.rotations.euler.euler_from_components` (intrinsic YXZ).
 The ``plugingait-lower`` preset is the same geometry as a marker set, for segment angles.
 
+Units: metres throughout, like ``Trial.points`` (markers, joint centres, the
+:class:`~mocap.plugingait.model.Subject`'s lengths, every threshold); angles in radians
+inside, degrees in the angle tables.  The one conversion is where Vicon's PROCESSING
+group (millimetres) is read, :func:`~mocap.plugingait.model.subject_from_trial`.
+
 Importing the package loads none of them; import the module you need.
 """

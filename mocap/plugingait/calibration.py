@@ -92,22 +92,22 @@ def kad_virtual_knee(kax: np.ndarray, kd1: np.ndarray, kd2: np.ndarray,
     along the knee flexion axis (laterally), KD1 and KD2 across it.  The
     corner is the apex of the tetrahedron over the markers' triangle, at
     ``s / sqrt(6)`` from the triangle's centroid along its normal (``s`` the
-    mean side, millimetres; pyCGM2's KAD uses the same apex), on the side of
+    mean side; pyCGM2's KAD uses the same apex), on the side of
     the leg: the one nearer the line from the hip joint centre to ANK (the
     other lies ``2 s / sqrt(6)`` further out from the knee).
 
     Parameters
     ----------
-    kax, kd1, kd2 : ndarray, shape (frames, 3), millimetres
-    hjc, ankle : ndarray, shape (frames, 3), millimetres
+    kax, kd1, kd2 : ndarray, shape (frames, 3), metres
+    hjc, ankle : ndarray, shape (frames, 3), metres
         The hip joint centre and the lateral malleolus marker (ANK).
 
     Examples
     --------
-    >>> arms = 100.0 * np.eye(3)[None] + [0.0, 50.0, 400.0]   # corner at (0, 50, 400)
-    >>> leg = np.array([[0.0, 0.0, 800.0]]), np.array([[0.0, 40.0, 0.0]])
-    >>> kad_virtual_knee(arms[:, 0], arms[:, 1], arms[:, 2], *leg).round(9) + 0.0
-    array([[  0.,  50., 400.]])
+    >>> arms = 0.1 * np.eye(3)[None] + [0.0, 0.05, 0.4]   # corner at (0, 0.05, 0.4) m
+    >>> leg = np.array([[0.0, 0.0, 0.8]]), np.array([[0.0, 0.04, 0.0]])
+    >>> kad_virtual_knee(arms[:, 0], arms[:, 1], arms[:, 2], *leg).round(12) + 0.0
+    array([[0.  , 0.05, 0.4 ]])
     """
     centroid = (kax + kd1 + kd2) / 3.0
     side = (np.linalg.norm(kax - kd1, axis=-1) + np.linalg.norm(kax - kd2, axis=-1)
@@ -136,7 +136,7 @@ def kad_thigh_rotation(thigh: np.ndarray, hjc: np.ndarray, knee: np.ndarray,
 
     Parameters
     ----------
-    thigh, hjc, knee, kax : ndarray, shape (frames, 3), millimetres
+    thigh, hjc, knee, kax : ndarray, shape (frames, 3), metres
         THI, the hip joint centre, the virtual knee marker, KAX.
     delta : float
         Millimetres.
@@ -144,7 +144,7 @@ def kad_thigh_rotation(thigh: np.ndarray, hjc: np.ndarray, knee: np.ndarray,
 
     Returns
     -------
-    kjc : ndarray, shape (frames, 3), millimetres
+    kjc : ndarray, shape (frames, 3), metres
     rotation : float
         Radians, the median over the frames; NaN when no frame gives it.
     """
@@ -171,7 +171,7 @@ def shank_rotation_for_torsion(kjc: np.ndarray, tibia: np.ndarray, ankle: np.nda
 
     Parameters
     ----------
-    kjc, tibia, ankle : ndarray, shape (frames, 3), millimetres
+    kjc, tibia, ankle : ndarray, shape (frames, 3), metres
         The knee joint centre, TIB, ANK.
     knee_axis : ndarray, shape (frames, 3)
         The thigh's y axis (unit, towards the left).
@@ -207,7 +207,7 @@ def shank_rotation_for_torsion(kjc: np.ndarray, tibia: np.ndarray, ankle: np.nda
 def kad_markers(static: Trial) -> tuple[dict, list[str]]:
     """The knee alignment device markers of each side that has all three with data.
 
-    Returns ``{side: (KAX, KD1, KD2)}`` (millimetres, (frames, 3)) and the
+    Returns ``{side: (KAX, KD1, KD2)}`` (metres, (frames, 3)) and the
     KAD labels of sides whose device is incomplete (a KD1 or KD2 label with
     some of the three absent or empty).  A KAX alone is not a device (Vicon
     writes a virtual LKAX/RKAX of its own in some statics).
@@ -229,7 +229,7 @@ def kad_markers(static: Trial) -> tuple[dict, list[str]]:
 
 
 def static_markers(static: Trial) -> dict:
-    """Marker arrays (millimetres) of the static, with medial markers if present."""
+    """Marker arrays (metres) of the static, with medial markers if present."""
     names = MARKERS + tuple(p.format(S=S) for p in MEDIAL_KNEE + MEDIAL_ANKLE
                             for S in "LR")
     markers, _ = markers_from_trial(static, names)
@@ -252,7 +252,7 @@ def calibrate(static: Trial, subject: Subject | None = None, *, flat_foot: bool 
         Plug-in Gait's "foot flat" option: the static foot's long axis is
         horizontal.
     sole_delta : float
-        Millimetres of sole under the heel with ``flat_foot`` (shoes).
+        Metres of sole under the heel with ``flat_foot`` (shoes).
     warn : bool
         Say (a :class:`MissingMarkerWarning`) when the static has knee
         alignment device labels that cannot be used (absent or empty markers):
@@ -324,8 +324,8 @@ def calibrate(static: Trial, subject: Subject | None = None, *, flat_foot: bool 
                 medial = _first_present(m, patterns, side)
                 if medial is None:
                     raise MocapError(
-                        f"{S} {key.replace('_', ' ')} unknown: give it (millimetres) or "
-                        f"record medial markers in the static", path)
+                        f"{S} {key.replace('_', ' ')} unknown: give it (Subject.{key}, "
+                        f"metres) or record medial markers in the static", path)
                 # marker centre to centre, less one diameter = skin to skin
                 getattr(sub, key)[side] = _median_distance(
                     m[f"{S}{lateral}"], medial) - sub.marker_diameter

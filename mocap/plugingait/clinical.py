@@ -150,7 +150,7 @@ def _warn_if_moving(static: Trial) -> None:
     markers, _ = markers_from_trial(static, ("LASI", "RASI"))
     if len(markers) < 2:
         return
-    origin = (markers["LASI"] + markers["RASI"])[:, :2] / 2000.0          # metres
+    origin = (markers["LASI"] + markers["RASI"])[:, :2] / 2.0
     origin = origin[np.isfinite(origin).all(axis=1)]
     if len(origin) < 2:
         return
@@ -314,7 +314,7 @@ def fill_plugingait(trial: Trial, subject: Subject, max_gap_frames: int
             if kin is not None and centre is not None and key in kin.centres:
                 joint = f"__{key}"
                 extra_labels.append(joint)
-                extra_points.append(kin.centres[key] / 1000.0)
+                extra_points.append(kin.centres[key])
                 # the proximal joint's medio-lateral axis turns with the segment
                 # about its long axis (a hinge's axis; nearly so at the hip)
                 side = name.split("_")[0]

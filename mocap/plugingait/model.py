@@ -4,18 +4,19 @@ The Conventional Gait Model as Vicon's Plug-in Gait computes it (Davis, Ounpuu,
 Tyburski & Gage 1991; Kadaba, Ramakrishnan & Wootten 1990; Baker 2013,
 *Measuring Walking*, ch. 10; the Plug-in Gait reference guide), vectorised over
 frames.  Every segment frame is a rotation matrix whose columns are its x, y, z
-axes in lab coordinates; lengths are millimetres inside this module (the
-subject measurements are millimetres), metres at its boundary (``Trial``).
+axes in lab coordinates; every length is in metres, as in ``Trial`` (Vicon's
+PROCESSING group stores the subject's lengths in millimetres: they are converted
+where they are read, :func:`subject_from_trial`).
 
 Frames, for both sides (x anterior, y left, z up when standing):
 
 * pelvis: origin the ASIS midpoint ``O``; ``y = unit(LASI - RASI)``; ``x`` the
   part of ``O - SACR`` orthogonal to ``y``; ``z = x × y``.
 * hip joint centre (Davis): ``O + X x + Y y + Z z`` with
-  ``C = 0.115 L - 15.3``, ``X = C cos θ sin β - (AT + r) cos β``,
+  ``C = 0.115 L - 0.0153`` (m), ``X = C cos θ sin β - (AT + r) cos β``,
   ``Y = ±(C sin θ - IAD / 2)`` (− left), ``Z = -C cos θ cos β - (AT + r) sin β``;
   θ = 0.5, β = 0.314 rad, ``L`` the mean leg length, ``AT`` the ASIS-trochanter
-  distance (``0.1288 L - 48.56`` when not measured), ``r`` the marker radius.
+  distance (``0.1288 L - 0.04856`` m when not measured), ``r`` the marker radius.
 * knee joint centre: :func:`chord` of (THI, HJC, KNE) at ``knee width / 2 + r``
   from KNE; thigh: ``z = unit(HJC - KJC)``, ``x`` normal to the plane
   (HJC, KJC, KNE), ``y = z × x``.
@@ -45,7 +46,7 @@ from mocap.errors import MocapError
 from mocap.markersets.chord import _unit, chord, rotate_about  # noqa: F401 (re-exported)
 from mocap.markersets.model import _LabelIndex
 from mocap.markersets.virtual import DAVIS_BETA, DAVIS_THETA  # noqa: F401 (re-exported)
-from mocap.markersets.virtual import hip_joint_centre_offset
+from mocap.markersets.virtual import davis_asis_trochanter, hip_joint_centre_offset
 from mocap.markersets.virtual import pelvis_frame as pelvis_axes
 from mocap.rotations.euler import euler_from_components
 from mocap.trial import Trial
@@ -69,14 +70,20 @@ class AnatomicalOffsetWarning(UserWarning):
 class Subject:
     """Subject measurements and static offsets of Plug-in Gait, per side.
 
-    Lengths in millimetres, angles in radians (as in the C3D PROCESSING group).
-    ``None`` means "not measured": estimated where Plug-in Gait estimates it.
+    Lengths in metres (like ``Trial.points``; :func:`subject_from_trial` converts
+    the millimetres of Vicon's PROCESSING group), angles in radians.  ``None``
+    means "not measured": estimated where Plug-in Gait estimates it.  A length
+    too large to be metres (a knee 100 m wide: millimetres given by mistake) is
+    a :class:`~mocap.errors.MocapError` at construction.
 
     Attributes
     ----------
     marker_diameter : float
+        Metres (0.014 by default).
     leg_length, asis_trochanter, knee_width, ankle_width : dict side -> float or None
+        Metres.
     inter_asis : float or None
+        Metres.
     tibial_torsion, thigh_rotation, shank_rotation : dict side -> float
         Radians; the last two turn the wand markers' planes (KAD calibration).
     static_plantar_flexion, static_rotation_offset : dict side -> float or None
@@ -85,7 +92,7 @@ class Subject:
         True once a static trial set the offsets.
     """
 
-    marker_diameter: float = 14.0
+    marker_diameter: float = 0.014
     leg_length: dict = field(default_factory=lambda: {"l": None, "r": None})
     asis_trochanter: dict = field(default_factory=lambda: {"l": None, "r": None})
     knee_width: dict = field(default_factory=lambda: {"l": None, "r": None})
@@ -98,13 +105,33 @@ class Subject:
     static_rotation_offset: dict = field(default_factory=lambda: {"l": None, "r": None})
     calibrated: bool = False
 
+    def __post_init__(self) -> None:
+        lengths = [("marker_diameter", None, self.marker_diameter),
+                   ("inter_asis", None, self.inter_asis)]
+        lengths += [(key, side, getattr(self, key).get(side)) for key in _LIMITS_M
+                    if key not in ("marker_diameter", "inter_asis") for side in SIDES]
+        for key, side, value in lengths:
+            if value is not None and value > _LIMITS_M[key]:
+                name = key if side is None else f"{key}[{side!r}]"
+                raise MocapError(f"Subject.{name} = {value:g} is over {_LIMITS_M[key]:g} m: "
+                                 f"millimetres? Subject lengths are metres")
+
     @property
     def radius(self) -> float:
-        """Marker radius, millimetres."""
+        """Marker radius, metres."""
         return self.marker_diameter / 2.0
 
 
-_PROCESSING = {  # Subject field -> PROCESSING name pattern ({S} = L or R)
+#: Largest plausible value of each Subject length, metres: a marker of 10 cm, a leg
+#: of 3 m, a pelvis 1 m wide; anything larger is a length given in millimetres.
+_LIMITS_M = {"marker_diameter": 0.1, "inter_asis": 1.0, "leg_length": 3.0,
+             "asis_trochanter": 0.5, "knee_width": 0.5, "ankle_width": 0.5}
+
+#: Vicon's PROCESSING group stores lengths in millimetres.
+PROCESSING_LENGTH_M = 1e-3
+
+
+_PROCESSING = {  # Subject field -> PROCESSING name pattern ({S} = L or R), mm or rad
     "leg_length": "{S}LegLength", "asis_trochanter": "{S}AsisTrocanterDistance",
     "knee_width": "{S}KneeWidth", "ankle_width": "{S}AnkleWidth",
     "tibial_torsion": "{S}TibialTorsion", "thigh_rotation": "{S}ThighRotation",
@@ -130,7 +157,8 @@ def subject_from_trial(trial: Trial, *, offsets: bool = False) -> Subject:
     Returns
     -------
     Subject
-        A measurement of 0 (Vicon's "not measured") becomes None.
+        Lengths converted to metres (the group's are millimetres).  A
+        measurement of 0 (Vicon's "not measured") becomes None.
     """
     parameters = trial.parameters
     group = {str(k).upper(): v for k, v in (parameters.get("PROCESSING") or {}).items()}
@@ -146,9 +174,9 @@ def subject_from_trial(trial: Trial, *, offsets: bool = False) -> Subject:
     subject = Subject()
     diameter = number("MarkerDiameter")
     if diameter and diameter > 0:
-        subject.marker_diameter = diameter
+        subject.marker_diameter = diameter * PROCESSING_LENGTH_M
     iad = number("InterAsisDistance")
-    subject.inter_asis = iad if iad else None
+    subject.inter_asis = iad * PROCESSING_LENGTH_M if iad else None
     for key, pattern in _PROCESSING.items():
         if key.startswith("static_") and not offsets:
             continue
@@ -160,7 +188,7 @@ def subject_from_trial(trial: Trial, *, offsets: bool = False) -> Subject:
             elif key.startswith("static_"):
                 values[side] = value
             else:
-                values[side] = value if value else None
+                values[side] = value * PROCESSING_LENGTH_M if value else None
     if offsets and all(subject.static_plantar_flexion[s] is not None for s in SIDES):
         subject.calibrated = True
     return subject
@@ -195,7 +223,7 @@ def rot_z(angle: float) -> np.ndarray:
 
 @dataclass
 class Markers:
-    """The markers the model reads, millimetres, (frames, 3) each; None if absent."""
+    """The markers the model reads, metres, (frames, 3) each; None if absent."""
 
     points: dict
 
@@ -204,7 +232,7 @@ class Markers:
 
 
 def markers_from_trial(trial: Trial, names: tuple[str, ...]) -> tuple[dict, list[str]]:
-    """Marker arrays (millimetres) by bare name; names with no valid frame are absent.
+    """Marker arrays (metres, (frames, 3)) by bare name; names with no valid frame are absent.
 
     Returns the arrays and the names found as labels but empty (no valid frame).
     """
@@ -215,7 +243,7 @@ def markers_from_trial(trial: Trial, names: tuple[str, ...]) -> tuple[dict, list
         column = index.find(name)
         if column is None:
             continue
-        values = trial.points[:, column, :] * 1000.0
+        values = trial.points[:, column, :]
         if not np.isfinite(values).all(axis=1).any():
             empty.append(name)
             continue
@@ -251,7 +279,7 @@ def pelvis_frame(m: dict, path: str | None = None, warn: bool = True
 
 def hip_joint_centres(rotation: np.ndarray, origin: np.ndarray, subject: Subject
                       ) -> dict[str, np.ndarray]:
-    """Davis hip joint centres (frames, 3) per side, millimetres.
+    """Davis hip joint centres (frames, 3) per side, metres.
 
     The one Davis regression (:func:`mocap.markersets.virtual.hip_joint_centre_offset`)
     with Plug-in Gait's inputs: the mean leg length of both sides, each side's
@@ -265,10 +293,10 @@ def hip_joint_centres(rotation: np.ndarray, origin: np.ndarray, subject: Subject
     for side, name in (("l", "left"), ("r", "right")):
         at = subject.asis_trochanter[side]
         if at is None:
-            at = 0.1288 * subject.leg_length[side] - 48.56
-        local = 1000.0 * hip_joint_centre_offset(
-            "davis", name, subject.inter_asis / 1000.0, leg_length=mean_leg / 1000.0,
-            marker_diameter=2.0 * subject.radius / 1000.0, asis_trochanter=at / 1000.0)
+            at = davis_asis_trochanter(subject.leg_length[side])
+        local = hip_joint_centre_offset(
+            "davis", name, subject.inter_asis, leg_length=mean_leg,
+            marker_diameter=subject.marker_diameter, asis_trochanter=at)
         out[side] = origin + rotation @ local
     return out
 
@@ -340,7 +368,7 @@ def anatomical_foot_frame(toe: np.ndarray, heel: np.ndarray, ankle_y: np.ndarray
 
 @dataclass
 class Kinematics:
-    """Joint centres (millimetres) and segment rotations of one trial.
+    """Joint centres (metres) and segment rotations of one trial.
 
     ``centres`` maps ``"pelvis"``, ``"l_hip"``, ``"l_knee"``, ``"l_ankle"``,
     ``"l_toe"`` … to (frames, 3); ``frames`` maps ``"pelvis"``, ``"l_thigh"``,
@@ -365,7 +393,7 @@ def kinematics(markers: dict, subject: Subject, path: str | None = None,
 
     Parameters
     ----------
-    markers : dict of str to ndarray (frames, 3), millimetres
+    markers : dict of str to ndarray (frames, 3), metres
         Bare Plug-in Gait names (markers_from_trial); absent names are skipped
         (a leg without knee markers gives no thigh, a foot without HEE/TOE no
         foot).
@@ -469,14 +497,15 @@ def clinical_angles(proximal: np.ndarray, distal: np.ndarray, joint: str, side: 
     return raw[..., list(order)] * np.asarray(signs, dtype=float)
 
 
-def progression_frame(origin: np.ndarray, pelvis: np.ndarray, min_travel: float = 200.0
+def progression_frame(origin: np.ndarray, pelvis: np.ndarray, min_travel: float = 0.2
                       ) -> np.ndarray:
     """The walking direction's frame (3, 3): x along the progression, z up.
 
     The progression is the lab's horizontal axis (±X or ±Y) along which the
     pelvis origin travels most from the first to the last valid frame, as
-    Plug-in Gait takes it; when it travels less than ``min_travel`` mm (a
+    Plug-in Gait takes it; when it travels less than ``min_travel`` metres (a
     static trial), the axis nearest the pelvis's mean forward direction.
+    ``origin`` is (frames, 3), metres; ``pelvis`` (frames, 3, 3).
     """
     valid = np.isfinite(origin).all(axis=1)
     if valid.sum() >= 2:

@@ -230,11 +230,11 @@ def leg_model(folder, static_path, walk_path, mass):
         warnings.simplefilter("ignore")
         subject = prepare_subject(walk, static=static)
     markers, _ = markers_from_trial(static, PIG)
-    mean = {k: np.nanmean(v, axis=0)[None] for k, v in markers.items()}       # mm, Z up
+    mean = {k: np.nanmean(v, axis=0)[None] for k, v in markers.items()}       # m, Z up
     kin = kinematics(mean, subject)
 
-    def y_up(point):                                   # mm in the Z-up lab -> m, Y up
-        return Z_TO_Y_UP @ (np.asarray(point, float).reshape(3) / 1000.0)
+    def y_up(point):                                   # the Z-up lab -> Y up, metres
+        return Z_TO_Y_UP @ np.asarray(point, float).reshape(3)
 
     def axes(frame):                                   # Plug-in Gait axes -> OpenSim's
         return Z_TO_Y_UP @ np.asarray(frame).reshape(3, 3) @ Z_TO_Y_UP.T

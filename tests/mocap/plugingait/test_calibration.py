@@ -42,11 +42,11 @@ def _quiet(function, *args, **kwargs):
         return function(*args, **kwargs)
 
 
-def with_kad(static: Trial, knee: dict, axis: dict, up: dict, arm: float = 100.0,
+def with_kad(static: Trial, knee: dict, axis: dict, up: dict, arm: float = 0.1,
              drop_knee: bool = False) -> Trial:
     """The static with a KAD per side: its corner at ``knee[side]``, KAX along
     ``axis[side]`` (lateral), KD1 along ``up[side]`` and KD2 anterior (the
-    order pyCGM2's KAD formula expects).  Arrays (frames, 3), millimetres."""
+    order pyCGM2's KAD formula expects).  Arrays (frames, 3), metres."""
     labels, points = list(static.labels), static.points.copy()
     for side in SIDES:
         S = side.upper()
@@ -54,7 +54,7 @@ def with_kad(static: Trial, knee: dict, axis: dict, up: dict, arm: float = 100.0
         z = _unit(up[side] - np.sum(up[side] * u, axis=-1, keepdims=True) * u)
         anterior = np.cross(u, z) if side == "l" else np.cross(z, u)
         for name, direction in (("KAX", u), ("KD1", z), ("KD2", anterior)):
-            values = (knee[side] + arm * direction) / 1000.0
+            values = knee[side] + arm * direction
             label = f"{S}{name}"
             if label in labels:                # biomechzoo's virtual LKAX/RKAX replaced
                 points[:, labels.index(label)] = values
@@ -158,12 +158,12 @@ def test_c_kad_corner_and_knee_centre_match_pycgm2s_formulas(hc030a):
         theirs = centroid - n * (np.sqrt(3) * sides.mean(axis=0) / 3.0)[:, None]
         hjc = kin.centres[f"{side}_hip"]
         corner = kad_virtual_knee(kax, kd1, kd2, hjc, markers[f"{S}ANK"])
-        np.testing.assert_allclose(corner, theirs, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(corner, theirs, rtol=0, atol=1e-12)     # metres
         delta = (today.knee_width[side] + today.marker_diameter) / 2.0
         kjc, _ = kad_thigh_rotation(markers[f"{S}THI"], hjc, corner, kax, delta, side)
-        np.testing.assert_allclose(kjc, chord(kax, hjc, theirs, delta), rtol=0, atol=1e-9)
+        np.testing.assert_allclose(kjc, chord(kax, hjc, theirs, delta), rtol=0, atol=1e-12)
         # the knee centre sees the hip and the corner at a right angle, delta away
-        np.testing.assert_allclose(np.linalg.norm(kjc - corner, axis=1), delta, atol=1e-9)
+        np.testing.assert_allclose(np.linalg.norm(kjc - corner, axis=1), delta, atol=1e-12)
 
 
 def test_kad_on_vicons_static_knee_axis_gives_back_vicons_thigh_rotation():
@@ -210,8 +210,8 @@ def test_empty_kad_labels_warn_once_and_calibrate_without_them():
     devices, unusable = kad_markers(static)
     assert devices == {} and sorted(unusable) == sorted(
         f"{S}{n}" for S in "LR" for n in ("KAX", "KD1", "KD2"))
-    subject = Subject(marker_diameter=14.0, knee_width={"l": 100.0, "r": 100.0},
-                      ankle_width={"l": 70.0, "r": 70.0})
+    subject = Subject(marker_diameter=0.014, knee_width={"l": 0.1, "r": 0.1},
+                      ankle_width={"l": 0.07, "r": 0.07})
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         ours = calibrate(static, subject)

@@ -45,14 +45,25 @@ def test_chord_rotation_turns_the_plane_about_the_segment_axis():
 
 def test_davis_hip_centres_match_pycgm_example():
     # pyCGM's calc_joint_center_hip docstring (mean leg 940 mm, ASIS-trochanter
-    # 72.51 mm, inter-ASIS 215.90 mm, 14 mm markers); rows of its 4x4 are the axes
+    # 72.51 mm, inter-ASIS 215.90 mm, 14 mm markers); rows of its 4x4 are the axes.
+    # The model works in metres: the example's millimetres are converted in and out.
     pelvis = np.array([[0.14, 0.98, -0.11, 251.60], [-0.99, 0.13, -0.02, 391.74],
                        [0, 0.1, 0.99, 1032.89]])
-    subject = Subject(marker_diameter=14.0, leg_length={"l": 940.0, "r": 940.0},
-                      asis_trochanter={"l": 72.51, "r": 72.51}, inter_asis=215.90)
-    centres = hip_joint_centres(pelvis[:, :3].T[None], pelvis[:, 3][None], subject)
-    np.testing.assert_allclose(centres["r"][0], [307.36, 323.83, 938.72], atol=0.01)
-    np.testing.assert_allclose(centres["l"][0], [181.71, 340.33, 936.18], atol=0.01)
+    subject = Subject(marker_diameter=0.014, leg_length={"l": 0.940, "r": 0.940},
+                      asis_trochanter={"l": 0.07251, "r": 0.07251}, inter_asis=0.21590)
+    centres = hip_joint_centres(pelvis[:, :3].T[None], pelvis[:, 3][None] / 1000.0, subject)
+    np.testing.assert_allclose(centres["r"][0] * 1000.0, [307.36, 323.83, 938.72], atol=0.01)
+    np.testing.assert_allclose(centres["l"][0] * 1000.0, [181.71, 340.33, 936.18], atol=0.01)
+
+
+def test_subject_lengths_in_millimetres_are_refused():
+    """Subject holds metres: a knee 100 (mm) wide is a MocapError naming the field."""
+    import pytest
+
+    from mocap.errors import MocapError
+    with pytest.raises(MocapError, match=r"knee_width\['l'\] = 100 .*millimetres"):
+        Subject(knee_width={"l": 100.0, "r": 0.1})
+    assert Subject(knee_width={"l": 0.1, "r": 0.1}).radius == 0.007
 
 
 def test_yxz_angles_and_clinical_signs_on_known_rotations():
@@ -79,7 +90,7 @@ def test_yxz_angles_and_clinical_signs_on_known_rotations():
 
 def test_progression_frame_follows_the_pelvis_along_the_lab_axis():
     t = np.linspace(0, 2, 50)[:, None]
-    walking_minus_y = np.hstack([5 + 0.02 * t, -1.2 * t * 1000, 0 * t + 900])
+    walking_minus_y = np.hstack([0.005 + 0.00002 * t, -1.2 * t, 0 * t + 0.9])   # metres
     frame = progression_frame(walking_minus_y, np.full((50, 3, 3), np.nan))
     np.testing.assert_allclose(frame[:, 0], [0, -1, 0])
     np.testing.assert_allclose(frame[:, 2], [0, 0, 1])
