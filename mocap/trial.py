@@ -209,10 +209,11 @@ class Trial:
         >>> trial = Trial(["A"], np.arange(12.0).reshape(4, 1, 3), 100.0, first_frame=11,
         ...               events=[{"label": "Foot Strike", "frame": 2, "time": 0.12}])
         >>> part = trial.slice(1, 3)
-        >>> part.frames, part.first_frame, part.time_base()[1], part.events[0]["frame"]
-        (2, 12, array([0.11, 0.12]), 1)
-        >>> part.events[0]["time"]
-        0.11
+        >>> part.frames, part.first_frame, part.time_base()[1]
+        (2, 12, array([0.11, 0.12]))
+        >>> event = part.events[0]
+        >>> event["frame"], event["time"]
+        (1, 0.11)
         """
         begin, end, _ = slice(start, stop).indices(self.frames)
         end = max(end, begin)
