@@ -88,8 +88,8 @@ def estimate_missing(subject: Subject, markers: dict, path: str | None = None,
     if missing:
         raise MissingMeasurementError(f"Plug-in Gait needs subject measurements the file lacks: "
                          f"{', '.join(missing)} (a C3D PROCESSING group, or a static with "
-                         f"medial knee/malleolus markers; --no-clinical gives segment "
-                         f"angles without them)", path)
+                         f"medial knee/malleolus markers; segment angles need none of "
+                         f"them)", path)
     return sub
 
 
