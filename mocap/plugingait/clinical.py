@@ -24,6 +24,7 @@ from mocap.trial import Trial
 
 if TYPE_CHECKING:
     from mocap.clean.gapfill import GapReport
+    from mocap.plugingait.upper import UpperSubject
 
 
 def _merge(primary: Subject, secondary: Subject) -> Subject:
@@ -167,7 +168,8 @@ def clinical_columns() -> list[str]:
 
 
 def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
-                      static: Trial | None = None, flat_foot: bool | str = "auto"):
+                      static: Trial | None = None, flat_foot: bool | str = "auto",
+                      upper_body: bool = False, upper_subject: UpperSubject | None = None):
     """Plug-in Gait joint angles (clinical convention) of a walk.
 
     Parameters
@@ -188,12 +190,22 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
         command line) takes the option that reproduces the offsets a previous
         Plug-in Gait run stored in the walk or the static (PROCESSING
         StaticPlantFlex), else off.
+    upper_body : bool
+        Also the upper body and the foot progression
+        (:mod:`mocap.plugingait.upper`): segments ``l_thorax, l_spine, l_neck,
+        l_head, l_shoulder, l_elbow, l_wrist, l_foot_progress, r_…`` follow the
+        lower body's, each Vicon's ``<Side><Joint>Angles``
+        (``<Side>FootProgressAngles``).  Parts whose markers or measurements are
+        missing are NaN, with an :class:`~mocap.plugingait.upper.UpperBodyWarning`.
+    upper_subject : UpperSubject, optional
+        Upper-body measurements to use instead of the walk's (then the static's)
+        PROCESSING group (:func:`mocap.plugingait.upper.upper_subject_from_trial`).
 
     Returns
     -------
     JointAngles
-        Segments ``l_pelvis, l_hip, l_knee, l_ankle, r_…``, axes
-        ``flexion, adduction, rotation`` (degrees, Vicon's X, Y, Z of
+        Segments ``l_pelvis, l_hip, l_knee, l_ankle, r_…`` (then the upper body's),
+        axes ``flexion, adduction, rotation`` (degrees, Vicon's X, Y, Z of
         ``<Side><Joint>Angles``), sequence ``"YXZ"``; NaN where markers are
         missing; columns of joints whose markers are absent are all NaN (with a
         :class:`MissingMarkerWarning`).
@@ -224,7 +236,20 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
             if p is None or d is None:
                 continue
             values[:, i * len(JOINTS) + j] = clinical_angles(p, d, joint, side)
-    return JointAngles(times=trial.times, values=values, segments=clinical_columns(),
+    segments = clinical_columns()
+    if upper_body:
+        from mocap.plugingait.upper import (UPPER_MARKERS, UpperBodyWarning, upper_angles,
+                                            upper_columns, upper_kinematics,
+                                            upper_subject_from_trial)
+
+        if upper_subject is None:
+            upper_subject = upper_subject_from_trial(trial, static)
+        upper = upper_kinematics(markers_from_trial(trial, UPPER_MARKERS)[0], upper_subject)
+        for note in upper.notes:
+            warnings.warn(f"{path or 'trial'}: {note}", UpperBodyWarning, stacklevel=2)
+        values = np.concatenate([values, upper_angles(kin, upper, progression)], axis=1)
+        segments += upper_columns()
+    return JointAngles(times=trial.times, values=values, segments=segments,
                        sequence="YXZ", parents=[-1] * values.shape[1], axes=list(PLANES))
 
 
