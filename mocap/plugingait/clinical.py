@@ -244,7 +244,11 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
 
         if upper_subject is None:
             upper_subject = upper_subject_from_trial(trial, static)
-        upper = upper_kinematics(markers_from_trial(trial, UPPER_MARKERS)[0], upper_subject)
+        upper_markers = markers_from_trial(trial, UPPER_MARKERS)[0]
+        if not upper_markers:
+            raise MocapError(f"no Plug-in Gait upper-body markers with data "
+                             f"({', '.join(UPPER_MARKERS[:4])}, …) in the trial", path)
+        upper = upper_kinematics(upper_markers, upper_subject)
         for note in upper.notes:
             warnings.warn(f"{path or 'trial'}: {note}", UpperBodyWarning, stacklevel=2)
         values = np.concatenate([values, upper_angles(kin, upper, progression)], axis=1)
@@ -262,10 +266,16 @@ RIGID_SEGMENTS = (("LASI", "RASI", "SACR", "LPSI", "RPSI"),
                   ("LHEE", "LTOE"), ("RHEE", "RTOE"))
 
 
-def plugingait_labels(trial: Trial) -> list[str]:
-    """The trial's labels the model reads (subject prefixes allowed), in file order."""
+def plugingait_labels(trial: Trial, upper_body: bool = False) -> list[str]:
+    """The trial's labels the model reads (subject prefixes allowed), in file order;
+    with ``upper_body``, the upper body's markers too."""
+    names = MARKERS
+    if upper_body:
+        from mocap.plugingait.upper import UPPER_MARKERS
+
+        names = MARKERS + UPPER_MARKERS
     index = _LabelIndex(trial.labels)
-    columns = sorted({c for c in (index.find(n) for n in MARKERS) if c is not None})
+    columns = sorted({c for c in (index.find(n) for n in names) if c is not None})
     if not columns:
         raise MocapError("no Plug-in Gait markers (LASI, RASI, …) in the trial", trial.path)
     return [trial.labels[c] for c in columns]

@@ -310,7 +310,7 @@ def upper_kinematics(markers: dict, subject: UpperSubject,
         notes.append("no head (LFHD, RFHD, LBHD and RBHD are needed)")
     for side in SIDES:
         S = side.upper()
-        missing = subject.missing(side)
+        missing = [m for m in subject.missing(side) if m != "hand_thickness"]
         if "thorax" not in frames or not have(f"{S}SHO", f"{S}ELB", f"{S}WRA", f"{S}WRB") \
                 or missing:
             needs = f"{S}SHO, {S}ELB, {S}WRA, {S}WRB, the thorax"
@@ -329,8 +329,8 @@ def upper_kinematics(markers: dict, subject: UpperSubject,
         humerus = humerus_frame(sjc, ejc, wjc)
         frames[f"{side}_humerus"] = humerus
         frames[f"{side}_radius"] = radius_frame(ejc, wjc, humerus)
-        if not have(f"{S}FIN"):
-            notes.append(f"{S}: no hand ({S}FIN is needed)")
+        if not have(f"{S}FIN") or subject.hand_thickness[side] is None:
+            notes.append(f"{S}: no hand ({S}FIN and the hand thickness are needed)")
             continue
         hand, centre = hand_frame(wjc, wra, wrb, markers[f"{S}FIN"],
                                   subject.hand_thickness[side] / 2.0 + radius, side)
