@@ -25,6 +25,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "convert": ("mocap.cli.io", "convert a marker file between C3D, CSV and TRC"),
     "forces": ("mocap.cli.forces", "force plates of a C3D trial: ground reaction, centre of pressure"),
     "angles": ("mocap.cli.angles", "joint angles from marker files, as CSV (time, <segment>.<axis> in degrees)"),
+    "plugingait": ("mocap.cli.plugingait", "the whole Plug-in Gait of a walk (angles, kinetics, gait parameters) as Vicon Nexus writes it"),
     "generate": ("mocap.cli.generate", "write a synthetic people × actions marker corpus with ground truth"),
     "decompose": ("mocap.cli.synthesis", "build an N-mode SVD motion model from a people × actions corpus"),
     "synthesize": ("mocap.cli.synthesis", "synthesise one cycle of a person doing an action"),
