@@ -167,6 +167,22 @@ def clinical_columns() -> list[str]:
     return [f"{side}_{joint}" for side in SIDES for joint in JOINTS]
 
 
+def vicon_label(segment: str) -> str:
+    """Vicon's output label of a clinical angle segment (the upper body's too).
+
+    Examples
+    --------
+    >>> vicon_label("l_hip"), vicon_label("r_foot_progress")
+    ('LHipAngles', 'RFootProgressAngles')
+    """
+    from mocap.plugingait.upper import VICON_NAMES
+
+    side, _, joint = segment.partition("_")
+    if side not in SIDES or joint not in JOINTS + tuple(VICON_NAMES):
+        raise KeyError(segment)
+    return side.upper() + VICON_NAMES.get(joint, f"{joint.capitalize()}Angles")
+
+
 def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
                       static: Trial | None = None, flat_foot: bool | str = "auto",
                       upper_body: bool = False, upper_subject: UpperSubject | None = None):

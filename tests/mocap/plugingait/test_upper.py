@@ -17,7 +17,7 @@ import pytest
 
 from mocap.errors import MocapError
 from mocap.io import read
-from mocap.plugingait.clinical import clinical_columns, plugingait_angles
+from mocap.plugingait.clinical import clinical_columns, plugingait_angles, vicon_label
 from mocap.plugingait.model import AnatomicalOffsetWarning, Kinematics, progression_frame
 from mocap.plugingait.upper import (ANGLES, UPPER_JOINTS, VICON_NAMES, UpperBodyWarning,
                                     UpperSubject, upper_angles, upper_columns,
@@ -216,6 +216,7 @@ def test_upper_body_equals_vicons_stored_angles(walks):
     for name, trial, angles in walks:
         assert angles.segments == clinical_columns() + upper_columns()
         stored = _vicon(trial)
+        assert all(vicon_label(s) in stored for s in angles.segments)
         for side in "lr":
             for joint in UPPER_JOINTS:
                 ours = angles.segment(f"{side}_{joint}")
