@@ -236,7 +236,8 @@ def test_vicons_left_foot_progression_of_hc036a23_is_the_other_euler_triple():
     Vicon's left foot starts 101° from the progression axis, beyond the YXZ sequence's
     gimbal lock, and Vicon's values there are, on every frame, the second Euler triple of
     its own foot frame with the inversion's sign reversed: (a1 + 180, 180 - a3, 180 - a2),
-    where ours is (a1, a3, -a2).  No other progression axis or wrap gives them."""
+    where ours is (a1, a3, -a2) -- the right foot's signs (a1, -a3, a2) on the second
+    triple (a1 + 180, 180 - a2, a3 + 180).  No other progression axis or wrap gives them."""
     trial = read(realdata_path(ZOO, "HC036A", "Turn", "HC036A23.c3d"))
     pelvis, foot = _vicon_frame(trial, "PEL"), _vicon_frame(trial, "LFO")
     origin = trial.points[:, trial.labels.index("PELO")]
