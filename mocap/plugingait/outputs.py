@@ -26,11 +26,12 @@ UNITS = {"ANGLES": ("deg", "degrees"), "MOMENTS": ("Nmm", "N·mm/kg"),
          "POWERS": ("W", "W/kg"), "FORCES": ("N", "N/kg")}
 
 
-def vicon_label(segment: str, suffix: str) -> str:
-    """``l_hip`` + ``Angles`` -> ``LHipAngles``; ``r_foot_progress`` -> ``RFootProgressAngles``.
+def kinetic_label(segment: str, suffix: str) -> str:
+    """``l_hip`` + ``Moment`` -> ``LHipMoment`` (the angles' labels are
+    :func:`mocap.plugingait.clinical.vicon_label`).
 
-    >>> vicon_label("r_foot_progress", "Angles")
-    'RFootProgressAngles'
+    >>> kinetic_label("r_ankle", "Power")
+    'RAnklePower'
     """
     side, _, joint = segment.partition("_")
     return side.upper() + "".join(part.capitalize() for part in joint.split("_")) + suffix
@@ -46,7 +47,9 @@ def model_outputs(angles, kinetics=None) -> list[tuple[str, str, np.ndarray]]:
     kinetics : JointKinetics, optional
         :func:`mocap.plugingait.kinetics.plugingait_kinetics`.
     """
-    out = [(vicon_label(name, "Angles"), "ANGLES", np.asarray(angles.segment(name), float))
+    from mocap.plugingait.clinical import vicon_label
+
+    out = [(vicon_label(name), "ANGLES", np.asarray(angles.segment(name), float))
            for name in angles.segments]
     if kinetics is None:
         return out
@@ -54,14 +57,14 @@ def model_outputs(angles, kinetics=None) -> list[tuple[str, str, np.ndarray]]:
     for k, side in enumerate(("l", "r")):
         out.append((f"{side.upper()}GroundReactionForce", "FORCES", kinetics.ground[:, k]))
     for k, name in enumerate(kinetics.segments):
-        out.append((vicon_label(name, "Force"), "FORCES", kinetics.forces[:, k]))
+        out.append((kinetic_label(name, "Force"), "FORCES", kinetics.forces[:, k]))
     for k, name in enumerate(kinetics.segments):
-        out.append((vicon_label(name, "Moment"), "MOMENTS", kinetics.moments[:, k]))
+        out.append((kinetic_label(name, "Moment"), "MOMENTS", kinetics.moments[:, k]))
     for k, name in enumerate(kinetics.segments):
         power = np.zeros((frames, 3))
         power[:, 2] = kinetics.powers[:, k]
         power[~np.isfinite(kinetics.powers[:, k])] = np.nan
-        out.append((vicon_label(name, "Power"), "POWERS", power))
+        out.append((kinetic_label(name, "Power"), "POWERS", power))
     return out
 
 
@@ -116,4 +119,4 @@ def outputs_table(times: np.ndarray, outputs: list[tuple[str, str, np.ndarray]])
     return pandas.concat(parts, ignore_index=True)[columns]
 
 
-__all__ = ["UNITS", "analysis_group", "model_outputs", "outputs_table", "vicon_label"]
+__all__ = ["UNITS", "analysis_group", "model_outputs", "outputs_table", "kinetic_label"]
