@@ -5,11 +5,12 @@ A plate's loaded stretch (vertical force over the plate threshold, at marker fra
 foot nearest its centre of pressure (:func:`nearest_foot`), and kept only when the
 contact is clean (:func:`assign_plates`):
 
-* the foot's heel and toe markers stay over the plate, in the plate's plane, on every
-  loaded frame (a foot partly off the plate puts part of its load on the floor);
+* the foot's heel and toe markers stay over the plate's outline on every loaded frame
+  (a foot partly off the plate puts part of its load on the floor);
 * the other foot is never planted on the plate while it is loaded (two feet on one plate
-  cannot be told apart); swinging over it is fine (heel and toe markers faster than
-  :data:`PLANTED_SPEED`).
+  cannot be told apart): its heel or toe marker slower than :data:`PLANTED_SPEED`, over
+  the outline and within :data:`FOOT_MARKER_HEIGHT` of the surface (a foot swinging over
+  the plate, or standing on the next stair step, is not on it).
 
 Otherwise the stretch is refused with a note naming the plate, the foot and the
 frames: that foot has no measured reaction on that stance.
@@ -28,6 +29,10 @@ from mocap.trial import runs
 #: Horizontal speed (m/s) under which a foot marker counts as planted: a foot on the ground
 #: moves a few cm/s (rolling over), a swinging one 1-5 m/s.
 PLANTED_SPEED = 0.5
+#: Height (m) above a plate's surface within which a foot marker is on it: heel and toe
+#: markers of a foot standing on the ground sit 2-8 cm above the sole; a stair step
+#: (15-20 cm) is above this, so the foot on the next step is not on the plate.
+FOOT_MARKER_HEIGHT = 0.12
 #: Loaded stretches shorter than this many frames are impacts or noise, not stances.
 MIN_STANCE_FRAMES = 3
 
@@ -58,18 +63,27 @@ class Stance:
     reason: str = ""
 
 
-def _inside(points: np.ndarray, plate: PlateForces) -> np.ndarray:
-    """Whether points (frames, 3) lie over the plate's outline, (frames,) bool (NaN: False)."""
+def _inside(points: np.ndarray, plate: PlateForces, near: bool = False) -> np.ndarray:
+    """Whether points (frames, 3) lie over the plate's outline, (frames,) bool (NaN: False);
+    with ``near``, also at most :data:`FOOT_MARKER_HEIGHT` above its surface (and not
+    more than half that below it).
+    """
     info = plate.plate
     local = (points - info.centre) @ info.axes                   # plate axes, from its centre
     half = np.abs((info.corners - info.centre) @ info.axes).max(axis=0)
+    # the plate's Z may point down (Vicon's) or up: up is where the reaction points
+    up = 1.0 if np.nansum(plate.force @ info.axes[:, 2]) >= 0 else -1.0
+    height = up * local[:, 2]
     with np.errstate(invalid="ignore"):
-        return (np.abs(local[:, 0]) <= half[0]) & (np.abs(local[:, 1]) <= half[1])
+        over = (np.abs(local[:, 0]) <= half[0]) & (np.abs(local[:, 1]) <= half[1])
+        if not near:
+            return over
+        return over & (height >= -FOOT_MARKER_HEIGHT / 2) & (height <= FOOT_MARKER_HEIGHT)
 
 
 def _segment_distance(point: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Horizontal distance (frames,) from ``point`` to the segment a–b, each (frames, 3)."""
-    p, a, b = point[:, :2], a[:, :2], b[:, :2]
+    """Distance (frames,) from ``point`` to the segment a–b, each (frames, 3)."""
+    p = point
     ab = b - a
     with np.errstate(invalid="ignore", divide="ignore"):
         t = np.clip(np.sum((p - a) * ab, axis=1) / np.sum(ab * ab, axis=1), 0.0, 1.0)
@@ -89,7 +103,7 @@ def nearest_foot(cop: np.ndarray, feet: dict) -> str | None:
     Returns
     -------
     str or None
-        The side with the smallest median horizontal distance over the frames where
+        The side with the smallest median distance over the frames where
         both are known; None when no foot is.
 
     Examples
@@ -156,11 +170,11 @@ def assign_plates(plates: list[PlateForces], feet: dict) -> list[Stance]:
             if not (_inside(heel, result) & _inside(toe, result)).all():
                 reason = "partly off the plate"
             for other, (o_heel, o_toe) in window.items():
-                over = _inside(o_heel, result) | _inside(o_toe, result)
+                over = _inside(o_heel, result, True) | _inside(o_toe, result, True)
                 if other != side and (over & planted[other][start:stop]).any():
                     reason = "both feet on the plate"
             out.append(Stance(side, result.plate.index, int(start), stop, not reason, reason))
     return sorted(out, key=lambda s: (s.start, s.plate))
 
 
-__all__ = ["MIN_STANCE_FRAMES", "Stance", "assign_plates", "nearest_foot"]
+__all__ = ["FOOT_MARKER_HEIGHT", "MIN_STANCE_FRAMES", "PLANTED_SPEED", "Stance", "assign_plates", "nearest_foot"]
