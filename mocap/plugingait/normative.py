@@ -90,6 +90,10 @@ class Normative:
     meta : dict
         Source, licence, attribution, description, and for a lab reference the walks and
         cycle counts it was built from.
+    parameters : dict of str to (float, float)
+        Gait-cycle parameters' (mean, SD), keyed by the fields of
+        :class:`~mocap.plugingait.parameters.GaitParameters` (``walking_speed`` m/s …);
+        empty when the set has none.
     """
 
     name: str
@@ -97,6 +101,7 @@ class Normative:
     sd: dict
     samples: int = 101
     meta: dict = field(default_factory=dict)
+    parameters: dict = field(default_factory=dict)
 
     @property
     def percent(self) -> np.ndarray:
@@ -144,8 +149,16 @@ def normative_from_dict(data: dict, path: str | None = None) -> Normative:
         except (KeyError, AttributeError, TypeError, ValueError):
             raise MocapError(f"normative variable {name!r} needs 'mean' and 'sd' tables of "
                              f"X, Y, Z", path) from None
-    meta = {k: v for k, v in data.items() if k not in ("variables", "samples", "name")}
-    return Normative(str(data.get("name", "")), mean, sd, samples, meta)
+    parameters = {}
+    for key, entry in (data.get("parameters") or {}).items():
+        try:
+            parameters[str(key)] = (float(entry["mean"]), float(entry["sd"]))
+        except (KeyError, TypeError, ValueError):
+            raise MocapError(f"normative parameter {key!r} needs a 'mean' and an 'sd'",
+                             path) from None
+    meta = {k: v for k, v in data.items()
+            if k not in ("variables", "samples", "name", "parameters")}
+    return Normative(str(data.get("name", "")), mean, sd, samples, meta, parameters)
 
 
 def read_normative(path: str | os.PathLike | None = None) -> Normative:
@@ -177,8 +190,13 @@ def normative_to_dict(normative: Normative) -> dict:
                          for v in table[:, k]]) for k, c in enumerate(COMPONENTS)}
         variables[name] = {"unit": unit, "mean": columns(mean),
                            "sd": columns(normative.sd[name])}
-    return {"name": normative.name, **normative.meta, "samples": normative.samples,
-            "variables": variables}
+    out = {"name": normative.name, **normative.meta, "samples": normative.samples,
+           "variables": variables}
+    if normative.parameters:
+        out["parameters"] = {k: {"mean": round(m, 6), "sd": round(s, 6)}
+                             for k, (m, s) in normative.parameters.items()
+                             if np.isfinite(m) and np.isfinite(s)}
+    return out
 
 
 def write_normative(normative: Normative, path: str | os.PathLike) -> None:
@@ -191,8 +209,8 @@ def write_normative(normative: Normative, path: str | os.PathLike) -> None:
             handle.write(text + "\n")
 
 
-def lab_reference(curves: list, name: str = "lab reference",
-                  min_cycles: int = 2) -> Normative:
+def lab_reference(curves: list, name: str = "lab reference", min_cycles: int = 2,
+                  parameters: list | None = None) -> Normative:
     """Mean ± SD per variable over every cycle of some normal walks (both sides pooled).
 
     Parameters
@@ -203,6 +221,9 @@ def lab_reference(curves: list, name: str = "lab reference",
     min_cycles : int
         A sample needs this many cycles with a value, else it is NaN (an SD of one
         cycle is no spread).
+    parameters : list of GaitParameters, optional
+        Every side of every walk (:func:`mocap.plugingait.parameters.gait_parameters`):
+        their mean and SD (ddof 1) per parameter, each side with cycles counting once.
 
     Returns
     -------
@@ -233,7 +254,19 @@ def lab_reference(curves: list, name: str = "lab reference",
     meta = {"description": f"Lab reference: mean and SD (ddof 1) over every cycle of "
                            f"{len(curves)} walk(s), left and right sides pooled.",
             "walks": [c.source for c in curves], "cycles": counts}
-    return Normative(name, mean, sd, samples, meta)
+    table = {}
+    rows = [p for p in (parameters or []) if p.cycles > 0]
+    if len(rows) >= min_cycles:
+        from dataclasses import asdict
+
+        from mocap.plugingait.parameters import VICON_NAMES
+
+        for key in VICON_NAMES:
+            values = np.array([asdict(p)[key] for p in rows], dtype=float)
+            values = values[np.isfinite(values)]
+            if values.size >= min_cycles:
+                table[key] = (float(values.mean()), float(values.std(ddof=1)))
+    return Normative(name, mean, sd, samples, meta, table)
 
 
 __all__ = ["COMPONENTS", "DEFAULT_NORMATIVE", "Normative", "VARIABLES", "VARIABLE_BY_NAME",
