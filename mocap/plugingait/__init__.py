@@ -10,6 +10,9 @@ calibration
 clinical
     The clinical recipe for one walk: subject values, gap filling inside each rigid
     segment, the clinical angle table (:func:`~mocap.plugingait.clinical.plugingait_angles`).
+upper
+    The upper body (thorax, head, arms) and the foot progression, as Vicon's
+    ``<Side><Joint>Angles`` (``plugingait_angles(..., upper_body=True)``).
 events
     Gait events (from the file or detected) and gait cycles at 0–100 %.
 curves, normative, scores
