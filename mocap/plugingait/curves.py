@@ -49,24 +49,14 @@ class CycleCurves:
         return {name: v[chosen] for name, v in self.values.items()}
 
 
-def vicon_name(joint: str) -> str:
-    """Vicon's output name of a clinical-angle joint.
-
-    >>> vicon_name("hip"), vicon_name("foot_progress")
-    ('HipAngles', 'FootProgressAngles')
-    """
-    return "".join(part.capitalize() for part in joint.split("_")) + "Angles"
-
-
 def angle_series(angles) -> dict:
     """The clinical angles of :func:`~mocap.plugingait.clinical.plugingait_angles` as
-    series: ``(side, Vicon name)`` -> (frames, 3) degrees."""
-    out = {}
-    for k, segment in enumerate(angles.segments):
-        side, _, joint = segment.partition("_")
-        if side in ("l", "r") and joint:
-            out[(side, vicon_name(joint))] = angles.values[:, k, :]
-    return out
+    series: ``(side, Vicon name)`` -> (frames, 3) degrees (the name without its side,
+    :func:`~mocap.plugingait.clinical.vicon_label`)."""
+    from mocap.plugingait.clinical import vicon_label
+
+    return {(segment[0], vicon_label(segment)[1:]): angles.values[:, k, :]
+            for k, segment in enumerate(angles.segments)}
 
 
 #: Scale of a file's POINT unit of each kind to the curves' units.
@@ -152,4 +142,4 @@ def cycle_curves(series: dict, events: list[GaitEvent], frames: int, source: str
                        samples)
 
 
-__all__ = ["CycleCurves", "angle_series", "cycle_curves", "stored_series", "vicon_name"]
+__all__ = ["CycleCurves", "angle_series", "cycle_curves", "stored_series"]

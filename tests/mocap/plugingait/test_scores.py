@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from mocap.errors import MocapError
-from mocap.plugingait.curves import CycleCurves, cycle_curves, stored_series, vicon_name
+from mocap.plugingait.curves import CycleCurves, angle_series, cycle_curves, stored_series
 from mocap.plugingait.events import FOOT_STRIKE, GaitEvent
 from mocap.plugingait.normative import (VARIABLES, Normative, lab_reference,
                                         read_normative, write_normative)
@@ -153,14 +153,24 @@ def test_cycle_curves_cut_each_side_at_its_strikes():
     assert np.allclose(hip[0, :, 0], np.linspace(10, 60, 101))
     assert np.allclose(hip[1, :, 0], 2 * np.linspace(30, 80, 101))
     assert np.isnan(curves.values["KneeMoment"][1]).all()          # the right has none
-    assert vicon_name("foot_progress") == "FootProgressAngles"
+
+
+def test_angle_series_are_under_vicons_names():
+    from mocap.rotations.angles import JointAngles
+
+    values = np.arange(2 * 3 * 3, dtype=float).reshape(2, 3, 3)
+    angles = JointAngles(np.arange(2.0), values, ["l_hip", "r_foot_progress", "l_thorax"],
+                         "YXZ", [-1, -1, -1])
+    series = angle_series(angles)
+    assert list(series) == [("l", "HipAngles"), ("r", "FootProgressAngles"),
+                            ("l", "ThoraxAngles")]
+    assert np.array_equal(series[("r", "FootProgressAngles")], values[:, 1])
 
 
 @pytest.fixture(scope="module")
 def real_walks():
     from mocap.io import read
     from mocap.pipeline import clinical_angles
-    from mocap.plugingait.curves import angle_series
     from mocap.plugingait.events import gait_events
 
     out = {}
