@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import re
+from pathlib import Path
 import warnings
 
 import numpy as np
@@ -126,3 +127,38 @@ def test_normative_refuses_a_non_json_output(tmp_path, capsys):
     walk, _ = walk_of("HC030A")
     assert main(["normative", str(walk), "--stored", "-o", str(tmp_path / "lab.csv")]) == 2
     assert "JSON" in capsys.readouterr().err and not (tmp_path / "lab.csv").exists()
+
+
+def session(tmp_path, statics=("HC038A01_static.c3d",)):
+    """A session folder: the HC038A walk and its static (linked) under the names given."""
+    walk, static = walk_of("HC038A")
+    folder = tmp_path / "session"
+    folder.mkdir()
+    (folder / walk.name).symlink_to(walk)
+    for name in statics:
+        (folder / name).symlink_to(static)
+    return folder, walk
+
+
+def test_a_session_folder_is_its_walks_and_auto_finds_their_static(tmp_path, capsys):
+    folder, walk = session(tmp_path)
+    out = tmp_path / "lab.json"
+    assert main(["normative", str(folder), "--static", "auto", "-o", str(out)]) == 0
+    built = json.loads(out.read_text())
+    assert [Path(w).name for w in built["walks"]] == [walk.name]     # the static is no walk
+    # calibrated with the static: the same curves as with the static given by name
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        given = analyse_walk(walk, walk_of("HC038A")[1])
+    hip = given.curves.values["HipAngles"][:, :, 0]
+    assert np.allclose(read_normative(out).mean["HipAngles"][:, 0], hip.mean(axis=0),
+                       atol=1e-4)
+
+
+def test_two_statics_beside_a_walk_are_refused_by_auto(tmp_path, capsys):
+    folder, walk = session(tmp_path, ("a_static.c3d", "b_static.c3d"))
+    status = main(["normative", str(folder / walk.name), "--static", "auto",
+                   "-o", str(tmp_path / "lab.json")])
+    err = capsys.readouterr().err
+    assert status == 2 and "several static trials" in err and err.count("\n") == 1
+    assert not (tmp_path / "lab.json").exists()
