@@ -20,11 +20,10 @@ import warnings
 
 import numpy as np
 
+from mocap.plugingait.events import SIDE_COLOURS
 from mocap.plugingait.normative import VARIABLES, Normative
 from mocap.plugingait.scores import GaitScores
 
-#: Side colours of the curves (the gait-lab convention: left red, right green).
-SIDE_COLOURS = {"l": "#c0392b", "r": "#1e8449"}
 SIDE_NAMES = {"l": "left", "r": "right"}
 #: The figure groups of the page: (id, title, kinds or names of the variables in it).
 GROUPS = (("angles-lower", "Pelvis and lower-limb angles",
@@ -338,5 +337,5 @@ def figure_ids(text: str) -> list[str]:
     return re.findall(r'<figure class="plot" id="([^"]+)"', text)
 
 
-__all__ = ["GROUPS", "curves_figure", "figure_ids", "profile_figure", "report_html",
+__all__ = ["GROUPS", "SIDE_COLOURS", "curves_figure", "figure_ids", "profile_figure", "report_html",
            "write_report"]
