@@ -175,3 +175,17 @@ def test_decompose_piped_into_head_keeps_its_model(folder, tmp_path):
     assert "Traceback" not in err
     assert model.exists()
     assert load_model(model).people
+
+
+def test_export_fps_resamples_the_clip(capsys, tmp_path):
+    source = realdata_path("bandai2", "dataset-2_walk_active_001.bvh")
+    status, _, err = run(capsys, "export", source, "--fps", 60, "-o", tmp_path / "w60.bvh")
+    assert status == 0, err
+    original, faster = read_bvh(source), read_bvh(tmp_path / "w60.bvh")
+    assert faster.rate == pytest.approx(60.0, rel=1e-9)
+    assert faster.frames == 2 * original.frames - 1
+    # every other frame is an original frame (cm in both files)
+    assert np.allclose(faster.root_translation[::2], original.root_translation, atol=1e-6)
+    status, _, err = run(capsys, "export", source, "--fps", 60, "--round-rate", "-o",
+                         tmp_path / "x.bvh")
+    assert status == 2 and "not both" in err and not (tmp_path / "x.bvh").exists()
