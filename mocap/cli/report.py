@@ -7,6 +7,7 @@ import shlex
 import sys
 from pathlib import Path
 
+from mocap.cli import options
 from mocap.cli.commands import Subparsers, summary
 from mocap.cli.paths import refuse_overwrite
 from mocap.errors import MocapError
@@ -26,9 +27,13 @@ def _walk_options(parser: argparse.ArgumentParser) -> None:
                              "folder whose name (or folder's name) contains 'static'")
     parser.add_argument("--stored", action="store_true",
                         help="use the Plug-in Gait outputs Vicon stored in the C3D files "
-                             "(angles, moments, powers) instead of computing the angles")
+                             "(angles, moments, powers) instead of computing them")
     parser.add_argument("--flat-foot", choices=("auto", "on", "off"), default="auto",
                         help="Plug-in Gait's foot-flat static option (as in mocap angles)")
+    parser.add_argument("--body-mass", type=options.real(maximum=500, above=0), metavar="KG",
+                        help="body mass for the joint moments and powers (default: the "
+                             "files' PROCESSING Bodymass); walks without force plates get "
+                             "no kinetics, with a note")
 
 
 def register(subparsers: Subparsers) -> None:
@@ -38,8 +43,9 @@ def register(subparsers: Subparsers) -> None:
         description="One self-contained HTML report of a subject's walks: provenance, "
                     "subject measurements and what was estimated, the model's warnings, "
                     "gait-cycle parameters, the Gait Profile Score and Gait Variable Scores "
-                    "(Baker et al. 2009), and each angle (moment and power with --stored) "
-                    "per gait cycle, left and right mean +- SD over the normative band.",
+                    "(Baker et al. 2009), and each angle, joint moment and power (walks on "
+                    "force plates) per gait cycle, left and right mean +- SD over the "
+                    "normative band.",
         epilog="Examples: mocap report walk1.c3d walk2.c3d --static static.c3d -o report.html;"
                "  mocap report session/ --static auto --normative lab.json -o report.html;"
                "  mocap report walk.c3d --stored -o vicon.html")
@@ -122,7 +128,8 @@ def _analyse(files: list[Path], args: argparse.Namespace, what: str) -> list:
     for walk in progress(files, what, total=len(files)):
         static = None if args.stored else (find_static(walk) if args.static == "auto"
                                            else args.static)
-        analyses.append(analyse_walk(walk, static, stored=args.stored, flat_foot=flat))
+        analyses.append(analyse_walk(walk, static, stored=args.stored, flat_foot=flat,
+                                     body_mass=args.body_mass))
     return analyses
 
 
@@ -136,6 +143,8 @@ def _command_line(args: argparse.Namespace) -> str:
         words.append("--stored")
     if args.flat_foot != "auto":
         words += ["--flat-foot", args.flat_foot]
+    if args.body_mass is not None:
+        words += ["--body-mass", f"{args.body_mass:g}"]
     return shlex.join(words + ["-o", args.output])
 
 

@@ -289,6 +289,8 @@ def report_html(analyses: list, normative: Normative | None, scores: GaitScores 
         + ('<span><i class="swatch" style="background:#bbb"></i>normative mean ± 1 SD'
            "</span>" if normative is not None else "") + "</p>")
     parts.append('<section id="curves"><h2>Gait cycles</h2>' + legend)
+    if not any(n.endswith(("Moment", "Power")) for p in pooled.values() for n in p):
+        parts.append("<p>No joint moments or powers (see the notes).</p>")
     shown = 0
     for ident, heading, names in GROUPS:
         panels = _panels(names, pooled)

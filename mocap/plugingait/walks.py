@@ -141,7 +141,7 @@ def _has_upper_markers(trial: Trial) -> bool:
 
 
 def analyse_walk(source, static=None, *, stored: bool = False, flat_foot: bool | str = "auto",
-                 samples: int = CYCLE_SAMPLES) -> WalkAnalysis:
+                 body_mass: float | None = None, samples: int = CYCLE_SAMPLES) -> WalkAnalysis:
     """A walk's cycle curves, gait parameters, subject and notes.
 
     Parameters
@@ -154,6 +154,8 @@ def analyse_walk(source, static=None, *, stored: bool = False, flat_foot: bool |
         Take the outputs Vicon stored in the file (angles, moments, powers) instead of
         computing them; MocapError when the file has none.
     flat_foot : bool or "auto"
+    body_mass : float, optional
+        kg, for the kinetics (default the files' PROCESSING Bodymass).
     samples : int
         Points per cycle.
 
@@ -178,7 +180,7 @@ def analyse_walk(source, static=None, *, stored: bool = False, flat_foot: bool |
                                  "…): run without --stored to compute them", path)
             origin = "stored"
         else:
-            series, used = _computed_series(walk, static_trial, flat_foot, notes)
+            series, used = _computed_series(walk, static_trial, flat_foot, body_mass, notes)
             origin = "computed"
         events = gait_events(walk)
         curves = cycle_curves(series, events, walk.frames, path, samples)
@@ -195,10 +197,8 @@ def analyse_walk(source, static=None, *, stored: bool = False, flat_foot: bool |
     if "detected" in sources:
         notes.append(f"{path}: gait events detected from the heel and toe markers (Zeni et "
                      f"al. 2008) where the file has fewer than two foot strikes a side")
-    if not any(name.endswith(("Moment", "Power")) for name in curves.values):
-        notes.append(f"{path}: no joint moments or powers"
-                     + ("" if stored else " (this version computes the kinematics; "
-                        "--stored shows the kinetics Vicon stored in the file)"))
+    if stored and not any(name.endswith(("Moment", "Power")) for name in curves.values):
+        notes.append(f"{path}: no joint moments or powers stored in the file")
     offsets_from = "static calibration"
     if stored:
         from mocap.plugingait.model import subject_from_trial
@@ -210,10 +210,13 @@ def analyse_walk(source, static=None, *, stored: bool = False, flat_foot: bool |
                         ", ".join(sources))
 
 
-def _computed_series(walk: Trial, static: Trial | None, flat_foot, notes: list) -> tuple:
-    """The walk's Plug-in Gait angles as series, and the subject the model used."""
+def _computed_series(walk: Trial, static: Trial | None, flat_foot, body_mass,
+                     notes: list) -> tuple:
+    """The walk's Plug-in Gait angles (and kinetics, on force plates) as series, and the
+    subject the model used; kinetics that cannot be computed are a note."""
     from mocap.pipeline import clinical_angles
     from mocap.plugingait.clinical import plugingait_labels, prepare_subject
+    from mocap.plugingait.kinetics import plugingait_kinetics
 
     upper = _has_upper_markers(walk)
     if not upper:
@@ -224,7 +227,29 @@ def _computed_series(walk: Trial, static: Trial | None, flat_foot, notes: list) 
         warnings.simplefilter("ignore")          # said once already, by clinical_angles
         used = prepare_subject(walk.select(plugingait_labels(walk)), static=static,
                                flat_foot=flat_foot, warn=False)
-    return angle_series(result.angles), used
+    series = angle_series(result.angles)
+    try:
+        kinetics = plugingait_kinetics(walk, used, static=static, body_mass=body_mass,
+                                       flat_foot=flat_foot)
+    except MocapError as error:
+        notes.append(f"no joint moments or powers: {error}")
+        return series, used
+    series.update(kinetic_series(kinetics))
+    return series, used
 
 
-__all__ = ["WalkAnalysis", "analyse_walk", "subject_name", "subject_rows"]
+def kinetic_series(kinetics) -> dict:
+    """A :class:`~mocap.plugingait.kinetics.JointKinetics` as series: ``(side,
+    "HipMoment")`` -> (frames, 3) N·m/kg (its N·mm/kg / 1000), ``(side, "HipPower")`` ->
+    (frames, 3) W/kg with the total power in Z (X, Y NaN), as Vicon stores them."""
+    out = {}
+    for k, segment in enumerate(kinetics.segments):
+        side, _, joint = segment.partition("_")
+        power = np.full(kinetics.moments[:, k].shape, np.nan)
+        power[:, 2] = kinetics.powers[:, k]
+        out[(side, f"{joint.capitalize()}Moment")] = kinetics.moments[:, k] / 1000.0
+        out[(side, f"{joint.capitalize()}Power")] = power
+    return out
+
+
+__all__ = ["WalkAnalysis", "analyse_walk", "kinetic_series", "subject_name", "subject_rows"]

