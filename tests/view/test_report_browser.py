@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import base64
 import io
+import re
 
 import numpy as np
 import pytest
@@ -17,6 +18,7 @@ from mocap.cli import main
 from mocap.plugingait.report import SIDE_COLOURS, figure_ids
 from tests.conftest import realdata_path
 from tests.view.chromium import file_url
+from tests.view.conftest import require_chromium
 
 WALK = ("biomechzoo_sample_study", "HC002D", "Straight", "HC002D06.c3d")
 
@@ -45,9 +47,20 @@ def figure_pixels(browser, ident: str) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def stored_report(tmp_path_factory):
+    """The report of a walk from Vicon's stored outputs, and its PDF (--pdf, chromium)."""
+    require_chromium()
     out = tmp_path_factory.mktemp("report") / "HC002D.html"
-    assert main(["report", str(realdata_path(*WALK)), "--stored", "-o", str(out)]) == 0
+    assert main(["report", str(realdata_path(*WALK)), "--stored", "-o", str(out),
+                 "--pdf", str(out.with_suffix(".pdf"))]) == 0
     return out
+
+
+def test_the_pdf_holds_the_pages(stored_report):
+    data = stored_report.with_suffix(".pdf").read_bytes()
+    assert data.startswith(b"%PDF-")
+    pages = len(re.findall(rb"/Type\s*/Page[^s]", data))
+    # provenance, tables, the profile and four figure groups of 3-7 rows: several A4 pages
+    assert pages >= 3, pages
 
 
 def test_the_report_renders_every_figure_without_error(browser, stored_report):

@@ -73,3 +73,13 @@ def test_a_walk_without_force_plates_has_angles_and_a_note(files, tmp_path):
                for n in analysis.notes), analysis.notes
     # the measurements the TRC lacks come from the static's PROCESSING group
     assert dict((n, o) for n, _, o in analysis.subject)["Leg length, left"] == "PROCESSING"
+
+
+def test_a_walk_without_a_complete_cycle_is_one_clear_error(files):
+    from mocap.errors import MocapError
+
+    walk, static = files
+    short = read(walk).slice(0, 60)             # 0.6 s: less than one stride
+    with warnings.catch_warnings(), pytest.raises(MocapError, match="no complete gait cycle"):
+        warnings.simplefilter("ignore")
+        analyse_walk(short, read(static))
