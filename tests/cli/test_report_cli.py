@@ -103,6 +103,7 @@ def bare_c3d(tmp_path):
     """A real walk's markers written again without Vicon's outputs."""
     walk, _ = walk_of("HC030A")
     trial = read(walk)
+    tmp_path.mkdir(parents=True, exist_ok=True)
     path = tmp_path / "markers_only.c3d"
     write(dataclasses.replace(trial, modelled=None), path)
     return path
@@ -116,7 +117,10 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(tmp_path, capsys, case
             "normative": [str(walk), "--normative", str(tmp_path / "absent.json"),
                           "-o", str(out)],
             "stored": [str(bare_c3d(tmp_path)), "--stored", "-o", str(out)],
-            "no-static": [str(bare_c3d(tmp_path)), "--static", "auto", "-o", str(out)],
+            # a session of its own: the static search looks in the walk's folder and the
+            # folders beside it, which for tmp_path are the other tests' folders
+            "no-static": [str(bare_c3d(tmp_path / "session" / "walks")), "--static", "auto",
+                          "-o", str(out)],
             "csv-stored": [str(tmp_path / "w.csv"), "--stored", "-o", str(out)]}[case]
     if case == "csv-stored":
         (tmp_path / "w.csv").write_text("time\n0\n")
