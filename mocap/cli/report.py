@@ -26,8 +26,8 @@ def _walk_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--static", metavar="STATIC.c3d|auto",
                         help="static (standing) trial of the subject: calibrates Plug-in "
                              "Gait's offsets, as in mocap angles; 'auto' takes each walk's "
-                             "session static, the one file beside the walk or in a sibling "
-                             "folder whose name (or folder's name) contains 'static'")
+                             "session static: the one C3D beside the walk named *static*, "
+                             "else the one in a folder named *static* beside the walk's")
     parser.add_argument("--stored", action="store_true",
                         help="use the Plug-in Gait outputs Vicon stored in the C3D files "
                              "(angles, moments, powers) instead of computing them")
@@ -83,20 +83,21 @@ def register(subparsers: Subparsers) -> None:
 
 
 def find_static(walk: Path) -> Path:
-    """The session static of a walk: the one C3D beside it, or in a folder beside its
-    folder, whose file or folder name contains "static" (the walk's own folder first)."""
-    def statics(folder: Path, inside: bool) -> list[Path]:
-        return sorted(p for p in folder.glob("*.c3d") if p != walk and
-                      ("static" in p.name.lower() or (inside and
-                                                      "static" in folder.name.lower())))
-    here = statics(walk.parent, "static" in walk.parent.name.lower())
+    """The session static of a walk: the one C3D beside it whose name contains "static",
+    else the one C3D in a folder beside the walk's folder whose name contains "static"
+    (a Nexus-style session: ``S01/Walks/w.c3d`` and ``S01/Static/s.c3d``)."""
+    def named(name: str) -> bool:
+        return "static" in name.lower()
+
+    here = sorted(p for p in walk.parent.glob("*.c3d") if p != walk and named(p.name))
     if not here:
-        for folder in sorted(p for p in walk.parent.parent.iterdir() if p.is_dir()
-                             and p != walk.parent):
-            here += statics(folder, True)
+        for folder in sorted(p for p in walk.parent.parent.iterdir()
+                             if p.is_dir() and p != walk.parent and named(p.name)):
+            here += sorted(folder.glob("*.c3d"))
     if len(here) != 1:
-        raise MocapError("no static trial beside the walk (a C3D whose name or folder name "
-                         "contains 'static'); give --static STATIC.c3d" if not here else
+        raise MocapError("no static trial beside the walk (a C3D named *static*, or in a "
+                         "folder named *static* beside the walk's); give --static STATIC.c3d"
+                         if not here else
                          f"several static trials beside the walk "
                          f"({', '.join(p.name for p in here[:3])}); give --static STATIC.c3d",
                          str(walk))

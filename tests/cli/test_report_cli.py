@@ -184,3 +184,21 @@ def test_pdf_without_a_browser_or_with_a_wrong_name_is_refused_first(tmp_path, c
     err = capsys.readouterr().err
     assert status == 2 and message in err and err.count("\n") == 1, err
     assert not list(tmp_path.glob("r.*"))
+
+
+def test_auto_takes_a_static_folder_beside_the_walks_and_nothing_else(tmp_path, capsys):
+    """S/Walks/w.c3d finds S/Static/*.c3d; a *static* file in another sibling folder
+    (not a session's Static folder) is never taken."""
+    walk, static = walk_of("HC038A")
+    walks = tmp_path / "S" / "Walks"
+    walks.mkdir(parents=True)
+    (walks / walk.name).symlink_to(walk)
+    (tmp_path / "S" / "other").mkdir()
+    (tmp_path / "S" / "other" / "kad_static.c3d").symlink_to(static)
+    out = tmp_path / "lab.json"
+    assert main(["normative", str(walks / walk.name), "--static", "auto", "-o", str(out)]) == 2
+    assert "no static trial" in capsys.readouterr().err and not out.exists()
+    (tmp_path / "S" / "Static").mkdir()
+    (tmp_path / "S" / "Static" / "s01.c3d").symlink_to(static)
+    assert main(["normative", str(walks / walk.name), "--static", "auto", "-o", str(out)]) == 0
+    assert "--static auto" in json.loads(out.read_text())["built_by"]
