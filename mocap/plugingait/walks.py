@@ -110,8 +110,9 @@ def subject_rows(walk: Trial, static: Trial | None, used,
         return "PROCESSING" if any(value_of(g) is not None for g in given) else \
             "estimated from the walk"
 
-    rows.append(("Inter-ASIS distance", f"{used.inter_asis * 1000:.0f} mm",
-                 origin(lambda s: s.inter_asis)))
+    if used.inter_asis is not None:
+        rows.append(("Inter-ASIS distance", f"{used.inter_asis * 1000:.0f} mm",
+                     origin(lambda s: s.inter_asis)))
     for label, key in (("Leg length", "leg_length"), ("Knee width", "knee_width"),
                        ("Ankle width", "ankle_width")):
         for side, side_name in (("l", "left"), ("r", "right")):
@@ -128,7 +129,7 @@ def subject_rows(walk: Trial, static: Trial | None, used,
                 if value is not None:
                     rows.append((f"{label}, {side_name}", f"{np.degrees(value):.1f} deg",
                                  offsets_from))
-    else:
+    elif offsets_from == "static calibration":      # computed without a static
         rows.append(("Foot offsets", "0 (uncorrected)", "no static trial"))
     return rows
 

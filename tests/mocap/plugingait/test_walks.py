@@ -83,3 +83,19 @@ def test_a_walk_without_a_complete_cycle_is_one_clear_error(files):
     with warnings.catch_warnings(), pytest.raises(MocapError, match="no complete gait cycle"):
         warnings.simplefilter("ignore")
         analyse_walk(short, read(static))
+
+
+def test_stored_outputs_under_subject_prefixes_without_measurements():
+    """c3dorg's sub_labels.c3d: Vicon's outputs labelled ``Matt:LKneeAngles`` …, no subject
+    measurements in PROCESSING: the curves are read, the subject table holds no made-up
+    rows (no inter-ASIS distance, no 'uncorrected offsets' of a model that did not run)."""
+    path = realdata_path("c3dorg_via_c3dio", "sample_04", "sub_labels.c3d")
+    trial = read(path)
+    assert any(label.startswith("Matt:") for label in trial.modelled["labels"])
+    analysis = analyse_walk(trial, stored=True)
+    assert {"KneeAngles", "HipMoment", "AnklePower"} <= set(analysis.curves.values)
+    knee = trial.modelled["values"][:, trial.modelled["labels"].index("Matt:LKneeAngles")]
+    first = analysis.curves.side.index("l")
+    assert np.nanmax(analysis.curves.values["KneeAngles"][first, :, 0]) <= np.nanmax(knee[:, 0])
+    names = [row[0] for row in analysis.subject]
+    assert "Inter-ASIS distance" not in names and "Foot offsets" not in names
