@@ -149,8 +149,9 @@ def curves_figure(panels, pooled: dict, foot_off: dict, normative: Normative | N
     return figure
 
 
-def profile_figure(scores: GaitScores):
-    """The Movement Analysis Profile: GVS per variable and the GPS, left and right bars."""
+def profile_figure(scores: GaitScores, normal: np.ndarray | None = None):
+    """The Movement Analysis Profile: GVS per variable and the GPS, left and right bars;
+    ``normal`` (10,), the normal walker's GVS and GPS, as grey ticks."""
     from matplotlib.figure import Figure
 
     labels = list(scores.titles) + ["GPS"]
@@ -161,8 +162,11 @@ def profile_figure(scores: GaitScores):
         values = np.append(scores.gvs[side], scores.gps[side])
         ax.bar(x + offset, np.nan_to_num(values), width=0.4, color=SIDE_COLOURS[side],
                label=SIDE_NAMES[side])
+    if normal is not None:
+        ax.scatter(x, normal, marker="_", s=600, color="0.35", linewidths=2,
+                   label="normal walker", zorder=3)
     ax.set_xticks(x, labels, rotation=30, ha="right", fontsize=8)
-    ax.set_ylabel("degrees (RMS from the normative mean)", fontsize=8)
+    ax.set_ylabel("degrees", fontsize=8)
     ax.legend(fontsize=8)
     ax.grid(axis="y", alpha=0.3)
     figure.subplots_adjust(left=0.08, right=0.99, top=0.96, bottom=0.33)
@@ -212,21 +216,28 @@ def _parameters_table(analyses, normative: Normative | None) -> str:
                                         '</p>' if norms else ""))
 
 
-def _scores_table(scores: GaitScores) -> str:
+def _scores_table(scores: GaitScores, normative: Normative | None) -> str:
+    from mocap.plugingait.scores import normal_scores
+
+    normal, normal_gps = normal_scores(normative) if normative is not None else \
+        (np.full(len(scores.titles), np.nan), float("nan"))
     rows = []
     for k, title in enumerate(scores.titles):
         rows.append(f"<tr><td>{html.escape(title)}</td><td>{_fmt(scores.gvs['l'][k], 'deg')}"
-                    f"</td><td>{_fmt(scores.gvs['r'][k], 'deg')}</td></tr>")
+                    f"</td><td>{_fmt(scores.gvs['r'][k], 'deg')}</td>"
+                    f"<td>{_fmt(normal[k], 'deg')}</td></tr>")
     rows.append(f"<tr><th>GPS</th><th>{_fmt(scores.gps['l'], 'deg')}</th>"
-                f"<th>{_fmt(scores.gps['r'], 'deg')}</th></tr>")
+                f"<th>{_fmt(scores.gps['r'], 'deg')}</th><th>{_fmt(normal_gps, 'deg')}</th></tr>")
     rows.append(f'<tr><th>overall GPS</th><th colspan="2">{_fmt(scores.overall, "deg")}'
-                f"</th></tr>")
+                f"</th><th>{_fmt(normal_gps, 'deg')}</th></tr>")
     cycles = {s: len(scores.gvs_cycles[s]) for s in "lr"}
     missing = (f"<p>No data for {html.escape(', '.join(scores.missing))}: the GPS is over "
                f"the other variables (Baker's is over all nine).</p>" if scores.missing else "")
     return ('<table id="scores-table"><thead><tr><th>Gait Variable Score (deg)</th>'
-            f"<th>left ({cycles['l']} cycles)</th><th>right ({cycles['r']} cycles)</th></tr>"
-            f"</thead><tbody>{''.join(rows)}</tbody></table>{missing}")
+            f"<th>left ({cycles['l']} cycles)</th><th>right ({cycles['r']} cycles)</th>"
+            f"<th>normal walker</th></tr></thead><tbody>{''.join(rows)}</tbody></table>"
+            f"{missing}<p>Normal walker: what a walker of the normative population scores "
+            f"(the RMS over the cycle of the normative SD).</p>")
 
 
 def _table(rows, header) -> str:
@@ -284,8 +295,12 @@ def report_html(analyses: list, normative: Normative | None, scores: GaitScores 
     parts += ['<section id="parameters"><h2>Gait-cycle parameters</h2>',
               _parameters_table(analyses, normative), "</section>"]
     if scores is not None:
-        parts += ['<section id="scores"><h2>Gait Profile Score</h2>', _scores_table(scores),
-                  '<figure class="plot" id="figure-profile">', _svg(profile_figure(scores)),
+        from mocap.plugingait.scores import normal_scores
+
+        normal = (np.append(*normal_scores(normative)) if normative is not None else None)
+        parts += ['<section id="scores"><h2>Gait Profile Score</h2>',
+                  _scores_table(scores, normative), '<figure class="plot" id="figure-profile">',
+                  _svg(profile_figure(scores, normal)),
                   "<figcaption>Movement Analysis Profile (Baker et al. 2009): each variable's "
                   "GVS and the GPS, degrees.</figcaption></figure></section>"]
     legend = ('<p class="legend">' + "".join(

@@ -154,4 +154,30 @@ def gait_scores(curves, normative: Normative) -> GaitScores:
     return GaitScores(titles, gvs, per_cycle, gps, overall, missing)
 
 
-__all__ = ["GPS_VARIABLES", "GaitScores", "gait_scores", "rms_difference"]
+def normal_scores(normative: Normative) -> tuple[np.ndarray, float]:
+    """The scores a walker of the normative population gets, in the RMS sense.
+
+    A normal cycle differs from the mean by about one SD at each sample, so the root of
+    the expected squared GVS is the RMS over the cycle of the SD; the GPS the RMS of those.
+
+    Returns
+    -------
+    ndarray, shape (9,), and float
+        Degrees, :data:`GPS_VARIABLES` order (NaN where the set has no SD).
+
+    Examples
+    --------
+    >>> sd = {"PelvisAngles": np.full((3, 3), 2.0), "HipAngles": np.full((3, 3), 2.0),
+    ...       "KneeAngles": np.full((3, 3), 2.0), "AnkleAngles": np.full((3, 3), 2.0),
+    ...       "FootProgressAngles": np.full((3, 3), 2.0)}
+    >>> gvs, gps = normal_scores(Normative("flat", sd, sd, 3))
+    >>> gvs.tolist(), gps
+    ([2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0, 2.0], 2.0)
+    """
+    gvs = np.array([np.sqrt(np.mean(normative.sd[name][:, k] ** 2))
+                    if name in normative.sd else np.nan for name, k, _ in GPS_VARIABLES])
+    known = gvs[np.isfinite(gvs)]
+    return gvs, float(np.sqrt(np.mean(known ** 2))) if known.size else float("nan")
+
+
+__all__ = ["GPS_VARIABLES", "GaitScores", "gait_scores", "normal_scores", "rms_difference"]

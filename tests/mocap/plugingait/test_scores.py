@@ -18,7 +18,7 @@ from mocap.plugingait.curves import CycleCurves, angle_series, cycle_curves, sto
 from mocap.plugingait.events import FOOT_STRIKE, GaitEvent
 from mocap.plugingait.normative import (VARIABLES, Normative, lab_reference,
                                         read_normative, write_normative)
-from mocap.plugingait.scores import GPS_VARIABLES, gait_scores
+from mocap.plugingait.scores import GPS_VARIABLES, gait_scores, normal_scores
 from tests.conftest import realdata_path
 
 WALKS = ("HC002D", "HC030A", "HC031A", "HC032A", "HC033A", "HC036A", "HC038A", "HC039A")
@@ -87,6 +87,23 @@ def test_one_variable_off_by_d_gives_gps_d_over_3(normative):
     assert scores.gvs["l"][6] == pytest.approx(6.0)
     assert scores.gps["l"] == pytest.approx(2.0) and scores.gps["r"] == pytest.approx(0.0)
     assert scores.overall == pytest.approx(np.sqrt(36 / 15))
+
+
+def test_a_walker_one_sd_from_the_mean_scores_the_normal_walkers_gvs(normative):
+    """Cycles at mean + SD and mean - SD (the normative population's spread): each GVS is
+    the RMS of the SD over the cycle, as normal_scores says a normal walker scores."""
+    curves = curves_like(normative)
+    for name, values in curves.values.items():
+        values[0::2] += normative.sd[name]
+        values[1::2] -= normative.sd[name]
+    scores = gait_scores(curves, normative)
+    gvs, gps = normal_scores(normative)
+    for side in "lr":
+        assert np.allclose(scores.gvs[side], gvs)
+        assert scores.gps[side] == pytest.approx(gps)
+    # the built-in set's normal walker: about 6.6 deg, as Baker's typically developing
+    # walkers (GPS 5-8 deg); our healthy adults score 5-8.5 (test below)
+    assert 4.0 < gps < 9.0
 
 
 def test_a_51_sample_set_scores_101_sample_cycles_on_its_own_samples(normative):
