@@ -33,6 +33,10 @@ def _walk_options(parser: argparse.ArgumentParser) -> None:
                              "(angles, moments, powers) instead of computing them")
     parser.add_argument("--flat-foot", choices=("auto", "on", "off"), default="auto",
                         help="Plug-in Gait's foot-flat static option (as in mocap angles)")
+    parser.add_argument("--fill-gaps", type=options.SECONDS_GAP, metavar="SECONDS",
+                        help="fill marker gaps up to this long inside each rigid segment "
+                             "before the model, as in mocap angles (a cycle with a gap in "
+                             "a variable gets no score for it)")
     parser.add_argument("--body-mass", type=options.real(maximum=500, above=0), metavar="KG",
                         help="body mass for the joint moments and powers (default: the "
                              "files' PROCESSING Bodymass); walks without force plates get "
@@ -105,6 +109,9 @@ def find_static(walk: Path) -> Path:
 
 
 def _walks(args: argparse.Namespace) -> list[Path]:
+    if args.stored and args.fill_gaps is not None:
+        raise MocapError("--fill-gaps cleans the markers before the model; --stored takes "
+                         "Vicon's outputs as they are")
     files = []
     for given in args.trials:
         found = [Path(f) for f in find_files([given], WALK_SUFFIXES)]
@@ -136,7 +143,7 @@ def _analyse(files: list[Path], args: argparse.Namespace, what: str) -> list:
         static = None if args.stored else (find_static(walk) if args.static == "auto"
                                            else args.static)
         analyses.append(analyse_walk(walk, static, stored=args.stored, flat_foot=flat,
-                                     body_mass=args.body_mass))
+                                     body_mass=args.body_mass, fill_gaps_s=args.fill_gaps))
     return analyses
 
 
@@ -153,6 +160,8 @@ def _command_line(args: argparse.Namespace) -> str:
         words += ["--flat-foot", args.flat_foot]
     if args.body_mass is not None:
         words += ["--body-mass", f"{args.body_mass:g}"]
+    if args.fill_gaps is not None:
+        words += ["--fill-gaps", f"{args.fill_gaps:g}"]
     return shlex.join(words + ["-o", args.output])
 
 

@@ -142,7 +142,8 @@ def _has_upper_markers(trial: Trial) -> bool:
 
 
 def analyse_walk(source, static=None, *, stored: bool = False, flat_foot: bool | str = "auto",
-                 body_mass: float | None = None, samples: int = CYCLE_SAMPLES) -> WalkAnalysis:
+                 body_mass: float | None = None, fill_gaps_s: float | None = None,
+                 samples: int = CYCLE_SAMPLES) -> WalkAnalysis:
     """A walk's cycle curves, gait parameters, subject and notes.
 
     Parameters
@@ -157,6 +158,10 @@ def analyse_walk(source, static=None, *, stored: bool = False, flat_foot: bool |
     flat_foot : bool or "auto"
     body_mass : float, optional
         kg, for the kinetics (default the files' PROCESSING Bodymass).
+    fill_gaps_s : float, optional
+        Fill marker gaps up to this long, seconds, inside each rigid segment, as
+        ``mocap angles --fill-gaps`` (:func:`mocap.pipeline.clinical_angles`); the kinetics
+        use the filled markers too.
     samples : int
         Points per cycle.
 
@@ -181,7 +186,8 @@ def analyse_walk(source, static=None, *, stored: bool = False, flat_foot: bool |
                                  "…): run without --stored to compute them", path)
             origin = "stored"
         else:
-            series, used = _computed_series(walk, static_trial, flat_foot, body_mass, notes)
+            series, used = _computed_series(walk, static_trial, flat_foot, body_mass,
+                                            fill_gaps_s, notes)
             origin = "computed"
         events = gait_events(walk)
         curves = cycle_curves(series, events, walk.frames, path, samples)
@@ -211,11 +217,11 @@ def analyse_walk(source, static=None, *, stored: bool = False, flat_foot: bool |
                         ", ".join(sources))
 
 
-def _computed_series(walk: Trial, static: Trial | None, flat_foot, body_mass,
+def _computed_series(walk: Trial, static: Trial | None, flat_foot, body_mass, fill_gaps_s,
                      notes: list) -> tuple:
     """The walk's Plug-in Gait angles (and kinetics, on force plates) as series, and the
     subject the model used; kinetics that cannot be computed are a note."""
-    from mocap.pipeline import clinical_angles
+    from mocap.pipeline import Cleaning, clinical_angles
     from mocap.plugingait.clinical import plugingait_labels, prepare_subject
     from mocap.plugingait.kinetics import plugingait_kinetics
 
@@ -223,14 +229,19 @@ def _computed_series(walk: Trial, static: Trial | None, flat_foot, body_mass,
     if not upper:
         notes.append(f"{walk.path}: no upper-body markers: no upper-body or foot "
                      f"progression angles (the GPS lacks the foot progression)")
-    result = clinical_angles(walk, static, flat_foot=flat_foot, upper_body=upper)
+    result = clinical_angles(walk, static, cleaning=Cleaning(max_gap_seconds=fill_gaps_s),
+                             flat_foot=flat_foot, upper_body=upper)
+    if result.gaps is not None and result.gaps.unfilled:
+        notes.append(f"{walk.path}: gaps left unfilled: "
+                     + "; ".join(result.gaps.summary().splitlines()[:6]))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")          # said once already, by clinical_angles
         used = prepare_subject(walk.select(plugingait_labels(walk)), static=static,
                                flat_foot=flat_foot, warn=False)
     series = angle_series(result.angles)
     try:
-        kinetics = plugingait_kinetics(walk, used, static=static, body_mass=body_mass,
+        kinetics = plugingait_kinetics(result.trial if result.gaps is not None else walk,
+                                       used, static=static, body_mass=body_mass,
                                        flat_foot=flat_foot)
     except MocapError as error:
         notes.append(f"no joint moments or powers: {error}")

@@ -110,7 +110,8 @@ def bare_c3d(tmp_path):
     return path
 
 
-@pytest.mark.parametrize("case", ["png", "normative", "stored", "no-static", "csv-stored"])
+@pytest.mark.parametrize("case", ["png", "normative", "stored", "no-static", "csv-stored",
+                                  "fill-stored", "fill-negative"])
 def test_bad_input_is_one_line_exit_2_and_nothing_written(tmp_path, capsys, case):
     walk, _ = walk_of("HC030A")
     out = tmp_path / "r.html"
@@ -122,7 +123,9 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(tmp_path, capsys, case
             # folders beside it, which for tmp_path are the other tests' folders
             "no-static": [str(bare_c3d(tmp_path / "session" / "walks")), "--static", "auto",
                           "-o", str(out)],
-            "csv-stored": [str(tmp_path / "w.csv"), "--stored", "-o", str(out)]}[case]
+            "csv-stored": [str(tmp_path / "w.csv"), "--stored", "-o", str(out)],
+            "fill-stored": [str(walk), "--stored", "--fill-gaps", "0.1", "-o", str(out)],
+            "fill-negative": [str(walk), "--fill-gaps", "-1", "-o", str(out)]}[case]
     if case == "csv-stored":
         (tmp_path / "w.csv").write_text("time\n0\n")
     status = main(["report", *args])
@@ -130,7 +133,8 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(tmp_path, capsys, case
     assert status == 2, err
     assert err.count("\n") == 1 and err.startswith("mocap report: error:"), err
     assert {"png": "HTML", "normative": "not found", "stored": "no Plug-in Gait angles",
-            "no-static": "no static trial", "csv-stored": "C3D"}[case] in err
+            "no-static": "no static trial", "csv-stored": "C3D",
+            "fill-stored": "Vicon's outputs as they are", "fill-negative": "--fill-gaps"}[case] in err
     assert not list(tmp_path.glob("r.*"))
 
 

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from mocap.io import read, write
+from mocap.plugingait.events import gait_events
 from mocap.plugingait.walks import analyse_walk
 from tests.conftest import realdata_path
 
@@ -99,3 +100,28 @@ def test_stored_outputs_under_subject_prefixes_without_measurements():
     assert np.nanmax(analysis.curves.values["KneeAngles"][first, :, 0]) <= np.nanmax(knee[:, 0])
     names = [row[0] for row in analysis.subject]
     assert "Inter-ASIS distance" not in names and "Foot offsets" not in names
+
+
+def test_fill_gaps_gives_back_a_cycle_a_marker_gap_took(files, computed_and_stored):
+    """LKNE missing for 0.1 s inside a left cycle: without filling that cycle's left knee
+    is NaN there; filled (0.2 s) from the thigh's markers and the hip centre it is back,
+    within 2 deg of the curve without the gap."""
+    walk, static = files
+    trial = read(walk)
+    column = [label.rpartition(":")[2] for label in trial.labels].index("LKNE")
+    ours, _ = computed_and_stored
+    first = ours.curves.side.index("l")
+    strikes = sorted(e.frame for e in gait_events(trial) if e.side == "l"
+                     and e.label == "Foot Strike")
+    middle = int((strikes[0] + strikes[1]) / 2)
+    points = trial.points.copy()
+    points[middle - 5:middle + 5, column] = np.nan
+    gappy = trial.with_points(points)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        raw = analyse_walk(gappy, static)
+        filled = analyse_walk(gappy, static, fill_gaps_s=0.2)
+    assert np.isnan(raw.curves.values["KneeAngles"][first, :, 0]).any()
+    knee = filled.curves.values["KneeAngles"][first, :, 0]
+    assert np.isfinite(knee).all()
+    assert np.max(np.abs(knee - ours.curves.values["KneeAngles"][first, :, 0])) < 2.0
