@@ -247,6 +247,17 @@ def _table(rows, header) -> str:
             + f"</tr></thead><tbody>{body}</tbody></table>")
 
 
+def _walk_gps(analysis, normative: Normative) -> float:
+    """One walk's overall GPS (NaN when the normative set cannot score it)."""
+    from mocap.errors import MocapError
+    from mocap.plugingait.scores import gait_scores
+
+    try:
+        return gait_scores(analysis.curves, normative).overall
+    except MocapError:
+        return float("nan")
+
+
 def report_html(analyses: list, normative: Normative | None, scores: GaitScores | None, *,
                 title: str = "", command: str = "", version: str = "",
                 date: str | None = None) -> str:
@@ -274,14 +285,17 @@ def report_html(analyses: list, normative: Normative | None, scores: GaitScores 
     origin_text = ("Plug-in Gait outputs stored in the files by Vicon" if origin == {"stored"}
                    else "Plug-in Gait computed by mocap")
     walk_rows = [(os.path.basename(a.path), a.curves.side.count("l"),
-                  a.curves.side.count("r"), a.events, a.origin) for a in analyses]
+                  a.curves.side.count("r"), a.events, a.origin,
+                  _fmt(_walk_gps(a, normative) if scores is not None else np.nan, "deg"))
+                 for a in analyses]
     parts = [f"<h1>{html.escape(title)}</h1>",
              '<p class="provenance">mocap ' + html.escape(version or "") + " · "
              + html.escape(date) + " · " + html.escape(origin_text)
              + (f"<br>command: <code>{html.escape(command)}</code>" if command else "")
              + "</p>",
              '<section id="walks"><h2>Walks</h2>',
-             _table(walk_rows, ("walk", "left cycles", "right cycles", "events", "outputs")),
+             _table(walk_rows, ("walk", "left cycles", "right cycles", "events", "outputs",
+                                "overall GPS (deg)")),
              "</section>"]
     subject_rows = analyses[0].subject if analyses else []
     notes = [n for a in analyses for n in a.notes]

@@ -65,6 +65,11 @@ def test_the_report_holds_provenance_subject_scores_and_the_angle_figures(comput
     assert f"left ({cycles} cycles)" in text
     overall = re.search(r"overall GPS</th><th colspan=\"2\">([\d.]+)<", text)
     assert float(overall[1]) == pytest.approx(scores.overall, abs=0.051)
+    # and each walk's own GPS in the walks table
+    for analysis in analyses:
+        own = gait_scores(analysis.curves, read_normative()).overall
+        assert re.search(rf"{re.escape(Path(analysis.path).name)}</td>(<td>[^<]*</td>){{4}}"
+                         rf"<td>{own:.1f}</td>", walks), analysis.path
     # self-contained: no external script, style sheet, image or font
     assert not re.search(r"<(script|link|img)\b", text)
     assert not re.search(r"(src|href)=\"(https?:)?//", text)
