@@ -126,9 +126,11 @@ def subject_rows(walk: Trial, static: Trial | None, used,
                            ("Tibial torsion", "tibial_torsion")):
             for side, side_name in (("l", "left"), ("r", "right")):
                 value = getattr(used, key)[side]
+                measured = key == "tibial_torsion" and any(g.tibial_torsion[side]
+                                                           for g in given)
                 if value is not None:
                     rows.append((f"{label}, {side_name}", f"{np.degrees(value):.1f} deg",
-                                 offsets_from))
+                                 "PROCESSING" if measured else offsets_from))
     elif offsets_from == "static calibration":      # computed without a static
         rows.append(("Foot offsets", "0 (uncorrected)", "no static trial"))
     return rows

@@ -56,6 +56,7 @@ def test_where_each_measurement_came_from(computed_and_stored):
     rows = {name: origin for name, _, origin in ours.subject}
     assert rows["Knee width, left"] == "PROCESSING"
     assert rows["Static plantar flexion offset, left"] == "static calibration"
+    assert rows["Tibial torsion, left"] == "PROCESSING"          # measured, not calibrated
     stored = {name: origin for name, _, origin in vicon.subject}
     assert stored["Static plantar flexion offset, left"].startswith("PROCESSING")
     assert ours.subject_name == "HC030A" and ours.origin == "computed"
