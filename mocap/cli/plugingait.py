@@ -80,7 +80,7 @@ def run_plugingait(args: argparse.Namespace) -> int:
     from mocap.plugingait.events import events_from_file, gait_events
     from mocap.plugingait.kinetics import plugingait_kinetics
     from mocap.plugingait.model import markers_from_trial
-    from mocap.plugingait.outputs import analysis_group, model_outputs, outputs_table
+    from mocap.plugingait.outputs import analysis_group, model_outputs, write_outputs_csv
     from mocap.plugingait.parameters import gait_parameters
     from mocap.plugingait.upper import UPPER_MARKERS
 
@@ -129,10 +129,7 @@ def run_plugingait(args: argparse.Namespace) -> int:
     for note in notes:
         warnings.warn(f"{args.output}: not kept: {note}", MocapWarning, stacklevel=1)
     if args.csv:
-        from mocap.atomic import atomic_path
-
-        with atomic_path(args.csv) as tmp:
-            outputs_table(trial.times, outputs).to_csv(tmp, index=False)
+        write_outputs_csv(args.csv, trial.times, outputs)
     kinds = {}
     for _, kind, _ in outputs:
         kinds[kind] = kinds.get(kind, 0) + 1

@@ -153,7 +153,7 @@ def _segment_loads(start: np.ndarray, com: np.ndarray, length: np.ndarray,
 
 
 def lab_kinetics(kin: Kinematics, ground: dict, body_mass: float, rate: float,
-                 lengths: dict | None = None) -> dict:
+                 lengths: dict | None = None, table: dict | None = None) -> dict:
     """Internal joint loads and powers of both legs, lab axes.
 
     Parameters
@@ -168,6 +168,9 @@ def lab_kinetics(kin: Kinematics, ground: dict, body_mass: float, rate: float,
         ``"l_thigh"``, ``"l_shank"``, ``"l_foot"`` … -> metres: the segment lengths the
         inertias scale with (:func:`segment_lengths`); default each frame's joint-centre
         distance.
+    table : dict, optional
+        ``thigh``, ``shank``, ``foot`` -> DempsterSegment; default
+        :func:`mocap.body.anthropometry.plugingait_segments`.
 
     Returns
     -------
@@ -175,7 +178,7 @@ def lab_kinetics(kin: Kinematics, ground: dict, body_mass: float, rate: float,
     NaN on frames the side's reaction is unknown; a side whose segments are missing is
     left out.
     """
-    table = plugingait_segments()
+    table = plugingait_segments() if table is None else table
     lengths = lengths or {}
     out = {}
     pelvis_omega = angular_velocity(kin.frames["pelvis"], rate)
