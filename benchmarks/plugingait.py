@@ -46,7 +46,7 @@ def scores(walk: Path, static: Path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         kin = plugingait_kinetics(trial, static=standing)
-    moments, powers = [], []
+    moments, powers, forces = [], [], []
     for k, name in enumerate(kin.segments):
         side, joint = name.split("_")
         label = f"{side.upper()}{joint.capitalize()}"
@@ -58,29 +58,37 @@ def scores(walk: Path, static: Path):
             if ok.sum() > 10:
                 a, b = kin.moments[ok, k, c] / 1000, theirs[ok, c] / 1000
                 moments.append((np.corrcoef(a, b)[0, 1], np.sqrt(np.mean((a - b) ** 2))))
+        theirs = vicon.get(label + "Force")
+        for c in range(3 if theirs is not None else 0):
+            ok = np.isfinite(theirs[:, c]) & np.isfinite(kin.forces[:, k, c])
+            if ok.sum() > 10:
+                a, b = kin.forces[ok, k, c], theirs[ok, c]
+                forces.append((np.corrcoef(a, b)[0, 1], np.sqrt(np.mean((a - b) ** 2))))
         theirs = vicon[label + "Power"][:, 2]
         ok = np.isfinite(theirs) & np.isfinite(kin.powers[:, k])
         if ok.sum() > 10:
             a, b = kin.powers[ok, k], theirs[ok]
             powers.append((np.corrcoef(a, b)[0, 1], np.sqrt(np.mean((a - b) ** 2))))
-    return moments, powers
+    return moments, powers, forces
 
 
 def report(name, pairs):
-    moments, powers, count = [], [], 0
+    moments, powers, forces, count = [], [], [], 0
     for walk, static in pairs:
         try:
-            m, p = scores(walk, static)
+            m, p, f = scores(walk, static)
         except Exception as error:          # a trial without plates or outputs: say so
             print(f"  {walk.name}: skipped ({error})")
             continue
         count += 1
         moments += m
         powers += p
-    m, p = np.array(moments), np.array(powers)
+        forces += f
+    m, p, f = np.array(moments), np.array(powers), np.array(forces)
     print(f"{name}: {count} trials; moments ({len(m)} curves) median r {np.median(m[:, 0]):.3f}, "
           f"median RMS {np.median(m[:, 1]):.3f} N·m/kg; powers ({len(p)}) median r "
-          f"{np.median(p[:, 0]):.3f}, median RMS {np.median(p[:, 1]):.3f} W/kg")
+          f"{np.median(p[:, 0]):.3f}, median RMS {np.median(p[:, 1]):.3f} W/kg; joint forces "
+          f"({len(f)}) median r {np.median(f[:, 0]):.3f}, median RMS {np.median(f[:, 1]):.3f} N/kg")
 
 
 def cpu(walk: Path, static: Path, repeat: int = 5):

@@ -47,6 +47,8 @@ def test_ezc3d_reads_vicons_labels_units_and_analysis(written):
         assert some in point[kind]["value"] and some in labels
         assert point[unit_name]["value"] == [unit]
     assert {"LHJC", "RKJC", "LAJC"} <= set(labels)
+    # the walk has the upper-body markers: its angles are there too
+    assert {"LThoraxAngles", "RElbowAngles", "LFootProgressAngles"} <= set(point["ANGLES"]["value"])
     analysis = c3d["parameters"]["ANALYSIS"]
     names, contexts = analysis["NAMES"]["value"], analysis["CONTEXTS"]["value"]
     assert "Cadence" in names and {"Left", "Right"} <= set(contexts)
