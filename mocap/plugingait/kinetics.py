@@ -305,12 +305,11 @@ def body_mass_of(trial: Trial, static: Trial | None = None) -> float | None:
     return None
 
 
-def _contacts(trial: Trial, side: str) -> list[tuple[int, int]]:
-    """The side's stances (first frame, stop frame) from the file's and detected events."""
-    from mocap.plugingait.events import FOOT_OFF, FOOT_STRIKE, detect_events, events_from_file
+def _contacts(trial: Trial, side: str, events: list) -> list[tuple[int, int]]:
+    """The side's stances (first frame, stop frame) from gait events (GaitEvent list)."""
+    from mocap.plugingait.events import FOOT_OFF, FOOT_STRIKE
 
-    events = sorted({(int(round(e.frame)), e.label) for e in
-                     events_from_file(trial) + detect_events(trial) if e.side == side})
+    events = sorted({(int(round(e.frame)), e.label) for e in events if e.side == side})
     out, start = [], None
     for k, (frame, label) in enumerate(events):
         if label == FOOT_STRIKE:
@@ -334,8 +333,10 @@ def ground_reactions(trial: Trial, kin: Kinematics) -> tuple[dict, list[str]]:
     """
     from mocap.io.c3d.forceplates import plate_forces
     from mocap.io.c3d.stances import assign_plates
+    from mocap.plugingait.events import detect_events, events_from_file
 
     frames = trial.frames
+    events = events_from_file(trial) + detect_events(trial)
     plates = [p for p in plate_forces(trial, rate="marker") if not p.plate.problem]
     markers, _ = markers_from_trial(trial, ("LHEE", "LTOE", "RHEE", "RTOE"))
     feet = {side: (markers[f"{side.upper()}HEE"], markers[f"{side.upper()}TOE"])
@@ -362,7 +363,7 @@ def ground_reactions(trial: Trial, kin: Kinematics) -> tuple[dict, list[str]]:
                 notes.append(f"{side.upper()} foot {stance.reason} (plate {stance.plate + 1}, "
                              f"frames {stance.start + 1}-{stance.stop}): no "
                              f"{'left' if side == 'l' else 'right'} kinetics on that stance")
-        for start, stop in _contacts(trial, side):
+        for start, stop in _contacts(trial, side, events):
             if not measured[start:stop].any():
                 unknown[start:stop] = True
         unknown &= ~measured
