@@ -56,7 +56,7 @@ def _check_suffixes(args: argparse.Namespace) -> None:
         raise MocapError("--csv and -o name the same file", args.csv)
 
 
-def _joint_centres(trial, static, subject) -> tuple[list[str], np.ndarray]:
+def _joint_centres(trial, subject) -> tuple[list[str], np.ndarray]:
     """Labels (LHJC …) and points (frames, n, 3), metres, of the model's joint centres."""
     from mocap.plugingait.model import MARKERS, kinematics, markers_from_trial
 
@@ -109,7 +109,7 @@ def run_plugingait(args: argparse.Namespace) -> int:
         warnings.warn(str(error), MocapWarning, stacklevel=1)
     events = gait_events(trial)
     parameters = gait_parameters(trial, events)
-    labels, centres = _joint_centres(trial, static, subject)
+    labels, centres = _joint_centres(trial, subject)
     taken = {label.rpartition(":")[2] for label in trial.labels}
     keep = [k for k, label in enumerate(labels) if label not in taken]
     out = trial.with_markers(list(trial.labels) + [labels[k] for k in keep],

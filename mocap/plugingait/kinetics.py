@@ -16,16 +16,22 @@ its Dempster inertial parameters (:func:`mocap.body.anthropometry.plugingait_seg
   segment applies to this one at the joint: the joint's internal force and moment.
 * power: ``M_p · (ω_distal − ω_proximal)`` (W), the joint's total power (Vicon's Z
   component of ``<Side><Joint>Power``).
-* outputs as Plug-in Gait writes them (:mod:`mocap.plugingait.outputs`): moments in the
-  distal segment's axes, N·mm per kg of body mass, with Vicon's signs; forces in N/kg;
-  powers in W/kg.
+* outputs as Plug-in Gait writes them (:mod:`mocap.plugingait.outputs`): moments and
+  forces in the distal segment's axes (the thigh, the torsioned tibia, the
+  static-corrected foot: :data:`DISTAL_FRAME`) with Vicon's order and signs
+  (:data:`MOMENT_AXES`, :data:`FORCE_AXES`); moments in N·mm per kg of body mass, forces
+  in N/kg, powers in W/kg.
+* the inertias scale with the static's segment lengths (:func:`segment_lengths`), and
+  the radii of gyration are Dempster's about the proximal end applied about the centre of
+  mass (``data/bodies/plugingait-dempster.toml``): what reproduces Vicon's stored values
+  (``benchmarks/plugingait_choices.py``, design subjects only).
 
 Velocities and accelerations are central differences of the positions and rotations
 (the markers are used as they are: filter them first as Vicon's pipeline does).
 Frames where a foot is on the ground and no plate measures its reaction (a stance off
 the plates, on a plate shared with the other foot, or partly off its plate:
-:func:`mocap.io.c3d.stances.assign_plates`) have no kinetics for that side (NaN), as
-Plug-in Gait leaves them.
+:func:`mocap.io.c3d.stances.assign_plates`) have no kinetics for that side (NaN);
+Vicon leaves some such off-plate stances computed as if the foot were in the air.
 
 Units inside: metres, seconds, newtons, N·m (like ``Trial.points``).
 """
@@ -38,8 +44,8 @@ import numpy as np
 
 from mocap.body.anthropometry import plugingait_segments
 from mocap.errors import MocapError, MocapWarning
-from mocap.plugingait.model import SIDES, Kinematics, Subject, kinematics, markers_from_trial
-from mocap.plugingait.model import MARKERS
+from mocap.plugingait.model import (MARKERS, SIDES, Kinematics, Subject, kinematics,
+                                    markers_from_trial)
 from mocap.trial import Trial
 
 #: Standard gravity, m/s², along the lab's −Z (Plug-in Gait's labs are Z up).
