@@ -234,6 +234,13 @@ class _Interrupts:
         return False
 
 
+def _stdout_to_devnull() -> None:
+    """Send what is left of standard output nowhere: its reader has gone (a broken pipe),
+    and Python's flush at exit would otherwise raise again."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``mocap`` console script; returns the exit status.
 
@@ -264,7 +271,13 @@ def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
         with warnings.catch_warnings(), all_or_nothing() as outputs:
             warnings.simplefilter("always", MocapWarning)
             warnings.showwarning = _warning_printer(command)
-            status = args.func(args)
+            try:
+                status = args.func(args)
+            except BrokenPipeError:
+                # the reader of our output went away (``mocap decompose … | head``): the
+                # files already complete stay (the model was written before the summary)
+                _stdout_to_devnull()
+                status = 1
             if interrupts.seen:                 # an interrupt Python swallowed on the way
                 raise KeyboardInterrupt
             if status not in (None, 0, 1):      # a refusal after some outputs: none stay
@@ -282,8 +295,7 @@ def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
         return 130
     except BrokenPipeError:
         # the reader of our output went away (``mocap info … | head``): stop quietly
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
+        _stdout_to_devnull()
         return 1
     except OSError as error:
         # the system refused a path the user gave (no such file, permission, a folder, a

@@ -35,6 +35,8 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "check": ("mocap.cli.check", "physical plausibility of a motion (Pinocchio inverse dynamics)"),
     "export": ("mocap.cli.humanoid", "write a motion as BVH, angle CSV, C3D/TRC joint markers, .mot or JSON"),
     "animate": ("mocap.cli.humanoid", "stick-figure animation of a motion (cape, rope, physics)"),
+    "normative": ("mocap.cli.report", "a lab's normative reference (mean ± SD per gait variable) from its normal walks"),
+    "report": ("mocap.cli.report", "one HTML gait report of a subject's walks: curves over the normative band, GPS, parameters"),
     "view": ("mocap.cli.view", "interactive 3-D viewer of trials and motions in one HTML file"),
     "demo": ("mocap.cli.product", "run the whole pipeline on generated data and write an HTML report"),
     "batch": ("mocap.cli.product", "analyse every trial of a corpus in parallel into one table"),

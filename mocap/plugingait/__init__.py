@@ -15,6 +15,11 @@ upper
     ``<Side><Joint>Angles`` (``plugingait_angles(..., upper_body=True)``).
 events
     Gait events (from the file or detected) and gait cycles at 0–100 %.
+curves, normative, scores
+    Outputs per gait cycle under Vicon's names; normative mean ± SD curves (built in, or
+    a lab's own); the Gait Profile Score and Gait Variable Scores (Baker et al. 2009).
+walks, report
+    One walk analysed for a report (curves, parameters, subject, notes); the HTML report.
 
 The recipe from a walk (and its static) to clinical angles, with the command line's
 defaults, is :func:`mocap.pipeline.clinical_angles`.

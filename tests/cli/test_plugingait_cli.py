@@ -145,3 +145,18 @@ def test_body_mass_from_the_option_when_the_file_has_none(tmp_path, capsys):
     ok = np.isfinite(a) & np.isfinite(b)
     ratio = np.sum(a[ok] * b[ok]) / np.sum(b[ok] * b[ok])
     assert ratio == pytest.approx(recorded / 45.0, rel=0.05)
+
+
+def test_a_walk_without_events_gets_detected_ones_written(tmp_path, capsys):
+    import ezc3d
+
+    walk = realdata_path("biomechzoo_sample_study", "HC031A", "Straight", "HC031A06.c3d")
+    assert not read(walk).events                          # Vicon stored none
+    out = tmp_path / "out.c3d"
+    status, _, _ = run(capsys, "plugingait", walk, "-o", out)
+    assert status == 0
+    event = ezc3d.c3d(str(out))["parameters"]["EVENT"]
+    pairs = set(zip(event["LABELS"]["value"], event["CONTEXTS"]["value"]))
+    assert {("Foot Strike", "Left"), ("Foot Strike", "Right"), ("Foot Off", "Left")} <= pairs
+    written = read(out).events
+    assert all(0 <= e["frame"] < read(walk).frames for e in written)
