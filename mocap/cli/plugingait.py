@@ -56,7 +56,7 @@ def _check_suffixes(args: argparse.Namespace) -> None:
         raise MocapError("--csv and -o name the same file", args.csv)
 
 
-def _joint_centres(trial, static, subject) -> tuple[list[str], np.ndarray]:
+def _joint_centres(trial, subject) -> tuple[list[str], np.ndarray]:
     """Labels (LHJC …) and points (frames, n, 3), metres, of the model's joint centres."""
     from mocap.plugingait.model import MARKERS, kinematics, markers_from_trial
 
@@ -80,7 +80,7 @@ def run_plugingait(args: argparse.Namespace) -> int:
     from mocap.plugingait.events import events_from_file, gait_events
     from mocap.plugingait.kinetics import plugingait_kinetics
     from mocap.plugingait.model import markers_from_trial
-    from mocap.plugingait.outputs import analysis_group, model_outputs, outputs_table
+    from mocap.plugingait.outputs import analysis_group, model_outputs, write_outputs_csv
     from mocap.plugingait.parameters import gait_parameters
     from mocap.plugingait.upper import UPPER_MARKERS
 
@@ -109,7 +109,7 @@ def run_plugingait(args: argparse.Namespace) -> int:
         warnings.warn(str(error), MocapWarning, stacklevel=1)
     events = gait_events(trial)
     parameters = gait_parameters(trial, events)
-    labels, centres = _joint_centres(trial, static, subject)
+    labels, centres = _joint_centres(trial, subject)
     taken = {label.rpartition(":")[2] for label in trial.labels}
     keep = [k for k, label in enumerate(labels) if label not in taken]
     out = trial.with_markers(list(trial.labels) + [labels[k] for k in keep],
@@ -129,10 +129,7 @@ def run_plugingait(args: argparse.Namespace) -> int:
     for note in notes:
         warnings.warn(f"{args.output}: not kept: {note}", MocapWarning, stacklevel=1)
     if args.csv:
-        from mocap.atomic import atomic_path
-
-        with atomic_path(args.csv) as tmp:
-            outputs_table(trial.times, outputs).to_csv(tmp, index=False)
+        write_outputs_csv(args.csv, trial.times, outputs)
     kinds = {}
     for _, kind, _ in outputs:
         kinds[kind] = kinds.get(kind, 0) + 1

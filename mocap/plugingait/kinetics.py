@@ -16,16 +16,22 @@ its Dempster inertial parameters (:func:`mocap.body.anthropometry.plugingait_seg
   segment applies to this one at the joint: the joint's internal force and moment.
 * power: ``M_p · (ω_distal − ω_proximal)`` (W), the joint's total power (Vicon's Z
   component of ``<Side><Joint>Power``).
-* outputs as Plug-in Gait writes them (:mod:`mocap.plugingait.outputs`): moments in the
-  distal segment's axes, N·mm per kg of body mass, with Vicon's signs; forces in N/kg;
-  powers in W/kg.
+* outputs as Plug-in Gait writes them (:mod:`mocap.plugingait.outputs`): moments and
+  forces in the distal segment's axes (the thigh, the torsioned tibia, the
+  static-corrected foot: :data:`DISTAL_FRAME`) with Vicon's order and signs
+  (:data:`MOMENT_AXES`, :data:`FORCE_AXES`); moments in N·mm per kg of body mass, forces
+  in N/kg, powers in W/kg.
+* the inertias scale with the static's segment lengths (:func:`segment_lengths`), and
+  the radii of gyration are Dempster's about the proximal end applied about the centre of
+  mass (``data/bodies/plugingait-dempster.toml``): what reproduces Vicon's stored values
+  (``benchmarks/plugingait_choices.py``, design subjects only).
 
 Velocities and accelerations are central differences of the positions and rotations
 (the markers are used as they are: filter them first as Vicon's pipeline does).
 Frames where a foot is on the ground and no plate measures its reaction (a stance off
 the plates, on a plate shared with the other foot, or partly off its plate:
-:func:`mocap.io.c3d.stances.assign_plates`) have no kinetics for that side (NaN), as
-Plug-in Gait leaves them.
+:func:`mocap.io.c3d.stances.assign_plates`) have no kinetics for that side (NaN);
+Vicon leaves some such off-plate stances computed as if the foot were in the air.
 
 Units inside: metres, seconds, newtons, N·m (like ``Trial.points``).
 """
@@ -38,8 +44,8 @@ import numpy as np
 
 from mocap.body.anthropometry import plugingait_segments
 from mocap.errors import MocapError, MocapWarning
-from mocap.plugingait.model import SIDES, Kinematics, Subject, kinematics, markers_from_trial
-from mocap.plugingait.model import MARKERS
+from mocap.plugingait.model import (MARKERS, SIDES, Kinematics, Subject, kinematics,
+                                    markers_from_trial)
 from mocap.trial import Trial
 
 #: Standard gravity, m/s², along the lab's −Z (Plug-in Gait's labs are Z up).
@@ -153,7 +159,7 @@ def _segment_loads(start: np.ndarray, com: np.ndarray, length: np.ndarray,
 
 
 def lab_kinetics(kin: Kinematics, ground: dict, body_mass: float, rate: float,
-                 lengths: dict | None = None) -> dict:
+                 lengths: dict | None = None, table: dict | None = None) -> dict:
     """Internal joint loads and powers of both legs, lab axes.
 
     Parameters
@@ -168,6 +174,9 @@ def lab_kinetics(kin: Kinematics, ground: dict, body_mass: float, rate: float,
         ``"l_thigh"``, ``"l_shank"``, ``"l_foot"`` … -> metres: the segment lengths the
         inertias scale with (:func:`segment_lengths`); default each frame's joint-centre
         distance.
+    table : dict, optional
+        ``thigh``, ``shank``, ``foot`` -> DempsterSegment; default
+        :func:`mocap.body.anthropometry.plugingait_segments`.
 
     Returns
     -------
@@ -175,7 +184,7 @@ def lab_kinetics(kin: Kinematics, ground: dict, body_mass: float, rate: float,
     NaN on frames the side's reaction is unknown; a side whose segments are missing is
     left out.
     """
-    table = plugingait_segments()
+    table = plugingait_segments() if table is None else table
     lengths = lengths or {}
     out = {}
     pelvis_omega = angular_velocity(kin.frames["pelvis"], rate)
@@ -302,12 +311,11 @@ def body_mass_of(trial: Trial, static: Trial | None = None) -> float | None:
     return None
 
 
-def _contacts(trial: Trial, side: str) -> list[tuple[int, int]]:
-    """The side's stances (first frame, stop frame) from the file's and detected events."""
-    from mocap.plugingait.events import FOOT_OFF, FOOT_STRIKE, detect_events, events_from_file
+def _contacts(trial: Trial, side: str, events: list) -> list[tuple[int, int]]:
+    """The side's stances (first frame, stop frame) from gait events (GaitEvent list)."""
+    from mocap.plugingait.events import FOOT_OFF, FOOT_STRIKE
 
-    events = sorted({(int(round(e.frame)), e.label) for e in
-                     events_from_file(trial) + detect_events(trial) if e.side == side})
+    events = sorted({(int(round(e.frame)), e.label) for e in events if e.side == side})
     out, start = [], None
     for k, (frame, label) in enumerate(events):
         if label == FOOT_STRIKE:
@@ -331,8 +339,10 @@ def ground_reactions(trial: Trial, kin: Kinematics) -> tuple[dict, list[str]]:
     """
     from mocap.io.c3d.forceplates import plate_forces
     from mocap.io.c3d.stances import assign_plates
+    from mocap.plugingait.events import detect_events, events_from_file
 
     frames = trial.frames
+    events = events_from_file(trial) + detect_events(trial)
     plates = [p for p in plate_forces(trial, rate="marker") if not p.plate.problem]
     markers, _ = markers_from_trial(trial, ("LHEE", "LTOE", "RHEE", "RTOE"))
     feet = {side: (markers[f"{side.upper()}HEE"], markers[f"{side.upper()}TOE"])
@@ -359,7 +369,7 @@ def ground_reactions(trial: Trial, kin: Kinematics) -> tuple[dict, list[str]]:
                 notes.append(f"{side.upper()} foot {stance.reason} (plate {stance.plate + 1}, "
                              f"frames {stance.start + 1}-{stance.stop}): no "
                              f"{'left' if side == 'l' else 'right'} kinetics on that stance")
-        for start, stop in _contacts(trial, side):
+        for start, stop in _contacts(trial, side, events):
             if not measured[start:stop].any():
                 unknown[start:stop] = True
         unknown &= ~measured

@@ -119,4 +119,25 @@ def outputs_table(times: np.ndarray, outputs: list[tuple[str, str, np.ndarray]])
     return pandas.concat(parts, ignore_index=True)[columns]
 
 
-__all__ = ["UNITS", "analysis_group", "model_outputs", "outputs_table", "kinetic_label"]
+def write_outputs_csv(path, times: np.ndarray, outputs: list[tuple[str, str, np.ndarray]]
+                      ) -> None:
+    """:func:`outputs_table` written as CSV (all-or-nothing), without pandas."""
+    import csv
+
+    from mocap.atomic import atomic_path
+
+    times = np.asarray(times, dtype=float)
+    with atomic_path(path) as tmp, open(tmp, "w", newline="", encoding="utf-8") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(["frame", "time", "label", "kind", "component", "value", "unit"])
+        for label, kind, values in outputs:
+            unit = UNITS[kind][1]
+            for component in (("Z",) if kind == "POWERS" else ("X", "Y", "Z")):
+                column = values[:, "XYZ".index(component)]
+                for frame in np.flatnonzero(np.isfinite(column)):
+                    writer.writerow([int(frame), repr(float(times[frame])), label, kind,
+                                     component, repr(float(column[frame])), unit])
+
+
+__all__ = ["UNITS", "analysis_group", "model_outputs", "outputs_table", "kinetic_label",
+           "write_outputs_csv"]

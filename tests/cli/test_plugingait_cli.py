@@ -47,6 +47,8 @@ def test_ezc3d_reads_vicons_labels_units_and_analysis(written):
         assert some in point[kind]["value"] and some in labels
         assert point[unit_name]["value"] == [unit]
     assert {"LHJC", "RKJC", "LAJC"} <= set(labels)
+    # the walk has the upper-body markers: its angles are there too
+    assert {"LThoraxAngles", "RElbowAngles", "LFootProgressAngles"} <= set(point["ANGLES"]["value"])
     analysis = c3d["parameters"]["ANALYSIS"]
     names, contexts = analysis["NAMES"]["value"], analysis["CONTEXTS"]["value"]
     assert "Cadence" in names and {"Left", "Right"} <= set(contexts)
@@ -120,3 +122,41 @@ def test_bad_input_is_one_line_exit_2_nothing_written(tmp_path, capsys, argv, wo
     assert status == 2
     assert len(err.strip().splitlines()) == 1 and words in err, err
     assert not (tmp_path / "out.c3d").exists() and not (tmp_path / "out.csv").exists()
+
+
+def test_body_mass_from_the_option_when_the_file_has_none(tmp_path, capsys):
+    trial = read(realdata_path(*WALK))
+    processing = {k: v for k, v in trial.parameters["PROCESSING"].items()
+                  if k.upper() != "BODYMASS"}
+    trial.parameters = dict(trial.parameters, PROCESSING=processing)
+    light = tmp_path / "nomass.c3d"
+    write_c3d(trial, light)
+    status, _, err = run(capsys, "plugingait", light, "-o", tmp_path / "a.c3d")
+    assert status == 0 and "no body mass" in err and "kinetics skipped" in err
+    status, _, err = run(capsys, "plugingait", light, "--body-mass", "45", "-o",
+                         tmp_path / "b.c3d")
+    assert status == 0 and "kinetics skipped" not in err
+    original = read(realdata_path(*WALK))
+    ours, theirs = read(tmp_path / "b.c3d").modelled, original.modelled
+    # moments scale with 1 / body mass: Vicon's per kg of the recorded mass
+    recorded = float(np.ravel(original.parameters["PROCESSING"]["BODYMASS"])[0])
+    a = ours["values"][:, ours["labels"].index("LAnkleMoment"), 0]
+    b = theirs["values"][:, theirs["labels"].index("LAnkleMoment"), 0]
+    ok = np.isfinite(a) & np.isfinite(b)
+    ratio = np.sum(a[ok] * b[ok]) / np.sum(b[ok] * b[ok])
+    assert ratio == pytest.approx(recorded / 45.0, rel=0.05)
+
+
+def test_a_walk_without_events_gets_detected_ones_written(tmp_path, capsys):
+    import ezc3d
+
+    walk = realdata_path("biomechzoo_sample_study", "HC031A", "Straight", "HC031A06.c3d")
+    assert not read(walk).events                          # Vicon stored none
+    out = tmp_path / "out.c3d"
+    status, _, _ = run(capsys, "plugingait", walk, "-o", out)
+    assert status == 0
+    event = ezc3d.c3d(str(out))["parameters"]["EVENT"]
+    pairs = set(zip(event["LABELS"]["value"], event["CONTEXTS"]["value"]))
+    assert {("Foot Strike", "Left"), ("Foot Strike", "Right"), ("Foot Off", "Left")} <= pairs
+    written = read(out).events
+    assert all(0 <= e["frame"] < read(walk).frames for e in written)

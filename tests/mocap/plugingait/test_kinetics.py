@@ -126,3 +126,20 @@ def test_hand_calculation_of_a_swinging_shank_and_angular_velocity():
     rot[:, 0, 0], rot[:, 0, 1], rot[:, 1, 0], rot[:, 1, 1], rot[:, 2, 2] = c, -s, s, c, 1
     w = angular_velocity(rot, rate)
     np.testing.assert_allclose(w[1:-1], np.tile([0, 0, 2.0], (n - 2, 1)), atol=1e-4)
+
+
+def test_a_foot_standing_off_the_plates_has_no_kinetics(walk):
+    # HC030A05's left foot stands on the floor at the start and the end (heel still),
+    # where Vicon computed moments as if it were in the air; those frames are left out
+    trial, kin = walk
+    markers, _ = markers_from_trial(trial, ("LHEE", "RHEE"))
+    checked = 0
+    for s, side in enumerate("LR"):
+        heel = markers[f"{side}HEE"]
+        speed = np.linalg.norm(np.gradient(heel[:, :2], 1 / trial.rate, axis=0), axis=1)
+        standing = (speed < 0.1) & ~np.isfinite(kin.ground[:, s]).all(1)
+        standing[:5] = standing[-5:] = False
+        k = kin.segments.index(f"{side.lower()}_ankle")
+        assert not np.isfinite(kin.moments[standing, k]).any(), side
+        checked += standing.sum()
+    assert checked >= 10          # each walk has such frames
