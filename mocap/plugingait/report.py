@@ -211,6 +211,9 @@ def _parameters_table(analyses, normative: Normative | None) -> str:
         rows.append(f"<tr><td>{html.escape(name)} ({html.escape(unit)})</td>{''.join(cells)}</tr>")
     note = ("" if norms else "<p>The normative set has no gait-parameter values (a lab "
             "reference built with <code>mocap normative</code> has them).</p>")
+    if norms and normative.meta.get("parameters_source"):
+        note = ("<p>Normative parameters: "
+                f"{html.escape(str(normative.meta['parameters_source']))}.</p>")
     return (f'<table id="parameters-table"><thead>{head}</thead><tbody>{"".join(rows)}'
             f"</tbody></table>{note}" + ('<p>Shaded: more than 2 SD from the normative mean.'
                                         '</p>' if norms else ""))

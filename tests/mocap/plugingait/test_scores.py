@@ -55,6 +55,13 @@ def test_the_shipped_set_has_every_variable_over_101_samples(normative):
     assert 1.5 < normative.mean["AnklePower"][:, 2].max() < 6
     assert 0.3 < normative.mean["HipMoment"][:, 0].max() < 2
     assert normative.band("AnklePower", 0) is None         # Plug-in Gait's power is Z
+    # normal gait-cycle parameters, in Vicon's units: speed = stride length x cadence / 120
+    speed, cadence = normative.parameters["walking_speed"][0], normative.parameters["cadence"][0]
+    assert speed == pytest.approx(normative.parameters["stride_length"][0] * cadence / 120,
+                                  rel=0.02)
+    assert 55 < normative.parameters["foot_off"][0] < 65
+    assert normative.parameters["step_length"][0] == pytest.approx(
+        normative.parameters["stride_length"][0] / 2, rel=0.02)
 
 
 def test_identical_curves_score_zero(normative):
