@@ -11,7 +11,7 @@ from mocap.rotations.angles import check_sequence
 from mocap.atomic import atomic_path
 from mocap.batch import rows_to_csv, run_batch
 from mocap.cli.batch_rows import (BASE_COLUMNS, CHECK_COLUMNS, analyse_trial, find_trials,
-                                   lost_trial)
+                                  is_static, lost_trial, pair_statics)
 from mocap.cli import options
 from mocap.cli.commands import Subparsers, summary
 from mocap.cli.demo import run_demo as demo
@@ -68,6 +68,21 @@ def register(subparsers: Subparsers) -> None:
                             "plugingait-lower, plugingait-full) or a TOML file")
     batch.add_argument("--sequence", default="ZXY", metavar="SEQ",
                        help="Euler sequence of the angles, scipy convention (default ZXY)")
+    batch.add_argument("-r", "--recursive", action="store_true",
+                       help="search the folders' sub-folders too (a Subject/Condition/*.c3d "
+                            "tree: person and action then come from the two folders when a "
+                            "file's name is not <person>_<action>)")
+    batch.add_argument("--clinical", action="store_true",
+                       help="Plug-in Gait clinical angles of each walk (as mocap angles -m "
+                            "plugingait-lower --static): the minimum and maximum of every "
+                            "angle; static trials (named or in a folder named *static*) are "
+                            "the walks' statics, not rows: the one in the walk's folder, else "
+                            "in a sibling folder (Subject/Static/ beside Subject/Straight/)")
+    batch.add_argument("--static", metavar="STATIC.c3d",
+                       help="with --clinical: the static trial of every walk (one subject)")
+    batch.add_argument("--fill-gaps", type=options.SECONDS_GAP, metavar="SECONDS",
+                       help="with --clinical: fill marker gaps up to this long first (as "
+                            "mocap angles --fill-gaps)")
     batch.add_argument("--check", action="store_true",
                        help="also run the humanoid dynamics check (as mocap check; a "
                             "lower-body set carries the trunk, head and arms on the pelvis)")
@@ -93,7 +108,19 @@ def run_batch_command(args: argparse.Namespace) -> int:
     if args.markerset:
         load_markerset(args.markerset)          # a bad marker set: one error, not one per trial
     check_sequence(args.sequence)
-    paths = [p for corpus in args.corpus for p in find_trials(corpus)]
+    if (args.static is not None or args.fill_gaps is not None) and not args.clinical:
+        raise MocapError("--static and --fill-gaps go with --clinical")
+    if args.static is not None and not os.path.isfile(args.static):
+        raise MocapError("static trial not found", args.static)
+    paths = [p for corpus in args.corpus for p in find_trials(corpus, args.recursive)]
+    statics = {}
+    if args.clinical:
+        standing = [p for p in paths if is_static(p)]
+        paths = [p for p in paths if not is_static(p)]
+        if not paths:
+            raise MocapError("no walks to analyse: every trial found is a static")
+        statics = ({str(p): str(args.static) for p in paths} if args.static is not None
+                   else pair_statics(paths, standing))
     if args.dask or args.scheduler:
         # Dask's own log lines (workers losing the scheduler when Ctrl-C stops the run,
         # heartbeats) are not the user's business: every trial's error is in its row.
@@ -106,6 +133,8 @@ def run_batch_command(args: argparse.Namespace) -> int:
                                 "json" if args.json else None, "--json") == "json"
     rows = run_batch(analyse_trial, paths, jobs=args.jobs, markerset=args.markerset, sequence=args.sequence,
                      check=args.check, mass_kg=args.mass, lowpass=args.lowpass,
+                     tree=args.recursive, clinical=args.clinical, statics=statics,
+                     max_gap_seconds=args.fill_gaps,
                      dask=args.dask,
                      scheduler=args.scheduler, lost=lost_trial)
     if len(rows) == 1 and rows[0]["status"] != "ok":
