@@ -165,9 +165,26 @@ def _headroom(axis, factor: float) -> None:
         axis.set_ylim(low, low + factor * (high - low))
 
 
-def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100) -> Figure:
-    """Plot a :class:`dynamics.humanoid.check.CheckReport`: residuals, ground reactions, joint
-    torques and the lowest body point over time.
+def _residual_panel(axis, t: np.ndarray, series: np.ndarray, judged: dict, unit: str,
+                    name: str, colour: str) -> None:
+    """One residual over time with the figure the check judges (its RMS) and that figure's
+    limit: the verdict says RMS against limit, and so does the panel (a single frame above
+    the RMS limit is no failure)."""
+    axis.plot(t, series, color=colour, linewidth=0.9, label=f"{name} per frame")
+    axis.axhline(judged["value"], color=colour, linewidth=1.6,
+                 label=f"RMS {judged['value']:.3g} {unit} (the judged figure)")
+    axis.axhline(judged["limit"], color="0.2", linestyle=":",
+                 label=f"RMS limit {judged['limit']:.3g} {unit}")
+    axis.set_ylabel(f"{name}\n({unit})")
+    _headroom(axis, 1.35)
+    axis.legend(fontsize=7, loc="upper center", ncol=3)
+
+
+def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100,
+               plates=None) -> Figure:
+    """Plot a :class:`dynamics.humanoid.check.CheckReport`: the residual force and torque
+    (each with its RMS and RMS limit), ground reactions (and the measured plates), joint
+    torques and the floor penetration the text reports, over time.
 
     Parameters
     ----------
@@ -175,12 +192,15 @@ def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100) ->
     path : str or PathLike, optional
         Also write the figure here (PNG, PDF or SVG by suffix; all or nothing).
     dpi : int
-        Resolution of the written file (the figure is 8 × 10 inches).
+        Resolution of the written file (the figure is 8 × 12 inches).
+    plates : dynamics.humanoid.plates.MeasuredPlates, optional
+        The force plates measured with the motion (``mocap check --forces plates``): each
+        plate's vertical force is drawn beside the estimated reactions.
 
     Returns
     -------
     matplotlib.figure.Figure
-        Four axes sharing the time axis; built without pyplot, so no global state changes
+        Five axes sharing the time axis; built without pyplot, so no global state changes
         and nothing needs closing.
     """
     # deferred: matplotlib is slow to import and only drawing needs it
@@ -194,33 +214,29 @@ def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100) ->
             raise MocapError("the plot must be a .png, .pdf or .svg file", path)
     t = report.times
     weight = report.weight
-    figure = Figure(figsize=(8, 10))
-    axes = figure.subplots(4, 1, sharex=True)
-    force = 100.0 * np.linalg.norm(report.residual_force, axis=1) / weight
-    # force in % BW on the left axis, torque in N·m on its own right axis and colour
-    axes[0].plot(t, force, color="tab:blue", label="residual force (% BW)")
-    axes[0].axhline(report.limits["residual_force_rms_pct_bw"]["limit"], color="tab:blue",
-                    alpha=0.5, linestyle=":", label="RMS limit (% BW)")
-    axes[0].set_ylabel("residual force (% BW)", color="tab:blue")
-    torque_axis = axes[0].twinx()
-    torque_axis.plot(t, np.linalg.norm(report.residual_torque, axis=1), color="tab:red",
-                     label="residual torque about the COM (N·m)")
-    torque_axis.set_ylabel("residual torque (N·m)", color="tab:red")
+    figure = Figure(figsize=(8, 12))
+    axes = figure.subplots(5, 1, sharex=True)
     verdict = f"{report.verdict}: " + ("; ".join(report.reasons) or "no problems")
     axes[0].set_title(textwrap.fill(verdict, 110), fontsize=8)
-    lines = axes[0].get_lines() + torque_axis.get_lines()
-    _headroom(axes[0], 1.35)
-    _headroom(torque_axis, 1.35)
-    axes[0].legend(lines, [line.get_label() for line in lines], fontsize=7, loc="upper center",
-                   ncol=3)
+    _residual_panel(axes[0], t, 100.0 * np.linalg.norm(report.residual_force, axis=1) / weight,
+                    report.limits["residual_force_rms_pct_bw"], "% BW", "residual force",
+                    "tab:blue")
+    _residual_panel(axes[1], t, np.linalg.norm(report.residual_torque, axis=1),
+                    report.limits["residual_torque_rms_Nm"], "N·m",
+                    "residual torque about the COM", "tab:red")
     feet = {}
     for k, name in enumerate(report.contact_names):
         feet.setdefault(name.split(".")[0], []).append(k)
     for foot, points in feet.items():
-        axes[1].plot(t, report.contact_forces[:, points, 1].sum(axis=1) / weight,
-                     label=f"{foot} vertical reaction (BW)")
-    axes[1].set_ylabel("vertical reaction (BW)")
-    axes[1].legend(fontsize=7)
+        axes[2].plot(t, report.contact_forces[:, points, 1].sum(axis=1) / weight,
+                     label=f"{foot} vertical reaction (BW), estimated")
+    if plates is not None:
+        for name, force in zip(plates.names, plates.force):
+            axes[2].plot(t, force[:, 1] / weight, linestyle="--", linewidth=1.0,
+                         label=f"{name} vertical force (BW), measured")
+    axes[2].set_ylabel("vertical reaction (BW)")
+    _headroom(axes[2], 1.3)
+    axes[2].legend(fontsize=7, ncol=2, loc="upper center")
     magnitude = np.linalg.norm(report.joint_torques, axis=2)
     # one colour per joint (hip, knee …), solid left and dashed right, named as the text
     # report names them: the segment the joint moves, the joint in brackets
@@ -228,16 +244,20 @@ def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100) ->
     for j, name in enumerate(report.joint_names):
         kind = segment_kind(name)
         joint = JOINT_OF_SEGMENT.get(kind)
-        axes[2].plot(t, magnitude[:, j], linewidth=0.9,
+        axes[3].plot(t, magnitude[:, j], linewidth=0.9,
                      label=f"{name} ({joint})" if joint else name,
                      color=f"C{kinds.index(kind) % 10}" if kind in kinds else None,
                      linestyle="--" if name.startswith("r_") else "-")
-    axes[2].set_ylabel("joint torque (N·m)")
-    _headroom(axes[2], 1.45)                 # the legend sits above the curves
-    axes[2].legend(fontsize=6, ncol=4, loc="upper center")
-    axes[3].plot(t, report.lowest_point_mm, color="tab:green")
-    axes[3].axhline(0.0, color="0.3", linewidth=0.8)
-    axes[3].set_ylabel("lowest body point\nabove the floor (mm)")
+    axes[3].set_ylabel("joint torque (N·m)")
+    _headroom(axes[3], 1.45)                 # the legend sits above the curves
+    axes[3].legend(fontsize=6, ncol=4, loc="upper center")
+    limit = report.thresholds.penetration_mm
+    axes[4].plot(t, report.penetration_series_mm, color="tab:green",
+                 label=f"penetration, deepest {report.penetration_mm:.1f} mm")
+    axes[4].axhline(limit, color="0.2", linestyle=":", label=f"limit {limit:g} mm")
+    axes[4].set_ylabel("floor penetration beyond\nthe tolerance (mm)")
+    _headroom(axes[4], 1.3)
+    axes[4].legend(fontsize=7, loc="upper center", ncol=2)
     for axis in axes:                       # time ticks and label on every panel
         axis.tick_params(labelbottom=True)
         axis.set_xlabel("time (s)", fontsize=8)

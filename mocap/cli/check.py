@@ -105,8 +105,10 @@ def register(subparsers: Subparsers) -> None:
                        help="print one JSON object instead of text (keys as in the README), "
                             "with the estimated ground reaction and joint torque series")
     check.add_argument("--plot", metavar="OUT.png",
-                       help="also plot residuals, ground reactions, joint torques and the "
-                            "lowest point over time (.png, .pdf, .svg)")
+                       help="also plot over time the residual force and torque (each "
+                            "with the RMS the verdict judges and its limit), the ground "
+                            "reactions (and the measured plates with --forces plates), "
+                            "joint torques and the floor penetration (.png, .pdf, .svg)")
     check.set_defaults(func=run_check)
 
 
@@ -132,7 +134,7 @@ def run_check(args: argparse.Namespace) -> int:
         print(f"{args.motion}: {result['note']}", file=sys.stderr)
     if args.plot:
         from dynamics.viz.animate import plot_check    # deferred: matplotlib
-        plot_check(report, args.plot)
+        plot_check(report, args.plot, plates=result.get("plates"))
     status = 1 if args.strict and report.verdict != "plausible" else 0
     if args.json:
         print(json.dumps({**summary, **result["series"]}, allow_nan=False,
@@ -235,7 +237,8 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
             "names": list(report.joint_names),
             "torque_Nm": np.round(np.where(valid[..., None], torques, np.nan), 2).tolist()}
         series = _nan_to_none(series)
-    return {"report": report, "summary": summary, "series": series, "note": note}
+    return {"report": report, "summary": summary, "series": series, "note": note,
+            "plates": measured if plates else None}
 
 
 def ground_reaction_series(report) -> dict:
