@@ -46,15 +46,16 @@ def mocap_without(absent: str, *argv, cwd: Path) -> subprocess.CompletedProcess:
                                        "pip install pin")),
     ("tensorly", ["decompose", "--manifest", "{manifest}", "-o", "{tmp}/m.npz"],
      ("mocap decompose: error: this command needs tensorly", "pip install tensorly")),
-    ("matplotlib", ["animate", "{bvh}", "-o", "{tmp}/a.gif"],
-     ("mocap animate: error: this command needs matplotlib", "pip install matplotlib")),
+    ("matplotlib", ["forces", "{walk}", "-o", "{tmp}/grf.csv", "--plot", "{tmp}/grf.png"],
+     ("mocap forces: error: this command needs matplotlib", "pip install matplotlib")),
 ])
 def test_a_missing_package_is_one_line(tmp_path, absent, argv, names):
     bvh = realdata_path("bandai2", "dataset-2_walk_active_001.bvh")
     manifest = realdata_path("bandai2", "manifest.csv")
     out = tmp_path / "out"
     out.mkdir()
-    words = [w.format(bvh=bvh, manifest=manifest, tmp=out) for w in argv]
+    walk = realdata_path("biomechzoo_sample_study", "HC030A", "Turn", "HC030A22.c3d")
+    words = [w.format(bvh=bvh, manifest=manifest, tmp=out, walk=walk) for w in argv]
     result = mocap_without(absent, *words, cwd=tmp_path)
     assert result.returncode == 2, result.stderr
     assert result.stderr.count("\n") == 1 and "Traceback" not in result.stderr
@@ -63,8 +64,9 @@ def test_a_missing_package_is_one_line(tmp_path, absent, argv, names):
 
 
 def test_core_commands_run_without_the_heavy_packages(tmp_path):
-    """info, convert and clinical angles of a real walk with its static: no Pinocchio,
-    tensorly, matplotlib, pandas, dask, OpenSim or bvhio in the process."""
+    """info, convert and clinical angles of a real walk with its static, and a stick-figure
+    preview: no Pinocchio, tensorly, matplotlib, pandas, dask, OpenSim or bvhio in the
+    process (the preview needs pillow only)."""
     walk = realdata_path("biomechzoo_sample_study", "HC030A", "Straight", "HC030A05.c3d")
     static = realdata_path("biomechzoo_sample_study", "HC030A", "Static", "HC030A01.c3d")
     for argv in (["info", walk], ["convert", walk, tmp_path / "walk.trc"],
@@ -72,5 +74,9 @@ def test_core_commands_run_without_the_heavy_packages(tmp_path):
                   "--fill-gaps", "0.2", "-o", tmp_path / "angles.csv"]):
         result = mocap_without(HEAVY, *argv, cwd=tmp_path)
         assert result.returncode == 0, (argv[0], result.stderr)
+    bvh = realdata_path("bandai2", "dataset-2_walk_active_001.bvh")
+    result = mocap_without(HEAVY.replace(",PIL", ""), "animate", bvh, "-o", tmp_path / "w.gif",
+                           "--max-frames", "5", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
     assert (tmp_path / "walk.trc").stat().st_size > 0
     assert (tmp_path / "angles.csv").stat().st_size > 0
