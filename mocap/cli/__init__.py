@@ -14,6 +14,7 @@ import errno
 import importlib
 import os
 import re
+import shlex
 import signal
 import sys
 import threading
@@ -287,6 +288,7 @@ def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
         except SystemExit as done:              # --help, --version, or a one-line mistake
             return done.code if isinstance(done.code, int) else (0 if done.code is None else 2)
         command = args.command
+        args.command_line = "mocap " + " ".join(shlex.quote(word) for word in words)
         interrupts.arm()
         subparser = parser.commands.get(command)
         from mocap.cli.paths import check_paths

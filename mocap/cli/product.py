@@ -165,5 +165,5 @@ def run_demo(args: argparse.Namespace) -> int:
 
     demo(out_dir=args.out, data=args.data, markerset=args.markerset, people=args.people,
          seed=args.seed, hold_out=args.hold_out, animation=not args.no_animation,
-         force=args.force)
+         force=args.force, command=getattr(args, "command_line", None))
     return 0

@@ -69,3 +69,13 @@ def test_numbered_marker_clusters_stay_markers():
         f"LFOF{k}": AXES for k in range(4)}
     assert computed_positions(["Matt:LHJC", "LKJC_CGM_2.4", "LKJ"]) == {
         "Matt:LHJC": CENTRES, "LKJC_CGM_2.4": CENTRES}
+
+
+def test_a_marker_set_of_origin_anterior_left_markers_keeps_them():
+    """synthetic15 places three markers per segment named like Plug-in Gait's axis points
+    (PELO, PELA, PELL) but without the fourth (P): they are markers, every one."""
+    from mocap.markersets import load_markerset
+
+    names = [m for segment in load_markerset("synthetic15").segments for m in segment.markers]
+    assert "PELO" in names and "HEDA" in names
+    assert computed_positions(names) == {}
