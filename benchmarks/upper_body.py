@@ -18,11 +18,16 @@ body) would gain if the knee and ankle chords used the same 7 mm marker radius a
 Vicon's upper body (the lower body keeps ``MarkerDiameter / 2``, docs/plugingait.md):
 the walks' per-component RMS, both halves.
 
+With ``--fill`` it measures the gap filling of the thorax and head markers: each blanked
+for 20 frames at 30, 50 and 70 % of every walk and filled by ``fill_plugingait`` (from
+the other markers of its group, :data:`mocap.plugingait.clinical.UPPER_RIGID_SEGMENTS`)
+or by its own cubic spline; the worst upper-body joint-plane RMS inside the gap.
+
 Time: CPU seconds of ``plugingait_angles`` on a walk (lower body only, then with the
 upper body) and on the same walk tiled to 100 000 frames, medians of repeats.  Never
 asserts.
 
-    .venv/bin/python benchmarks/upper_body.py [--repeats 5] [--skip-agreement] [--lower-chords]
+    .venv/bin/python benchmarks/upper_body.py [--repeats 5] [--skip-agreement] [--lower-chords] [--fill]
 """
 from __future__ import annotations
 
@@ -174,6 +179,55 @@ def lower_chords() -> None:
               f"values  median {np.median(values):6.3f} (circular differences)")
 
 
+def fill(gap: int = 20) -> None:
+    """Upper-body angles inside a gap of a thorax or head marker: group fill vs spline."""
+    from mocap.clean.gapfill import fill_gaps
+    from mocap.plugingait.clinical import (UPPER_RIGID_SEGMENTS, fill_plugingait,
+                                           plugingait_labels, prepare_subject)
+    from mocap.plugingait.upper import upper_subject_from_trial
+
+    grouped = {name for group in UPPER_RIGID_SEGMENTS for name in group}
+    worst: dict = {}
+    for path, static_path, subject in files():
+        if static_path in (None, path):
+            continue
+        static = read(static_path)
+        trial = read(path)
+        trial = trial.select(plugingait_labels(trial, upper_body=True))
+        measured = prepare_subject(trial, static=static, warn=False)
+        measurements = upper_subject_from_trial(trial, static)
+        first = len(upper_columns())
+
+        def angles(t: Trial) -> np.ndarray:
+            return plugingait_angles(t, subject=measured, upper_body=True,
+                                     upper_subject=measurements).values[:, -first:]
+
+        truth = angles(trial)
+        for fraction in (0.3, 0.5, 0.7):
+            start = int(trial.frames * fraction) - gap // 2
+            inside = slice(start, start + gap)
+            for m, label in enumerate(trial.labels):
+                if label.rpartition(":")[2] not in grouped or not np.isfinite(
+                        trial.points[start - 1:start + gap + 1, m]).all():
+                    continue
+                points = trial.points.copy()
+                points[inside, m] = np.nan
+                gapped = trial.with_points(points)
+                for method in ("group", "spline"):
+                    filled = (fill_plugingait(gapped, measured, gap)[0] if method == "group"
+                              else fill_gaps(gapped, max_gap_frames=gap, only=[label])[0])
+                    difference = (angles(filled)[inside] - truth[inside]).reshape(gap, -1)
+                    rms = np.nan_to_num(np.sqrt(np.nanmean(difference ** 2, axis=0)))
+                    key = (method, "design" if subject in DESIGN else "held out")
+                    worst.setdefault(key, []).append(float(rms.max()))
+    for (method, half), values in sorted(worst.items()):
+        values = np.array(values)
+        print(f"thorax/head gaps of {gap} frames, {method:6s} fill, {half:8s}: {len(values)} "
+              f"gaps, worst upper-body joint-plane RMS median {np.median(values):.3f}, "
+              f"p90 {np.percentile(values, 90):.3f}, worst {values.max():.2f}, "
+              f"over 1 deg {int((values > 1).sum())}")
+
+
 def timing(repeats: int) -> None:
     base = REALDATA / "biomechzoo_sample_study" / "HC030A"
     walk, static = read(base / "Straight" / "HC030A05.c3d"), read(base / "Static" / "HC030A01.c3d")
@@ -201,6 +255,7 @@ def main() -> None:
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--skip-agreement", action="store_true")
     parser.add_argument("--lower-chords", action="store_true")
+    parser.add_argument("--fill", action="store_true")
     args = parser.parse_args()
     warnings.simplefilter("ignore")
     if not args.skip_agreement:
@@ -217,6 +272,8 @@ def main() -> None:
               f"{upper.UPPER_MARKER_RADIUS_M * 1e3:g} mm)")
     if args.lower_chords:
         lower_chords()
+    if args.fill:
+        fill()
     timing(args.repeats)
 
 

@@ -161,7 +161,8 @@ def clinical_angles(source: str | os.PathLike | Trial, static: str | os.PathLike
         Also the upper body and foot progression angles (segments ``l_thorax …
         r_foot_progress`` after the lower body's, :mod:`mocap.plugingait.upper`),
         with the measurements of the walk's PROCESSING group, else the static's.
-        The upper body's markers are low-passed with the others but not gap-filled.
+        Its thorax and head markers are gap-filled from their groups, the arms' by
+        their splines (:func:`mocap.plugingait.clinical.fill_plugingait`).
 
     Returns
     -------

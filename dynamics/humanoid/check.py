@@ -341,7 +341,7 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
         # switching of contact points would otherwise put steps into them (and into the
         # joint torques) that the filtered motion cannot know of. The residual stays the
         # misfit of the unfiltered solve.
-        forces = butterworth_lowpass(forces, lowpass, rate, ends="curvature")
+        forces = butterworth_lowpass(forces, lowpass, rate, ends="fitted")
 
     contact_torques = contact_joint_torques(humanoid, world_r, world_p, contact_world, forces)
     joint_torques = tau[:, 6:].reshape(frames, -1, 3) - contact_torques

@@ -411,9 +411,12 @@ def _open_ends(world: np.ndarray, runs: list[tuple[int, int]], levels: np.ndarra
     ``world`` (frames, points, 3) are the foot's calibrated contact points. Going away
     from the stance (back in time before the first, forward after the last), where the
     foot's lowest point is slower than twice ``still_speed`` it stands there (rolling off
-    the toe, a stance the trial's edge cut short): that is the floor; where it moves, the floor
-    is at least a ``step`` below where it has been since (on its way to a step further
-    down: not in contact, not in it). Starts from the stance's level.
+    the toe, a stance the trial's edge cut short): that is the floor; where it moves but is
+    not below where it last stood (a toe rolling off at toe-off speed, or a foot lifting
+    towards a step above) the floor stays there; where it has gone more than half a
+    ``step`` below it (past the step's edge, on its way to a step further down: not in
+    contact, not in it) the floor is a ``step`` below the lowest it has been since.
+    Starts from the stance's level.
 
     Returns
     -------
@@ -432,8 +435,12 @@ def _open_ends(world: np.ndarray, runs: list[tuple[int, int]], levels: np.ndarra
         start = np.r_[level, h[standing]][group]     # where the foot last stood
         for g in np.unique(group):
             mine = group == g
+            # A moving foot not below where it last stood is still over that step (a toe
+            # rolling off it, or lifting towards one above): the floor stays there. Only
+            # below it has the foot passed the step's edge, on its way further down.
+            past = ~standing[mine] & (h[mine] < start[mine] - step / 2)
             out[mine] = np.minimum(start[mine], np.minimum.accumulate(
-                np.where(standing[mine], np.inf, h[mine] - step)))
+                np.where(past, h[mine] - step, np.inf)))
         return out
 
     first, last = runs[0][0], runs[-1][1]

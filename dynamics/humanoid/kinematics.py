@@ -99,8 +99,8 @@ def motion_kinematics(motion: Motion, smoothing: float = 0.1,
         # zero-lag 2nd-order Butterworth (4th overall, the gait-analysis filter), the ends
         # padded so that they keep their velocity and acceleration: a free fall still
         # falls at g in its first and last frames
-        quats = butterworth_lowpass(quats, lowpass, motion.rate, ends="curvature")
-        root = butterworth_lowpass(root, lowpass, motion.rate, ends="curvature")
+        quats = butterworth_lowpass(quats, lowpass, motion.rate, ends="fitted")
+        root = butterworth_lowpass(root, lowpass, motion.rate, ends="fitted")
 
     def smooth(x: np.ndarray, deriv: int) -> np.ndarray:
         return savgol(x, window, order, deriv=deriv, delta=dt)

@@ -118,7 +118,7 @@ def filter_change(com: np.ndarray, rate: float, lowpass: float | None, window: i
         return np.zeros(com.shape[0])
     dt = 1.0 / rate
     raw = savgol(com, window, order, deriv=2, delta=dt)
-    smooth = savgol(butterworth_lowpass(com, lowpass, rate, ends="curvature"), window, order,
+    smooth = savgol(butterworth_lowpass(com, lowpass, rate, ends="fitted"), window, order,
                     deriv=2, delta=dt)
     return np.linalg.norm(smooth - raw, axis=1)
 

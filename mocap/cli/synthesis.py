@@ -27,6 +27,7 @@ from mocap.io.motion import read_motion
 from mocap.progress import progress
 from synthesis.corpus import load_corpus
 from synthesis.evaluate import leave_one_out
+from synthesis.methods import METHODS
 from synthesis.model import MotionModel
 from synthesis.model_file import load_model, read_trial_curve, save_model
 from synthesis.plot import plot_evaluation
@@ -122,7 +123,7 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--ridge", type=_ridge, default="auto", metavar="ALPHA",
                         help="relative ridge of signature fits, or 'auto' to choose it by "
                              "leave-one-out (default)")
-    parser.add_argument("--method", choices=("auto", "interaction", "signature", "transfer"),
+    parser.add_argument("--method", choices=("auto",) + tuple(METHODS),
                         default="auto",
                         help="synthesis of a missing cell: interaction (the additive model, "
                              "action mean + the person's offset, corrected by the N-mode SVD "

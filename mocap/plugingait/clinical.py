@@ -167,6 +167,22 @@ def clinical_columns() -> list[str]:
     return [f"{side}_{joint}" for side in SIDES for joint in JOINTS]
 
 
+def vicon_label(segment: str) -> str:
+    """Vicon's output label of a clinical angle segment (the upper body's too).
+
+    Examples
+    --------
+    >>> vicon_label("l_hip"), vicon_label("r_foot_progress")
+    ('LHipAngles', 'RFootProgressAngles')
+    """
+    from mocap.plugingait.upper import VICON_NAMES
+
+    side, _, joint = segment.partition("_")
+    if side not in SIDES or joint not in JOINTS + tuple(VICON_NAMES):
+        raise KeyError(segment)
+    return side.upper() + VICON_NAMES.get(joint, f"{joint.capitalize()}Angles")
+
+
 def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
                       static: Trial | None = None, flat_foot: bool | str = "auto",
                       upper_body: bool = False, upper_subject: UpperSubject | None = None):
@@ -266,6 +282,11 @@ RIGID_SEGMENTS = (("LASI", "RASI", "SACR", "LPSI", "RPSI"),
                   ("LHEE", "LTOE"), ("RHEE", "RTOE"))
 
 
+#: Rigid marker groups of the upper body, filled from each other (the thorax's four and
+#: the head's four); the arm markers have no rigid set of their own and keep their splines.
+UPPER_RIGID_SEGMENTS = (("C7", "T10", "CLAV", "STRN"), ("LFHD", "RFHD", "LBHD", "RBHD"))
+
+
 def plugingait_labels(trial: Trial, upper_body: bool = False) -> list[str]:
     """The trial's labels the model reads (subject prefixes allowed), in file order;
     with ``upper_body``, the upper body's markers too."""
@@ -301,7 +322,10 @@ def fill_plugingait(trial: Trial, subject: Subject, max_gap_frames: int
     moves with it — the hip centre (from the pelvis markers) for the thigh, the
     knee centre for the shank, the ankle centre for the foot.  The segments are
     filled from the pelvis down, so each joint centre comes from an already
-    filled segment; the joint centres are not kept in the result.  See
+    filled segment; the joint centres are not kept in the result.  The upper
+    body's thorax and head markers are filled from the others of their group
+    (:data:`UPPER_RIGID_SEGMENTS`), like the pelvis's; any other marker by its
+    spline.  See
     :func:`mocap.clean.gapfill.fill_gaps` for the methods and what stays unfilled.
 
     Parameters
@@ -372,8 +396,19 @@ def fill_plugingait(trial: Trial, subject: Subject, max_gap_frames: int
         report.filled += stage.filled
         report.unfilled += stage.unfilled
         current = current.with_points(filled.points[:, :len(labels)])
+    # the upper body's rigid groups from each other, as the pelvis (a root segment)
+    upper: dict[str, list[str]] = {}
+    for group in UPPER_RIGID_SEGMENTS:
+        present = [bare[n] for n in group if n in bare]
+        upper.update({label: [d for d in present if d != label] for label in present})
+    if upper:
+        filled, stage = fill_gaps(current, max_gap_frames=max_gap_frames, donors=upper,
+                                  only=list(upper), correlate=False, rehearse=True)
+        report.filled += stage.filled
+        report.unfilled += stage.unfilled
+        current = filled
     # markers of no segment (if any were passed) are filled by their spline
-    rest = [label for label in labels if label not in donors]
+    rest = [label for label in labels if label not in donors and label not in upper]
     if rest:
         filled, stage = fill_gaps(current, max_gap_frames=max_gap_frames, only=rest)
         report.filled += stage.filled

@@ -47,15 +47,13 @@ plugingait-upper.md).
 """
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from mocap.errors import MocapError
 from mocap.markersets.chord import _unit, chord, processing_number
 from mocap.plugingait.model import (PROCESSING_LENGTH_M, SIDES, Kinematics, frame_from_axes,
-                                    markers_from_trial, rotate_about)
+                                    rotate_about)
 from mocap.rotations.angles import unwrap_columns
 from mocap.rotations.euler import euler_from_components
 from mocap.trial import Trial
