@@ -3,9 +3,10 @@
 What is drawn:
 
 - **Only bones**: a line from each joint to its parent and to its end sites, except from a
-  placeholder root, a root joint that never moves and carries one child (a BVH's
-  ``joint_Root`` at the floor origin above ``Hips``), whose "bone" would be a line of
-  metres from the hips to the origin of the lab.
+  placeholder root, a root joint with a single child and no end site of its own: a
+  transform node, not a body part (a BVH's ``joint_Root``, which stays at the floor origin
+  in bandai2's captures and travels 4.3 m from the hips in clips synthesised on that rig),
+  whose "bone" would be a line of metres from the hips.
 - **Framed**: the camera (orthographic, 15° above the floor, 60° round from the motion's
   x axis, as the earlier 3-D plots looked) follows the body across the floor, and the scale
   is the largest at which every drawn frame, cape and rope included, fits inside the
@@ -36,8 +37,6 @@ TITLE_BAND = 0.08
 ELEVATION_DEG, AZIMUTH_DEG = 15.0, -60.0
 #: Floor grid spacing (m) and how far it reaches beyond the figure (m).
 GRID_M, GRID_REACH_M = 0.25, 1.0
-#: A root joint moving less than this (m) over the whole motion is a placeholder.
-STILL_ROOT_M = 1e-6
 #: Palette: index -> RGB.
 COLOURS = {"background": (255, 255, 255), "floor": (175, 175, 175), "bone": (31, 119, 180),
            "joint": (0, 0, 128), "cape": (214, 39, 40), "rope": (140, 86, 75),
@@ -45,8 +44,7 @@ COLOURS = {"background": (255, 255, 255), "floor": (175, 175, 175), "bone": (31,
 _INDEX = {name: k for k, name in enumerate(COLOURS)}
 
 
-def drawn_bones(parents: list[int], end_index: list[int], world_p: np.ndarray
-                ) -> tuple[np.ndarray, np.ndarray]:
+def drawn_bones(parents: list[int], end_index: list[int]) -> tuple[np.ndarray, np.ndarray]:
     """The bones a preview draws and the joints it marks.
 
     Parameters
@@ -55,8 +53,6 @@ def drawn_bones(parents: list[int], end_index: list[int], world_p: np.ndarray
         Parent of each joint (-1 for a root).
     end_index : list of int
         Joint of each end site (its points follow the joints' in the drawn points).
-    world_p : ndarray, shape (frames, joints, 3)
-        World joint positions, metres.
 
     Returns
     -------
@@ -67,18 +63,13 @@ def drawn_bones(parents: list[int], end_index: list[int], world_p: np.ndarray
 
     Examples
     --------
-    >>> still = np.zeros((3, 3, 3)); still[:, 1, 0] = [0.0, 1.0, 2.0]; still[:, 2] = 1.0
-    >>> bones, joints = drawn_bones([-1, 0, 1], [], still)      # root at the origin
+    >>> bones, joints = drawn_bones([-1, 0, 1], [])      # a transform root above a chain
     >>> bones.tolist(), joints.tolist()
     ([[2, 1]], [1, 2])
     """
     count = len(parents)
-    placeholders = set()
-    for root in (j for j, p in enumerate(parents) if p < 0):
-        children = [j for j, p in enumerate(parents) if p == root]
-        moved = np.nanmax(np.ptp(world_p[:, root], axis=0)) if len(world_p) else 0.0
-        if len(children) == 1 and moved <= STILL_ROOT_M and root not in end_index:
-            placeholders.add(root)
+    placeholders = {root for root in (j for j, p in enumerate(parents) if p < 0)
+                    if sum(p == root for p in parents) == 1 and root not in end_index}
     bones = [(j, p) for j, p in enumerate(parents) if p >= 0 and p not in placeholders]
     bones += [(count + k, j) for k, j in enumerate(end_index)]
     joints = np.array([j for j in range(count) if j not in placeholders], dtype=int)

@@ -27,7 +27,7 @@ def _drawn(motion):
     world = motion.forward_kinematics()
     end_index, ends = motion.end_site_positions(world)
     points = np.concatenate([world[1], ends], axis=1)
-    bones, marked = drawn_bones(motion.skeleton.parents, end_index, world[1])
+    bones, marked = drawn_bones(motion.skeleton.parents, end_index)
     return points, bones, marked
 
 
