@@ -79,3 +79,15 @@ def test_a_marker_set_of_origin_anterior_left_markers_keeps_them():
     names = [m for segment in load_markerset("synthetic15").segments for m in segment.markers]
     assert "PELO" in names and "HEDA" in names
     assert computed_positions(names) == {}
+
+
+def test_opensim_reads_the_markers_only(tmp_path, capsys):
+    """The TRC that ``convert --up y`` hands to OpenSim holds the walk's markers, not
+    Vicon's axis points (OpenSim's IK would track HEDO … as markers)."""
+    from tests.conftest import require_module
+
+    opensim = require_module("opensim")
+    out = tmp_path / "walk.trc"
+    assert main(["convert", str(realdata_path(*WALK)), str(out), "--up", "y"]) == 0
+    table = opensim.TimeSeriesTableVec3(str(out))
+    assert sorted(table.getColumnLabels()) == sorted(PIG_OFM_MARKERS)
