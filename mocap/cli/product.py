@@ -66,7 +66,7 @@ def register(subparsers: Subparsers) -> None:
     batch.add_argument("--markerset", "-m", metavar="SET",
                        help="marker set for joint-angle ranges: a preset name (synthetic15, "
                             "plugingait-lower, plugingait-full) or a TOML file")
-    batch.add_argument("--sequence", default="ZXY", metavar="SEQ",
+    batch.add_argument("--sequence", default=None, metavar="SEQ",
                        help="Euler sequence of the angles, scipy convention (default ZXY)")
     batch.add_argument("-r", "--recursive", action="store_true",
                        help="search the folders' sub-folders too (a Subject/Condition/*.c3d "
@@ -86,9 +86,9 @@ def register(subparsers: Subparsers) -> None:
     batch.add_argument("--check", action="store_true",
                        help="also run the humanoid dynamics check (as mocap check; a "
                             "lower-body set carries the trunk, head and arms on the pelvis)")
-    batch.add_argument("--mass", type=options.MASS, default=75.0, metavar="KG",
+    batch.add_argument("--mass", type=options.MASS, default=None, metavar="KG",
                        help="body mass in kg for --check (default 75)")
-    batch.add_argument("--lowpass", type=options.real(minimum=0, maximum=1e6), default=6.0,
+    batch.add_argument("--lowpass", type=options.real(minimum=0, maximum=1e6), default=None,
                        metavar="HZ",
                        help="low-pass the motion before --check's inverse dynamics "
                             "(zero-lag Butterworth, default 6 Hz; 0 turns it off)")
@@ -107,6 +107,13 @@ def run_batch_command(args: argparse.Namespace) -> int:
         raise MocapError("--check needs --markerset (a full-body marker set such as synthetic15)")
     if args.markerset:
         load_markerset(args.markerset)          # a bad marker set: one error, not one per trial
+    if args.sequence is not None and not args.markerset:
+        raise MocapError("--sequence orders the angles of --markerset: give --markerset too")
+    if (args.mass is not None or args.lowpass is not None) and not args.check:
+        raise MocapError("--mass and --lowpass go with --check")
+    args.sequence = args.sequence or "ZXY"
+    args.mass = 75.0 if args.mass is None else args.mass
+    args.lowpass = 6.0 if args.lowpass is None else args.lowpass
     check_sequence(args.sequence)
     if (args.static is not None or args.fill_gaps is not None) and not args.clinical:
         raise MocapError("--static and --fill-gaps go with --clinical")

@@ -42,3 +42,20 @@ def test_units_and_joint_map_are_refused_for_a_marker_trial(tmp_path, capsys):
     assert not (tmp_path / "o.bvh").exists()
     # the same trial without them is exported
     assert main(["export", str(trial), "-m", "synthetic15", "-o", str(tmp_path / "o.bvh")]) == 0
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["batch", "{trial}", "--sequence", "XYZ"], "--sequence orders the angles of --markerset"),
+    (["batch", "{trial}", "-m", "synthetic15", "--mass", "60"], "--mass and --lowpass go with --check"),
+    (["batch", "{trial}", "-m", "synthetic15", "--lowpass", "0"], "--mass and --lowpass go with --check"),
+    (["convert", "{trial}", "{tmp}/o.csv", "--out-units", "cm"], "a CSV holds metres"),
+])
+def test_batch_and_convert_options_are_used_or_refused(argv, message, tmp_path, capsys):
+    from mocap.synthetic import generate_corpus
+
+    generate_corpus(tmp_path / "c", people=2, actions=["walk"], seed=1)
+    trial = next((tmp_path / "c").glob("*.c3d"))
+    assert main([w.format(trial=trial, tmp=tmp_path) for w in argv]) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "o.csv").exists()
