@@ -91,3 +91,12 @@ def test_opensim_reads_the_markers_only(tmp_path, capsys):
     assert main(["convert", str(realdata_path(*WALK)), str(out), "--up", "y"]) == 0
     table = opensim.TimeSeriesTableVec3(str(out))
     assert sorted(table.getColumnLabels()) == sorted(PIG_OFM_MARKERS)
+
+
+def test_the_viewer_draws_model_outputs_as_computed_points():
+    from mocap.view.scene import marker_layer
+
+    layer = marker_layer(read(realdata_path(*WALK)), markerset="none")
+    flagged = {label for label, v in zip(layer.labels, layer.virtual) if v}
+    assert {"PELO", "HEDO", "CentreOfMass", "LHJC"} <= flagged
+    assert not flagged & set(PIG_OFM_MARKERS)
