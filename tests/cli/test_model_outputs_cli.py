@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 
 from mocap.cli import main
 from mocap.io import read
@@ -59,6 +60,7 @@ def test_convert_writes_the_markers_only(tmp_path, capsys):
         assert np.allclose(b[ok], np.column_stack([a[ok, 0], a[ok, 2], -a[ok, 1]]), atol=1e-6)
 
 
+@pytest.mark.filterwarnings("ignore::mocap.errors.MocapWarning")     # Optotrak's truncation
 def test_numbered_marker_clusters_stay_markers():
     """Rigid clusters numbered from 1 (ArmL1 … ArmL4, Probe1 …, Marker_1 …) are markers;
     only a whole 0-3 set (the Oxford Foot Model's LFOF0 … LFOF3) is an axis set."""
