@@ -16,7 +16,7 @@ from dynamics.secondary import simulate_secondary
 from dynamics.viz.animate import animate_motion
 from mocap.body.retarget import reduce_to_segments
 from mocap.cli import options
-from mocap.cli.check import _motion_options
+from mocap.cli.check import _motion_options, refuse_unused_motion_options
 from mocap.cli.commands import Subparsers, summary
 from mocap.cli.paths import output_format
 from mocap.errors import MocapError
@@ -125,6 +125,7 @@ def run_export(args: argparse.Namespace) -> int:
     """Handler of ``mocap export``."""
 
     args.format = output_format(args.output, EXPORT_SUFFIXES, args.format, "--format")
+    refuse_unused_motion_options(args)
     if args.model and args.format != "mot":
         raise MocapError("--model goes with --format mot (OpenSim coordinates)")
     if args.precision is not None and args.format not in ("trc", "mot"):
@@ -180,6 +181,7 @@ def run_animate(args: argparse.Namespace) -> int:
         raise MocapError("the animation must be a .gif or .mp4 file", output)
     if args.max_frames < 1:
         raise MocapError(f"--max-frames must be at least 1, got {args.max_frames}")
+    refuse_unused_motion_options(args)
     motion = loaded = _load(args)
     title = Path(args.motion).stem
     if args.physics:

@@ -59,7 +59,7 @@ def register(subparsers: Subparsers) -> None:
     convert.add_argument("-o", "--output", dest="output", metavar="OUT",
                          help="the output file, as every command spells it (instead of OUT)")
     convert.add_argument("--out-units", "--units", dest="units", choices=("mm", "cm", "m"),
-                         default="mm",
+                         default=None,
                          help="length unit stored in a C3D or TRC output (default mm; CSV "
                               "output is always metres); spelt --out-units as in export, "
                               "where --units is the input's")
@@ -203,6 +203,9 @@ def run_convert(args: argparse.Namespace) -> int:
                          f"{target_format.description}", target)
     if source.exists() and target.exists() and source.resolve() == target.resolve():
         raise MocapError("output is the input file; choose another name", target)
+    if args.units is not None and target_format.name == "csv":
+        raise MocapError("--out-units sets the unit of a C3D or TRC output; a CSV holds "
+                         "metres", target)
     if args.precision is not None and target_format.name not in ("trc", "csv"):
         raise MocapError(f"--precision applies to TRC and CSV output; {target.suffix} "
                          f"stores 32-bit floats", target)
@@ -213,7 +216,8 @@ def run_convert(args: argparse.Namespace) -> int:
     markers = source_trial.select([label for label in source_trial.labels
                                    if label not in computed]) if computed else source_trial
     trial = rotate_trial(markers, args.up)
-    writer_options = {"units": args.units} if target_format.name in ("c3d", "trc") else {}
+    writer_options = {"units": args.units or "mm"} if target_format.name in ("c3d", "trc") \
+        else {}
     if target_format.name in ("trc", "csv"):
         writer_options["precision"] = args.precision
     notes = write(trial, target, **writer_options) or []

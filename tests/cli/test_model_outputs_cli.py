@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 
 from mocap.cli import main
 from mocap.io import read
@@ -59,6 +60,7 @@ def test_convert_writes_the_markers_only(tmp_path, capsys):
         assert np.allclose(b[ok], np.column_stack([a[ok, 0], a[ok, 2], -a[ok, 1]]), atol=1e-6)
 
 
+@pytest.mark.filterwarnings("ignore::mocap.errors.MocapWarning")     # Optotrak's truncation
 def test_numbered_marker_clusters_stay_markers():
     """Rigid clusters numbered from 1 (ArmL1 … ArmL4, Probe1 …, Marker_1 …) are markers;
     only a whole 0-3 set (the Oxford Foot Model's LFOF0 … LFOF3) is an axis set."""
@@ -69,3 +71,34 @@ def test_numbered_marker_clusters_stay_markers():
         f"LFOF{k}": AXES for k in range(4)}
     assert computed_positions(["Matt:LHJC", "LKJC_CGM_2.4", "LKJ"]) == {
         "Matt:LHJC": CENTRES, "LKJC_CGM_2.4": CENTRES}
+
+
+def test_a_marker_set_of_origin_anterior_left_markers_keeps_them():
+    """synthetic15 places three markers per segment named like Plug-in Gait's axis points
+    (PELO, PELA, PELL) but without the fourth (P): they are markers, every one."""
+    from mocap.markersets import load_markerset
+
+    names = [m for segment in load_markerset("synthetic15").segments for m in segment.markers]
+    assert "PELO" in names and "HEDA" in names
+    assert computed_positions(names) == {}
+
+
+def test_opensim_reads_the_markers_only(tmp_path, capsys):
+    """The TRC that ``convert --up y`` hands to OpenSim holds the walk's markers, not
+    Vicon's axis points (OpenSim's IK would track HEDO … as markers)."""
+    from tests.conftest import require_module
+
+    opensim = require_module("opensim")
+    out = tmp_path / "walk.trc"
+    assert main(["convert", str(realdata_path(*WALK)), str(out), "--up", "y"]) == 0
+    table = opensim.TimeSeriesTableVec3(str(out))
+    assert sorted(table.getColumnLabels()) == sorted(PIG_OFM_MARKERS)
+
+
+def test_the_viewer_draws_model_outputs_as_computed_points():
+    from mocap.view.scene import marker_layer
+
+    layer = marker_layer(read(realdata_path(*WALK)), markerset="none")
+    flagged = {label for label, v in zip(layer.labels, layer.virtual) if v}
+    assert {"PELO", "HEDO", "CentreOfMass", "LHJC"} <= flagged
+    assert not flagged & set(PIG_OFM_MARKERS)

@@ -189,3 +189,28 @@ def test_export_fps_resamples_the_clip(capsys, tmp_path):
     status, _, err = run(capsys, "export", source, "--fps", 60, "--round-rate", "-o",
                          tmp_path / "x.bvh")
     assert status == 2 and "not both" in err and not (tmp_path / "x.bvh").exists()
+
+
+def test_preview_of_a_synthesised_clip_frames_the_body(rig_model, capsys, tmp_path):
+    """The animator's path: a clip synthesised on bandai2's rig, previewed. Its root joint
+    travels metres from the hips (the rig's Hips OFFSET is 4.3 m); it is not drawn, and
+    the body fills the picture."""
+    from PIL import Image
+
+    from dynamics.viz.preview import COLOURS
+
+    clip, gif = tmp_path / "run.bvh", tmp_path / "run.gif"
+    assert main(["synthesize", str(rig_model), "--person", "elderly", "--action", "walk",
+                 "-o", str(clip)]) == 0
+    motion = read_bvh(clip)
+    world = motion.forward_kinematics()[1]
+    hips = motion.skeleton.names.index("Hips")
+    assert np.linalg.norm(world[:, hips] - world[:, 0], axis=1).min() > 2.0
+    assert main(["animate", str(clip), "--max-frames", "6", "--dpi", "40", "-o", str(gif)]) == 0
+    with Image.open(gif) as image:
+        for k in range(image.n_frames):
+            image.seek(k)
+            rows, columns = np.nonzero((np.asarray(image.convert("RGB"))
+                                        == COLOURS["bone"]).all(axis=2))
+            assert np.ptp(rows) > 0.6 * image.size[1]          # ~70 px of 400 on main
+            assert np.ptp(columns) < 0.9 * image.size[0]       # no 4 m line across
