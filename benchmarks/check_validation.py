@@ -43,7 +43,8 @@ def walk_row(local: str, preset: str) -> tuple:
     r = float(np.corrcoef(estimated, measured)[0, 1])
     rms = 100.0 * float(np.sqrt(np.mean((estimated - measured) ** 2))) / report.weight
     return (report.verdict == "plausible", limits["residual_force_rms_pct_bw"]["ratio"],
-            limits["residual_torque_rms_Nm"]["ratio"], r, rms, report.reasons)
+            limits["residual_torque_rms_Nm"]["ratio"], r, rms,
+            report.reasons + [f"not judged: {x}" for x in report.not_judged])
 
 
 def main() -> None:
@@ -65,15 +66,17 @@ def main() -> None:
               f"plates median r {np.median(a[:, 3]):.3f}, RMS {np.median(a[:, 4]):.1f} % BW")
     if "--no-bandai" in sys.argv:
         return
-    counts, plausible = Counter(), Counter()
+    counts, verdicts = Counter(), Counter()
     for path in sorted((REALDATA / "bandai2").glob("*.bvh")):
         content = path.stem.split("_")[1]
         body = reduce_to_segments(read_motion(path), partial=True)
         counts[content] += 1
-        plausible[content] += check_motion(body).verdict == "plausible"
-    print("bandai2: plausible " + ", ".join(f"{k} {plausible[k]}/{n}" for k, n in
-                                             sorted(counts.items()))
-          + f"; total {sum(plausible.values())}/{sum(counts.values())}")
+        verdicts[content, check_motion(body).verdict] += 1
+    for verdict in ("plausible", "not judged", "implausible"):
+        print(f"bandai2: {verdict} " + ", ".join(
+            f"{k} {verdicts[k, verdict]}/{n}" for k, n in sorted(counts.items()))
+            + f"; total {sum(v for (_, w), v in verdicts.items() if w == verdict)}"
+              f"/{sum(counts.values())}")
 
 
 if __name__ == "__main__":

@@ -467,15 +467,16 @@ def flight_accelerations(com: np.ndarray, airborne: np.ndarray, rate: float,
 
 
 def ballistic_runs(com: np.ndarray, airborne: np.ndarray, rate: float,
-                   gravity: float = 9.81) -> np.ndarray:
+                   gravity: float = 9.81, shortest: int = 5) -> np.ndarray:
     """Frames of flight phases whose centre of mass falls freely (bool, frames).
 
-    A run of airborne frames of at least 5 frames is ballistic when the vertical
-    acceleration of its parabola (:func:`flight_accelerations`) is within half of g of −g
-    (a body held up has 0). Shorter runs are too short to tell and count as ballistic.
+    A run of airborne frames of at least ``shortest`` frames is ballistic when the
+    vertical acceleration of its parabola (:func:`flight_accelerations`) is within half of
+    g of −g (a body held up has 0). Shorter runs are too short to tell and count as
+    ballistic (the check reports them as not judged).
     """
     result = airborne.copy()
-    fitted = flight_accelerations(com, airborne, rate)[:, 1]
+    fitted = flight_accelerations(com, airborne, rate, shortest)[:, 1]
     known = np.isfinite(fitted)
     result[known] = np.abs(fitted[known] + gravity) < 0.5 * gravity
     return result

@@ -206,7 +206,8 @@ def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100) ->
     torque_axis.plot(t, np.linalg.norm(report.residual_torque, axis=1), color="tab:red",
                      label="residual torque about the COM (N·m)")
     torque_axis.set_ylabel("residual torque (N·m)", color="tab:red")
-    verdict = f"{report.verdict}: " + ("; ".join(report.reasons) or "no problems")
+    verdict = f"{report.verdict}: " + ("; ".join(report.reasons + [
+        f"not judged: {part}" for part in report.not_judged]) or "no problems")
     axes[0].set_title(textwrap.fill(verdict, 110), fontsize=8)
     lines = axes[0].get_lines() + torque_axis.get_lines()
     _headroom(axes[0], 1.35)

@@ -199,6 +199,36 @@ def test_ballistic_jump(rig):
 
 
 # ---------------------------------------------------------------------------------------
+# What a rate can judge
+# ---------------------------------------------------------------------------------------
+def test_a_run_at_30_hz_is_not_judged_and_never_plausible():
+    """A generated run's flights (0.06 s) at 100 Hz are six frames, whose parabola the
+    check tests (plausible); at 30 Hz they are 1-2 frames, too few to tell a free fall
+    from a body held up: the verdict is "not judged", saying why (it was "plausible"),
+    while a walk at 30 Hz is still judged and the same run held 30 cm up still fails
+    (marker trials' soles are calibrated to their stances, so the lift reads as the
+    weight's residual, not as floating)."""
+    from mocap.body.retarget import motion_from_trial
+    from mocap.markersets import load_markerset
+    from mocap.synthetic import synthesize_trial
+
+    def checked(action, rate, lift=0.0):
+        trial, _ = synthesize_trial(0, action, cycles=2, rate=rate)
+        trial.points[..., 2] += lift
+        return check_motion(motion_from_trial(trial, load_markerset("synthetic15"))).summary()
+
+    fast = checked("run", 100.0)
+    assert fast["verdict"] == "plausible" and fast["not_judged"] == []
+    slow = checked("run", 30.0)
+    assert slow["verdict"] == "not judged" and slow["reasons"] == []
+    assert len(slow["not_judged"]) == 1 and "too short to tell a free fall" in slow["not_judged"][0]
+    assert checked("walk", 30.0)["verdict"] == "plausible"
+    held = checked("run", 30.0, lift=0.3)
+    assert held["verdict"] == "implausible" and held["not_judged"] == []
+    assert any(r.startswith("residual force") for r in held["reasons"])
+
+
+# ---------------------------------------------------------------------------------------
 # The trial's own limits (dynamics.humanoid.limits)
 # ---------------------------------------------------------------------------------------
 def test_noise_is_measured_where_the_feet_stand_still():
