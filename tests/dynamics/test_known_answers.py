@@ -3,7 +3,8 @@
 Each trial is a rig moved along a known root path, so its exact residual, penetration,
 floating and skating are known: still (0, 0, 0, none), raised 30 cm (100 % BW, 300 mm
 floating), free fall (0: gravity alone explains it), sliding at 1 m/s (skating), a
-ballistic jump (no residual in flight, no floating). The rigs: a CMU-named BVH whose
+ballistic jump (no residual in flight, no floating), walking on the spot (one foot at a
+time carries the body: 0, 0, 0, none). The rigs: a CMU-named BVH whose
 ankle and toe joints touch the floor (game and tool exports), the same with its joints
 inside the foot, and the body the marker trials are built on.
 """
@@ -196,6 +197,33 @@ def test_ballistic_jump(rig):
     assert summary["residual_force_rms_pct_bw"] < 1.0
     assert summary["floating_mm"] == 0.0 and summary["penetration_mm"] == 0.0
     assert summary["verdict"] == "plausible", summary["reasons"]
+
+
+def test_walking_on_the_spot(rig):
+    """Walking on the spot, quasi-static (tests/dynamics/rigs.walking_on_the_spot): the
+    weight shifts over one foot, the other lifts 10-20 cm straight up and comes down, then
+    the other way. One foot carries the whole body in turn, the centre of mass over it:
+    plausible, no residual, no penetration, floating or skating."""
+    from dynamics.humanoid.kinematics import centre_of_mass
+    from dynamics.humanoid.model import build_humanoid
+    from tests.dynamics.rigs import walking_on_the_spot
+
+    _, still, _ = rig
+    body = reduce_to_segments(still, partial=True)
+    humanoid = build_humanoid(body.skeleton, MASS)
+    walk = walking_on_the_spot(body, lambda m: centre_of_mass(humanoid,
+                                                              *m.forward_kinematics()))
+    report = check_motion(reduce_to_segments(walk, partial=True), body_mass=MASS)
+    summary = report.summary()
+    feet = np.array(report.contact_names)
+    for side in ("l_foot", "r_foot"):                      # each foot off the floor in turn
+        lifted = ~report.contact_active[:, np.char.startswith(feet, side)].any(axis=1)
+        assert 0.4 * walk.rate < lifted.sum() < 1.0 * walk.rate       # of its 1 s swing
+    assert summary["verdict"] == "plausible", summary["reasons"]
+    assert summary["residual_force_rms_pct_bw"] < 1.0
+    assert summary["residual_torque_rms_Nm"] < 5.0        # centre of mass 12 cm aside: 11
+    assert summary["penetration_mm"] < 5.0 and summary["floating_mm"] == 0.0
+    assert summary["foot_skate_mm"] < 0.1
 
 
 # ---------------------------------------------------------------------------------------
