@@ -43,7 +43,34 @@ def walk_row(local: str, preset: str) -> tuple:
     r = float(np.corrcoef(estimated, measured)[0, 1])
     rms = 100.0 * float(np.sqrt(np.mean((estimated - measured) ** 2))) / report.weight
     return (report.verdict == "plausible", limits["residual_force_rms_pct_bw"]["ratio"],
-            limits["residual_torque_rms_Nm"]["ratio"], r, rms, report.reasons)
+            limits["residual_torque_rms_Nm"]["ratio"], r, rms,
+            report.reasons + [f"not judged: {x}" for x in report.not_judged])
+
+
+def toe_bound(paths: list[Path]) -> None:
+    """The toe-joint sole bound (SOLE_BELOW_LOWEST) on bandai2, design half (styles
+    active, exhausted, masculine, youthful) vs report half (elderly, feminine, normal):
+    the highest still toe joint in leg lengths and the takes whose feet stand above the
+    bound (they would float), with the bound and with the 0.07 it replaced."""
+    from dynamics.humanoid.contact import SOLE_BELOW_LOWEST, still_foot_height
+    from mocap.body.anthropometry import leg_length
+
+    design = {"active", "exhausted", "masculine", "youthful"}
+    halves: dict[str, list] = {"design": [], "report": []}
+    for path in paths:
+        body = reduce_to_segments(read_motion(path), partial=True)
+        world_r, world_p = body.forward_kinematics()
+        leg = leg_length(body.skeleton)
+        highest = max(still_foot_height(world_r[:, f], world_p[:, f],
+                                        body.skeleton.end_sites[f], body.rate) / leg
+                      for f in (body.skeleton.index(n) for n in body.metadata["feet_at_joints"]))
+        halves["design" if path.stem.split("_")[2] in design else "report"].append(highest)
+    bound = SOLE_BELOW_LOWEST["toe joint"]
+    for half, rows in halves.items():
+        rows = np.array(rows)
+        print(f"bandai2 {half}: highest still toe joint {rows.max():.4f} leg lengths; above "
+              f"the bound {bound}: {int((rows > bound).sum())}/{rows.size} takes (above 0.07: "
+              f"{int((rows > 0.07).sum())})")
 
 
 def main() -> None:
@@ -65,15 +92,18 @@ def main() -> None:
               f"plates median r {np.median(a[:, 3]):.3f}, RMS {np.median(a[:, 4]):.1f} % BW")
     if "--no-bandai" in sys.argv:
         return
-    counts, plausible = Counter(), Counter()
+    toe_bound(sorted((REALDATA / "bandai2").glob("*.bvh")))
+    counts, verdicts = Counter(), Counter()
     for path in sorted((REALDATA / "bandai2").glob("*.bvh")):
         content = path.stem.split("_")[1]
         body = reduce_to_segments(read_motion(path), partial=True)
         counts[content] += 1
-        plausible[content] += check_motion(body).verdict == "plausible"
-    print("bandai2: plausible " + ", ".join(f"{k} {plausible[k]}/{n}" for k, n in
-                                             sorted(counts.items()))
-          + f"; total {sum(plausible.values())}/{sum(counts.values())}")
+        verdicts[content, check_motion(body).verdict] += 1
+    for verdict in ("plausible", "not judged", "implausible"):
+        print(f"bandai2: {verdict} " + ", ".join(
+            f"{k} {verdicts[k, verdict]}/{n}" for k, n in sorted(counts.items()))
+            + f"; total {sum(v for (_, w), v in verdicts.items() if w == verdict)}"
+              f"/{sum(counts.values())}")
 
 
 if __name__ == "__main__":

@@ -45,6 +45,7 @@ from mocap.errors import MocapError
 from mocap.clean.filtering import butterworth_lowpass
 from mocap.rotations.quaternions import quaternions_to_matrices
 from mocap.skeleton import Motion
+from mocap.trial import runs as runs_of_true
 
 from dynamics.humanoid.contact import (ballistic_runs, calibrate_contacts, estimate_floor,
                                        flight_accelerations,
@@ -66,9 +67,14 @@ from dynamics.humanoid.model import GRAVITY, Humanoid, build_humanoid
 DEFAULT_LOWPASS = 6.0
 #: A residual force limit (RMS, % body weight) at or above which the residual is not
 #: judged: a limit of the body weight cannot tell a body held up from one on its feet
-#: (at 30 Hz with the 6 Hz low-pass, a run's impacts: its verdict is then implausible,
-#: never plausible for want of a residual the check could see).
+#: (at 30 Hz with the 6 Hz low-pass, a run's impacts). The verdict is then "not judged",
+#: never "plausible" for want of a residual the check could see.
 UNJUDGED_PCT_BW = 100.0
+#: Fewest frames of a flight (no foot point in contact) whose
+#: captured parabola can tell a free fall from a body held up: a parabola has three
+#: parameters, five frames leave two to test it (:func:`ballistic_runs`). A shorter
+#: flight (a run's at 30 Hz: 1-4 frames) is not judged, and the verdict says so.
+SHORTEST_JUDGED_FLIGHT = 5
 #: Floor tolerance (m) for penetration and floating, as in the motion-synthesis literature.
 FLOOR_TOLERANCE = 0.005
 #: Length (m) between newtons and newton-metres in the contact solve's misfit
@@ -146,6 +152,7 @@ class CheckReport:
     floating_frames: int
     verdict: str
     reasons: list[str]
+    not_judged: list[str] = field(default_factory=list)
     thresholds: Thresholds = field(default_factory=Thresholds)
     lumped_segments: list[str] = field(default_factory=list)
     floor_m: float = 0.0
@@ -211,6 +218,7 @@ class CheckReport:
             "peak_joint_torque_Nm": {n: _r(p) for n, p in zip(self.joint_names, peaks)},
             "verdict": self.verdict,
             "reasons": list(self.reasons),
+            "not_judged": list(self.not_judged),
             "lumped_segments": list(self.lumped_segments),
             "floor_m": _r(self.floor_m),
             "limits": self.limits,
@@ -374,12 +382,17 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
     # falls at well under g in the filtered motion though the capture falls at g).
     airborne = ~active.any(axis=1)
     raw_com = centre_of_mass(humanoid, raw_r, raw_p)
-    ballistic = ballistic_runs(raw_com, airborne, rate)
+    ballistic = ballistic_runs(raw_com, airborne, rate, shortest=SHORTEST_JUDGED_FLIGHT)
+    # A judged flight that does not fall freely (a body held in the air, whether or not
+    # it hangs above the floor: held at take-off height, its toes stay at the floor).
+    held_flights = [(int(a), int(n)) for a, n in zip(*runs_of_true(airborne & ~ballistic))]
+    # Flights (no foot point in contact) too short for their parabola to tell a free
+    # fall from a body held up: counted as ballistic, so not judged.
+    short = [int(n) for n in runs_of_true(airborne)[1] if n < SHORTEST_JUDGED_FLIGHT]
     if lowpass:
         # In flight nothing but gravity may move the body, and the capture shows whether
-        # it does: the residual force of a flight (off the floor in the capture, no
-        # point in reach of it) is that of its captured parabola, not the filter's spread
-        # of the take-off and landing into it.
+        # it does: the residual force of a flight is that of its captured parabola, not
+        # the filter's spread of the take-off and landing into it.
         aloft = above & ~(heights < contact_height).any(axis=1)
         flight = flight_accelerations(raw_com, aloft, rate, shortest=3)
         known = np.isfinite(flight[:, 0])
@@ -399,6 +412,14 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
                           thresholds)
     reasons = _reasons(limits, residual_pct, penetration_mm, skate_mm * rate / 1000.0,
                        unsupported, floating_mm, thresholds)
+    if held_flights:
+        fall = flight_accelerations(raw_com, airborne, rate, SHORTEST_JUDGED_FLIGHT)[
+            [a for a, _ in held_flights], 1]
+        reasons.append(f"{len(held_flights)} flight{'s' if len(held_flights) > 1 else ''} "
+                       f"of {SHORTEST_JUDGED_FLIGHT} frames or more not in free fall: the "
+                       f"centre of mass's vertical acceleration up to {fall.max():+.1f} m/s² "
+                       f"(free fall {-GRAVITY:.2f})")
+    not_judged = _not_judged(limits, short, unsupported, thresholds, rate)
     names = body.skeleton.names
     return CheckReport(
         mass_kg=float(humanoid.mass), frames=frames, rate=rate, times=body.times,
@@ -408,7 +429,8 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
         lowest_point_mm=1000.0 * lowest, foot_skate_mm=skate_mm, skating_ratio=skating_ratio,
         penetration_mm=penetration_mm, floating_mm=floating_mm,
         floating_frames=int(unsupported.sum()),
-        verdict="implausible" if reasons else "plausible", reasons=reasons,
+        verdict="implausible" if reasons else "not judged" if not_judged else "plausible",
+        reasons=reasons, not_judged=not_judged,
         thresholds=thresholds, lumped_segments=[name for name, _, _ in humanoid.lumped],
         floor_m=floor_height, contact_positions=contact_world, contact_segments=segments,
         centre_of_mass=com, segment_poses=(world_r, world_p),
@@ -433,13 +455,6 @@ def _reasons(limits: dict, residual_pct: np.ndarray, penetration_mm: float,
              thresholds: Thresholds) -> list[str]:
     reasons: list[str] = []
     unjudged = limits["residual_force_rms_pct_bw"]["limit"] >= UNJUDGED_PCT_BW
-    if unjudged:
-        filtered = limits["expected"]["force_N"]["filter"]
-        weight = limits["weight_N"]
-        reasons.append(f"residual not judged: its limit is {limits['residual_force_rms_pct_bw']['limit']:.0f} "
-                       f"% body weight at {limits['rate_hz']:g} Hz (the low-pass takes "
-                       f"{100 * filtered / weight:.0f} % BW of the motion's own acceleration "
-                       f"out): it cannot tell a body on its feet from one held up")
     # The peak is reported with its limit but not judged: one frame's residual rests on
     # one frame's contact switching and, at a trial's edge, on what the filter knows of
     # the motion beyond it; the RMS figures judge the trial.
@@ -461,6 +476,35 @@ def _reasons(limits: dict, residual_pct: np.ndarray, penetration_mm: float,
         reasons.append(f"floating: {floating_mm:.0f} mm above the floor without support in "
                        f"{100 * unsupported.mean():.0f} % of frames")
     return reasons
+
+
+def _not_judged(limits: dict, short_flights: list[int], unsupported: np.ndarray,
+                thresholds: Thresholds, rate: float) -> list[str]:
+    """What the check could not judge in this trial (the verdict is then "not judged"
+    unless a judged figure failed): a residual whose limit reaches the body weight, and
+    flights shorter than :data:`SHORTEST_JUDGED_FLIGHT` frames when they could decide
+    the floating test (held up, with the unsupported frames they would exceed
+    ``thresholds.floating_fraction`` of the trial, which those frames alone do not)."""
+    out = []
+    frames = max(unsupported.size, 1)
+    could_float = unsupported.sum() / frames <= thresholds.floating_fraction \
+        < (unsupported.sum() + sum(short_flights)) / frames
+    force = limits["residual_force_rms_pct_bw"]
+    if force["limit"] >= UNJUDGED_PCT_BW:
+        filtered = limits["expected"]["force_N"]["filter"]
+        out.append(f"residual: its limit is {force['limit']:.0f} % body weight at {rate:g} Hz "
+                   f"(the low-pass takes {100 * filtered / limits['weight_N']:.0f} % BW of the "
+                   f"motion's own acceleration out): it cannot tell a body on its feet from "
+                   f"one held up")
+    if could_float:
+        low, high = min(short_flights), max(short_flights)
+        out.append(f"{len(short_flights)} flight{'s' if len(short_flights) > 1 else ''} of "
+                   f"{low if low == high else f'{low}-{high}'} frame{'s' if high > 1 else ''}"
+                   f" at {rate:g} Hz: shorter "
+                   f"than {SHORTEST_JUDGED_FLIGHT} frames ({SHORTEST_JUDGED_FLIGHT / rate:.2f} s), "
+                   f"too short to tell a free fall from a body held up "
+                   f"({100 * sum(short_flights) / frames:.0f} % of the frames)")
+    return out
 
 
 def trial_limits(humanoid: Humanoid, world_r: np.ndarray, world_p: np.ndarray,

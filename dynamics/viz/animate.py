@@ -155,7 +155,8 @@ def plot_check(report, path: str | os.PathLike | None = None, dpi: int = 100,
     weight = report.weight
     figure = Figure(figsize=(8, 12))
     axes = figure.subplots(5, 1, sharex=True)
-    verdict = f"{report.verdict}: " + ("; ".join(report.reasons) or "no problems")
+    verdict = f"{report.verdict}: " + ("; ".join(report.reasons + [
+        f"not judged: {part}" for part in report.not_judged]) or "no problems")
     axes[0].set_title(textwrap.fill(verdict, 110), fontsize=8)
     _residual_panel(axes[0], t, 100.0 * np.linalg.norm(report.residual_force, axis=1) / weight,
                     report.limits["residual_force_rms_pct_bw"], "% BW", "residual force",

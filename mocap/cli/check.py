@@ -136,7 +136,8 @@ def register(subparsers: Subparsers) -> None:
                             "and foot, and in total) and run bottom-up inverse dynamics from "
                             "them")
     check.add_argument("--strict", action="store_true",
-                       help="exit with status 1 when the verdict is implausible (for scripts)")
+                       help="exit with status 1 when the verdict is not plausible "
+                            "(implausible or not judged; for scripts)")
     check.add_argument("--json", action="store_true",
                        help="print one JSON object instead of text (keys as in the README), "
                             "with the estimated ground reaction and joint torque series")
@@ -421,3 +422,5 @@ def _print_check(path, report, summary) -> None:
                   f"(r {row['r'] if row['r'] is not None else float('nan'):.2f})")
     for reason in summary["reasons"]:
         print(f"  - {reason}")
+    for part in summary["not_judged"]:
+        print(f"  - not judged: {part}")

@@ -103,3 +103,97 @@ def root_path(kind: str, seconds: float = 2.0, rate: float = 60.0) -> np.ndarray
     elif kind != "still":
         raise ValueError(kind)
     return root
+
+
+def _turn(axis: int, angle: np.ndarray) -> np.ndarray:
+    """Rotation matrices (frames, 3, 3) about world axis ``axis`` (0 = X, 2 = Z)."""
+    c, s = np.cos(angle), np.sin(angle)
+    out = np.zeros(angle.shape + (3, 3))
+    i, j = [k for k in range(3) if k != axis]
+    out[..., axis, axis] = 1.0
+    out[..., i, i] = c
+    out[..., j, j] = c
+    out[..., j, i] = s
+    out[..., i, j] = -s
+    return out
+
+
+def _smooth(t: np.ndarray, start: float, stop: float) -> np.ndarray:
+    """0 before ``start``, 1 after ``stop``, the quintic smooth step between (zero
+    velocity and acceleration at both ends)."""
+    s = np.clip((t - start) / (stop - start), 0.0, 1.0)
+    return s ** 3 * (10 - 15 * s + 6 * s ** 2)
+
+
+def walking_on_the_spot(body, centre_of_mass, lift_deg: float = 40.0):
+    """A reduced 15-segment body standing still (rest pose, feet flat on y = 0) made to
+    walk on the spot, slowly enough to be quasi-static: over 8 s it shifts its weight onto
+    the left foot (its legs lean, both feet planted and flat, the pelvis drops so they
+    stay on the floor) until its centre of mass stands over the left ankle, lifts the
+    right foot straight up (thigh flexed by ``lift_deg``, the shank back so that the
+    ankle keeps its place fore and aft, the foot level) and puts it down, shifts over the right foot, lifts the left, and comes back.
+
+    ``centre_of_mass(motion)`` gives the body's centre of mass per frame (frames, 3): the
+    lean is chosen so that it stands over the stance ankle (bisection), so that one foot
+    carries the whole body with no residual. Returns the Motion.
+    """
+    from mocap.skeleton import Motion
+
+    sk = body.skeleton
+    rate, frames = body.rate, int(round(8.0 * body.rate))
+    t = np.arange(frames) / rate
+    world_r, world_p = body.forward_kinematics()
+    world_r, world_p = world_r[0], world_p[0]
+    legs = {side: [sk.index(f"{side}_{s}") for s in ("thigh", "shank", "foot")]
+            for side in ("l", "r")}
+    hips = {side: world_p[legs[side][0]] for side in legs}
+    knees = {side: world_p[legs[side][1]] for side in legs}
+    ankle = {side: world_p[legs[side][2]] for side in legs}
+    # Legs straight down under the hips first (a rig at rest may stand astride: the CMU
+    # skeleton's ankles are 0.77 m apart), the root raised so the ankles keep their height.
+    raise_m = []
+    for side, (thigh, shank, _) in legs.items():
+        reach = ankle[side] - hips[side]
+        under = _turn(2, np.array(np.arctan(reach[0] / reach[1])))
+        world_r[thigh], world_r[shank] = under @ world_r[thigh], under @ world_r[shank]
+        knees[side] = hips[side] + under @ (knees[side] - hips[side])
+        raise_m.append(ankle[side][1] - (hips[side] + under @ reach)[1])
+        ankle[side] = hips[side] + under @ reach
+    lift = np.array([0.0, np.mean(raise_m), 0.0])
+    hips, knees, ankle = ({s: p[s] + lift for s in legs} for p in (hips, knees, ankle))
+    reach = {side: ankle[side] - hips[side] for side in legs}          # hip to ankle
+
+    def pose(lean: np.ndarray, flex: dict) -> Motion:
+        tilt = _turn(2, lean)                                          # (F, 3, 3)
+        move = np.mean([reach[s] - tilt @ reach[s] for s in legs], axis=0)   # (F, 3)
+        world = np.repeat(world_r[None], lean.size, axis=0)
+        for side, (thigh, shank, foot) in legs.items():
+            # The thigh flexed forward, the shank back so that the ankle rises straight up
+            # (its fore-aft place kept): b_y sin φ + b_z cos φ = k about world X.
+            a = tilt @ (knees[side] - hips[side])
+            b = tilt @ (ankle[side] - knees[side])
+            k = a[:, 2] + b[:, 2] - np.sin(flex[side]) * a[:, 1] \
+                - np.cos(flex[side]) * a[:, 2]
+            size, delta = np.hypot(b[:, 1], b[:, 2]), np.arctan2(b[:, 2], b[:, 1])
+            first = np.arcsin(np.clip(k / size, -1, 1))
+            options = np.angle(np.exp(1j * np.stack([first - delta, np.pi - first - delta])))
+            back = options[np.argmin(np.abs(options), axis=0), np.arange(lean.size)]
+            world[:, thigh] = _turn(0, flex[side]) @ tilt @ world_r[thigh]
+            world[:, shank] = _turn(0, back) @ tilt @ world_r[shank]
+        local = world.copy()
+        for j in range(1, sk.count):
+            local[:, j] = np.swapaxes(world[:, sk.parents[j]], 1, 2) @ world[:, j]
+        return Motion(sk, body.root_translation[:1] + lift + move, local, rate,
+                      dict(body.metadata))
+
+    # Lean (rad, about world Z) putting the centre of mass over the left ankle: on a
+    # fine grid of leans, interpolated where its sideways offset from it changes sign.
+    grid = np.linspace(-1.0, 1.0, 801)
+    rest = np.zeros_like(grid)
+    off = centre_of_mass(pose(grid, {"l": rest, "r": rest}))[:, 0] - ankle["l"][0]
+    k = int(np.flatnonzero(np.diff(np.sign(off)))[0])
+    left = grid[k] - off[k] * (grid[k + 1] - grid[k]) / (off[k + 1] - off[k])
+    lean = left * (_smooth(t, 0.0, 1.5) - 2 * _smooth(t, 2.5, 5.0) + _smooth(t, 6.0, 7.5))
+    bump = lambda a, b: np.sin(np.pi * np.clip((t - a) / (b - a), 0, 1)) ** 2  # noqa: E731
+    flex = {"r": np.radians(lift_deg) * bump(1.5, 2.5), "l": np.radians(lift_deg) * bump(5.0, 6.0)}
+    return pose(lean, flex)

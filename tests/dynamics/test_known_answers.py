@@ -3,7 +3,8 @@
 Each trial is a rig moved along a known root path, so its exact residual, penetration,
 floating and skating are known: still (0, 0, 0, none), raised 30 cm (100 % BW, 300 mm
 floating), free fall (0: gravity alone explains it), sliding at 1 m/s (skating), a
-ballistic jump (no residual in flight, no floating). The rigs: a CMU-named BVH whose
+ballistic jump (no residual in flight, no floating), walking on the spot (one foot at a
+time carries the body: 0, 0, 0, none). The rigs: a CMU-named BVH whose
 ankle and toe joints touch the floor (game and tool exports), the same with its joints
 inside the foot, and the body the marker trials are built on.
 """
@@ -196,6 +197,63 @@ def test_ballistic_jump(rig):
     assert summary["residual_force_rms_pct_bw"] < 1.0
     assert summary["floating_mm"] == 0.0 and summary["penetration_mm"] == 0.0
     assert summary["verdict"] == "plausible", summary["reasons"]
+
+
+def test_walking_on_the_spot(rig):
+    """Walking on the spot, quasi-static (tests/dynamics/rigs.walking_on_the_spot): the
+    weight shifts over one foot, the other lifts 10-20 cm straight up and comes down, then
+    the other way. One foot carries the whole body in turn, the centre of mass over it:
+    plausible, no residual, no penetration, floating or skating."""
+    from dynamics.humanoid.kinematics import centre_of_mass
+    from dynamics.humanoid.model import build_humanoid
+    from tests.dynamics.rigs import walking_on_the_spot
+
+    _, still, _ = rig
+    body = reduce_to_segments(still, partial=True)
+    humanoid = build_humanoid(body.skeleton, MASS)
+    walk = walking_on_the_spot(body, lambda m: centre_of_mass(humanoid,
+                                                              *m.forward_kinematics()))
+    report = check_motion(reduce_to_segments(walk, partial=True), body_mass=MASS)
+    summary = report.summary()
+    feet = np.array(report.contact_names)
+    for side in ("l_foot", "r_foot"):                      # each foot off the floor in turn
+        lifted = ~report.contact_active[:, np.char.startswith(feet, side)].any(axis=1)
+        assert 0.4 * walk.rate < lifted.sum() < 1.0 * walk.rate       # of its 1 s swing
+    assert summary["verdict"] == "plausible", summary["reasons"]
+    assert summary["residual_force_rms_pct_bw"] < 1.0
+    assert summary["residual_torque_rms_Nm"] < 5.0        # centre of mass 12 cm aside: 11
+    assert summary["penetration_mm"] < 5.0 and summary["floating_mm"] == 0.0
+    assert summary["foot_skate_mm"] < 0.1
+
+
+# ---------------------------------------------------------------------------------------
+# What a rate can judge
+# ---------------------------------------------------------------------------------------
+def test_a_run_at_30_hz_is_not_judged_and_never_plausible():
+    """A generated run's flights (0.06 s) at 100 Hz are six frames, whose parabola the
+    check tests (plausible); at 30 Hz they are 1-2 frames, too few to tell a free fall
+    from a body held up: the verdict is "not judged", saying why (it was "plausible"),
+    while a walk at 30 Hz is still judged and the same run held 30 cm up still fails
+    (marker trials' soles are calibrated to their stances, so the lift reads as the
+    weight's residual, not as floating)."""
+    from mocap.body.retarget import motion_from_trial
+    from mocap.markersets import load_markerset
+    from mocap.synthetic import synthesize_trial
+
+    def checked(action, rate, lift=0.0):
+        trial, _ = synthesize_trial(0, action, cycles=2, rate=rate)
+        trial.points[..., 2] += lift
+        return check_motion(motion_from_trial(trial, load_markerset("synthetic15"))).summary()
+
+    fast = checked("run", 100.0)
+    assert fast["verdict"] == "plausible" and fast["not_judged"] == []
+    slow = checked("run", 30.0)
+    assert slow["verdict"] == "not judged" and slow["reasons"] == []
+    assert len(slow["not_judged"]) == 1 and "too short to tell a free fall" in slow["not_judged"][0]
+    assert checked("walk", 30.0)["verdict"] == "plausible"
+    held = checked("run", 30.0, lift=0.3)
+    assert held["verdict"] == "implausible" and held["not_judged"] == []
+    assert any(r.startswith("residual force") for r in held["reasons"])
 
 
 # ---------------------------------------------------------------------------------------
