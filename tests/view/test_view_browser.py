@@ -228,7 +228,8 @@ def inputs(tmp_path_factory):
         "bandai2 BVH": ([str(bandai)], read_motion(bandai).frames),
         "ASF/AMC": ([str(DATA / "cmu_lambada.amc")], read_motion(DATA / "cmu_lambada.amc").frames),
         "generated trial": ([str(generated)], trial.frames),
-        "synthesised BVH": ([str(_synthesised_bvh(folder))], 100),
+        # the clip is written at the corpus' capture rate (issue 26): its own frame count
+        "synthesised BVH": ([str(bvh := _synthesised_bvh(folder))], read_motion(bvh).frames),
     }
 
 
