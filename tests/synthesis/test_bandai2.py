@@ -161,9 +161,11 @@ def test_synthesised_cycle_goes_back_onto_the_rig(manifest, tmp_path, capsys):
     model_path = tmp_path / "model.npz"
     assert main(["decompose", "--manifest", str(manifest), "--cycles", "--samples", "40",
                  "--actions", "walk,run,walk-turn-left", "-o", str(model_path)]) == 0
-    assert main(["synthesize", str(model_path), "--person", "elderly", "--action", "run",
-                 "--cycles", "2", "-o", str(tmp_path / "run.bvh")]) == 0
     model = load_model(model_path)
+    # the model's own sampling (39 steps a cycle), not the corpus' 30 fps the CLI defaults to
+    fps = 39 / model.synthesize("elderly", "run")[1]
+    assert main(["synthesize", str(model_path), "--person", "elderly", "--action", "run",
+                 "--cycles", "2", "--fps", repr(fps), "-o", str(tmp_path / "run.bvh")]) == 0
     assert model.method_ == "interaction" and model.representation == "rotvec"
     motion = read_bvh(tmp_path / "run.bvh")
     assert motion.names == model.rig["names"] and motion.frames == 2 * 39 + 1
