@@ -109,9 +109,15 @@ def find_static(walk: Path) -> Path:
 
 
 def _walks(args: argparse.Namespace) -> list[Path]:
-    if args.stored and args.fill_gaps is not None:
-        raise MocapError("--fill-gaps cleans the markers before the model; --stored takes "
-                         "Vicon's outputs as they are")
+    if args.stored:
+        given = [flag for flag, value in (("--static", args.static),
+                                          ("--fill-gaps", args.fill_gaps),
+                                          ("--body-mass", args.body_mass),
+                                          ("--flat-foot", None if args.flat_foot == "auto"
+                                           else args.flat_foot)) if value is not None]
+        if given:
+            raise MocapError(f"{', '.join(given)} set{'s' if len(given) == 1 else ''} up "
+                             f"the model; --stored takes Vicon's outputs as they are")
     files = []
     for given in args.trials:
         found = [Path(f) for f in find_files([given], WALK_SUFFIXES)]
@@ -140,8 +146,7 @@ def _analyse(files: list[Path], args: argparse.Namespace, what: str) -> list:
     flat = {"on": True, "off": False}.get(args.flat_foot, "auto")
     analyses = []
     for walk in progress(files, what, total=len(files)):
-        static = None if args.stored else (find_static(walk) if args.static == "auto"
-                                           else args.static)
+        static = find_static(walk) if args.static == "auto" else args.static
         analyses.append(analyse_walk(walk, static, stored=args.stored, flat_foot=flat,
                                      body_mass=args.body_mass, fill_gaps_s=args.fill_gaps))
     return analyses

@@ -78,8 +78,9 @@ def stored_series(trial: Trial, names=None) -> dict:
     Returns
     -------
     dict
-        ``(side, name)`` -> (frames, 3): angles degrees, moments N·m/kg, powers W/kg. Labels
-        with a subject prefix (``Matt:LKneeAngles``) count; an empty output is left out.
+        ``(side, name)`` -> (frames, 3): angles degrees, moments N·m/kg, powers W/kg (the
+        total power in Z; X and Y, which Vicon fills with 0, NaN). Labels with a subject
+        prefix (``Matt:LKneeAngles``) count; an empty output is left out.
     """
     from mocap.plugingait.normative import VARIABLES
 
@@ -100,6 +101,9 @@ def stored_series(trial: Trial, names=None) -> dict:
             continue
         if found[2].endswith("Moment"):
             series = series * moment_scale
+        elif found[2].endswith("Power"):          # Vicon's total power is Z; X, Y hold 0
+            series = series.copy()
+            series[:, :2] = np.nan
         out[(found[1].lower(), found[2])] = series
     return out
 

@@ -117,7 +117,7 @@ def bare_c3d(tmp_path):
 
 
 @pytest.mark.parametrize("case", ["png", "normative", "stored", "no-static", "csv-stored",
-                                  "fill-stored", "fill-negative"])
+                                  "fill-stored", "fill-negative", "static-stored"])
 def test_bad_input_is_one_line_exit_2_and_nothing_written(tmp_path, capsys, case):
     walk, _ = walk_of("HC030A")
     out = tmp_path / "r.html"
@@ -131,7 +131,9 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(tmp_path, capsys, case
                           "-o", str(out)],
             "csv-stored": [str(tmp_path / "w.csv"), "--stored", "-o", str(out)],
             "fill-stored": [str(walk), "--stored", "--fill-gaps", "0.1", "-o", str(out)],
-            "fill-negative": [str(walk), "--fill-gaps", "-1", "-o", str(out)]}[case]
+            "fill-negative": [str(walk), "--fill-gaps", "-1", "-o", str(out)],
+            "static-stored": [str(walk), "--stored", "--static", "auto", "--body-mass", "40",
+                              "-o", str(out)]}[case]
     if case == "csv-stored":
         (tmp_path / "w.csv").write_text("time\n0\n")
     status = main(["report", *args])
@@ -140,7 +142,8 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(tmp_path, capsys, case
     assert err.count("\n") == 1 and err.startswith("mocap report: error:"), err
     assert {"png": "HTML", "normative": "not found", "stored": "no Plug-in Gait angles",
             "no-static": "no static trial", "csv-stored": "C3D",
-            "fill-stored": "Vicon's outputs as they are", "fill-negative": "--fill-gaps"}[case] in err
+            "fill-stored": "Vicon's outputs as they are", "fill-negative": "--fill-gaps",
+            "static-stored": "--static, --body-mass set up the model"}[case] in err
     assert not list(tmp_path.glob("r.*"))
 
 

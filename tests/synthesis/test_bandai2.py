@@ -167,9 +167,19 @@ def test_synthesised_cycle_goes_back_onto_the_rig(manifest, tmp_path, capsys):
     assert main(["synthesize", str(model_path), "--person", "elderly", "--action", "run",
                  "--cycles", "2", "--fps", repr(fps), "-o", str(tmp_path / "run.bvh")]) == 0
     assert model.method_ == "interaction" and model.representation == "rotvec"
+    curve, duration = model.synthesize("elderly", "run")
+    # By default the clip is at the corpus' capture rate (bandai2: 30 fps) over two cycles.
+    assert main(["synthesize", str(model_path), "--person", "elderly", "--action", "run",
+                 "--cycles", "2", "-o", str(tmp_path / "run30.bvh")]) == 0
+    at_corpus_rate = read_bvh(tmp_path / "run30.bvh")
+    assert at_corpus_rate.rate == pytest.approx(30.0)
+    assert 0 <= 2 * duration - at_corpus_rate.duration < 1 / 30
+    # At the model's own sampling (39 intervals a cycle) the frames are the cycle's samples.
+    assert main(["synthesize", str(model_path), "--person", "elderly", "--action", "run",
+                 "--cycles", "2", "--fps", repr(39 / duration),
+                 "-o", str(tmp_path / "run.bvh")]) == 0
     motion = read_bvh(tmp_path / "run.bvh")
     assert motion.names == model.rig["names"] and motion.frames == 2 * 39 + 1
-    curve, duration = model.synthesize("elderly", "run")
     # The registered cycle is re-timed to the person's own mid-cycle phase.
     p, a = model.person_index("elderly"), model.action_index("run")
     phase = model.timing_transfer_.predict(p, a)[0][1] if not \

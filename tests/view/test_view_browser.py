@@ -223,13 +223,13 @@ def inputs(tmp_path_factory):
     generated = folder / "generated_walk.c3d"
     write(trial, generated)
     bandai = realdata_path("bandai2", "dataset-2_walk_active_001.bvh")
+    synthesised = _synthesised_bvh(folder)
     return {
         "real C3D with plates": ([str(realdata_path(*WALK))], read(realdata_path(*WALK)).frames),
         "bandai2 BVH": ([str(bandai)], read_motion(bandai).frames),
         "ASF/AMC": ([str(DATA / "cmu_lambada.amc")], read_motion(DATA / "cmu_lambada.amc").frames),
         "generated trial": ([str(generated)], trial.frames),
-        # the clip is written at the corpus' capture rate (issue 26): its own frame count
-        "synthesised BVH": ([str(bvh := _synthesised_bvh(folder))], read_motion(bvh).frames),
+        "synthesised BVH": ([str(synthesised)], read_motion(synthesised).frames),
     }
 
 

@@ -46,6 +46,7 @@ def test_computed_kinetics_cycles_are_vicons(computed_and_stored):
         assert rms_per_cycle(moment, theirs).max() < 0.10, joint
         power = ours.curves.values[f"{joint}Power"]
         assert np.isnan(power[:, :, :2]).all()                  # Plug-in Gait's power is Z
+        assert np.isnan(vicon.curves.values[f"{joint}Power"][:, :, :2]).all()
         theirs = vicon.curves.values[f"{joint}Power"][:, :, 2]
         assert rms_per_cycle(power[:, :, 2], theirs).max() < 0.15, joint
     assert not [n for n in ours.notes if "moments" in n]
