@@ -67,7 +67,9 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument("--static", metavar="STATIC.c3d",
                         help="static (standing) trial of the same subject: calibrates "
                              "Plug-in Gait's foot offsets and missing subject measurements "
-                             "(clinical angles only); a knee alignment device in it (LKAX, "
+                             "(clinical angles only; without it, the walk's PROCESSING group, "
+                             "else estimates from the markers, one warning line each); a "
+                             "knee alignment device in it (LKAX, "
                              "LKD1, LKD2 / RKAX, RKD1, RKD2 with data) is used automatically "
                              "for the knee axis and the thigh and shank rotation offsets")
     parser.add_argument("--upper-body", action="store_true",
