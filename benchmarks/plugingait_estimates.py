@@ -71,6 +71,7 @@ def features(walk) -> dict:
         reach = np.linalg.norm(ankle - hjc, axis=1)
         out[side] = {
             "kw": s.knee_width[side], "aw": s.ankle_width[side],
+            "leg length": s.leg_length[side], "inter-ASIS": s.inter_asis,
             "constant": 1.0, "leg length (est.)": lengths.leg_length[side],
             "LASI-RASI": asis,
             "HEE-TOE": float(np.nanmedian(np.linalg.norm(m[f"{S}HEE"] - m[f"{S}TOE"], axis=1))),
@@ -80,6 +81,14 @@ def features(walk) -> dict:
 
 
 def measurement_errors(table: dict) -> None:
+    for key, label in (("leg length (est.)", "leg length"), ("LASI-RASI", "inter-ASIS")):
+        def err(names):
+            return np.array([1000 * (table[n][s][key] - table[n][s][label]) for n in names
+                             for s in SIDES])
+        d, h = err(DESIGN), err(HELD_OUT)
+        print(f"{label} estimate (no constant fitted): error mean {d.mean():+.1f}, |max| "
+              f"{np.abs(d).max():.1f} mm on design legs; {h.mean():+.1f}, {np.abs(h).max():.1f} "
+              f"mm held out")
     for target, label in (("kw", "knee width"), ("aw", "ankle width")):
         print(f"\n{label}: ratio = median over design legs; |error| mean (max), mm")
         for predictor in ("constant", "leg length (est.)", "LASI-RASI", "HEE-TOE",
@@ -107,8 +116,9 @@ def _rms(a, b) -> float:
 
 def angle_errors(names) -> None:
     rows = {k: [] for k in ("measured", "estimated", "difference",
-                            "measured, no static", "all estimated, no static",
-                            "difference, no static")}
+                            "measured, no static", "widths estimated, no static",
+                            "all estimated, no static", "difference, no static",
+                            "widths only, no static")}
     for name in names:
         static = read(ROOT / STATICS[name]) if name in STATICS else None
         for rel in SUBJECTS[name]:
@@ -129,6 +139,7 @@ def angle_errors(names) -> None:
                     "estimated": plugingait_angles(walk, estimated, static=static)
                     if static else None,
                     "measured, no static": plugingait_angles(walk),
+                    "widths estimated, no static": plugingait_angles(walk, estimated),
                     "all estimated, no static": plugingait_angles(walk, lengths)}
             for side in SIDES:
                 for joint in ("hip", "knee", "ankle"):
@@ -140,7 +151,9 @@ def angle_errors(names) -> None:
                                               for k in range(3)])
                     for a, b, key in (("measured", "estimated", "difference"),
                                       ("measured, no static", "all estimated, no static",
-                                       "difference, no static")):
+                                       "difference, no static"),
+                                      ("measured, no static", "widths estimated, no static",
+                                       "widths only, no static")):
                         if runs[a] is not None:
                             rows[key].append([_rms(runs[a].segment(col)[:, k],
                                                    runs[b].segment(col)[:, k])
