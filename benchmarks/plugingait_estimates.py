@@ -118,7 +118,8 @@ def angle_errors(names) -> None:
     rows = {k: [] for k in ("measured", "estimated", "difference",
                             "measured, no static", "widths estimated, no static",
                             "all estimated, no static", "difference, no static",
-                            "widths only, no static")}
+                            "widths only, no static", "inter-ASIS only, no static",
+                            "leg lengths only, no static")}
     for name in names:
         static = read(ROOT / STATICS[name]) if name in STATICS else None
         for rel in SUBJECTS[name]:
@@ -140,20 +141,31 @@ def angle_errors(names) -> None:
                     if static else None,
                     "measured, no static": plugingait_angles(walk),
                     "widths estimated, no static": plugingait_angles(walk, estimated),
+                    "leg lengths estimated, no static": plugingait_angles(
+                        walk, estimate_missing(replace(measured, leg_length={"l": None,
+                                                                              "r": None}),
+                                               markers, warn=False)),
+                    "inter-ASIS estimated, no static": plugingait_angles(
+                        walk, estimate_missing(replace(measured, inter_asis=None), markers,
+                                               warn=False)),
                     "all estimated, no static": plugingait_angles(walk, lengths)}
             for side in SIDES:
                 for joint in ("hip", "knee", "ankle"):
                     theirs = vicon[f"{side.upper()}{joint.capitalize()}Angles"]
                     col = f"{side}_{joint}"
                     for key, run in runs.items():
-                        if run is not None:
+                        if run is not None and key in rows:
                             rows[key].append([_rms(run.segment(col)[:, k], theirs[:, k])
                                               for k in range(3)])
                     for a, b, key in (("measured", "estimated", "difference"),
                                       ("measured, no static", "all estimated, no static",
                                        "difference, no static"),
                                       ("measured, no static", "widths estimated, no static",
-                                       "widths only, no static")):
+                                       "widths only, no static"),
+                                      ("measured, no static", "inter-ASIS estimated, no static",
+                                       "inter-ASIS only, no static"),
+                                      ("measured, no static", "leg lengths estimated, no static",
+                                       "leg lengths only, no static")):
                         if runs[a] is not None:
                             rows[key].append([_rms(runs[a].segment(col)[:, k],
                                                    runs[b].segment(col)[:, k])
@@ -165,6 +177,15 @@ def angle_errors(names) -> None:
             v = np.array(values)
             print(f"  {key:28s}" + "".join(f"{np.nanmedian(v[:, k]):9.2f} ({np.nanmax(v[:, k]):5.2f})"
                                            for k in range(3)))
+    print("  per joint, median deg RMS (flexion / adduction / rotation); rows are appended "
+          "hip, knee, ankle per side:")
+    print("  " + " " * 28 + "".join(f"{j:>20s}" for j in ("hip", "knee", "ankle")))
+    for key, values in rows.items():
+        if values:
+            v = np.array(values)
+            print(f"  {key:28s}" + "".join(
+                "      " + " / ".join(f"{np.nanmedian(v[j::3, k]):.2f}" for k in range(3))
+                for j in range(3)))
 
 
 def main() -> None:
