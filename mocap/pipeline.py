@@ -133,7 +133,7 @@ def marker_file_angles(source: str | os.PathLike | Trial, markerset: MarkerSet,
 
 def clinical_angles(source: str | os.PathLike | Trial, static: str | os.PathLike | Trial | None = None,
                     *, cleaning: Cleaning = Cleaning(), flat_foot: bool | str = "auto",
-                    subject=None) -> AnglesResult:
+                    subject=None, upper_body: bool = False) -> AnglesResult:
     """Plug-in Gait clinical angles of a walk, as ``mocap angles -m plugingait-lower`` gives them.
 
     The subject comes first (from the walk's recorded, never gap-filled, frames, its
@@ -157,13 +157,20 @@ def clinical_angles(source: str | os.PathLike | Trial, static: str | os.PathLike
     subject : mocap.plugingait.model.Subject, optional
         Measurements to use instead of the files' (see
         :func:`mocap.plugingait.clinical.prepare_subject`).
+    upper_body : bool
+        Also the upper body and foot progression angles (segments ``l_thorax …
+        r_foot_progress`` after the lower body's, :mod:`mocap.plugingait.upper`),
+        with the measurements of the walk's PROCESSING group, else the static's.
+        Its thorax and head markers are gap-filled from their groups, the arms' by
+        their splines (:func:`mocap.plugingait.clinical.fill_plugingait`).
 
     Returns
     -------
     AnglesResult
-        ``angles`` with segments ``l_pelvis … r_ankle`` and axes ``flexion, adduction,
-        rotation`` (degrees, Vicon's ``<Side><Joint>Angles``); ``trial`` the cleaned
-        Plug-in Gait markers; ``gaps`` the gap report when gaps were filled.
+        ``angles`` with segments ``l_pelvis … r_ankle`` (then ``l_thorax …
+        r_foot_progress`` with ``upper_body``) and axes ``flexion, adduction,
+        rotation`` (degrees, Vicon's X, Y, Z of ``<Side><Joint>Angles``); ``trial``
+        the cleaned Plug-in Gait markers; ``gaps`` the gap report when gaps were filled.
     """
     import numpy as np
 
@@ -173,7 +180,12 @@ def clinical_angles(source: str | os.PathLike | Trial, static: str | os.PathLike
     trial = source if isinstance(source, Trial) else read(source)
     if static is not None and not isinstance(static, Trial):
         static = read(static)
-    trial = trial.select(plugingait_labels(trial))
+    upper_subject = None
+    if upper_body:
+        from mocap.plugingait.upper import upper_subject_from_trial
+
+        upper_subject = upper_subject_from_trial(trial, static)
+    trial = trial.select(plugingait_labels(trial, upper_body))
     subject = prepare_subject(trial, subject, static=static, flat_foot=flat_foot)
     report = None
     if cleaning.fills:
@@ -183,4 +195,5 @@ def clinical_angles(source: str | os.PathLike | Trial, static: str | os.PathLike
     if cleaning.lowpass_hz is not None:
         trial = lowpass(trial, cleaning.lowpass_hz, order=cleaning.order,
                         short_runs=cleaning.short_runs)
-    return AnglesResult(trial, plugingait_angles(trial, subject=subject), report)
+    return AnglesResult(trial, plugingait_angles(trial, subject=subject, upper_body=upper_body,
+                                                 upper_subject=upper_subject), report)

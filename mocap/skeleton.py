@@ -303,7 +303,8 @@ class Motion:
         if not (np.isfinite(rate) and rate > 0):
             raise MocapError(f"the frame rate must be positive and finite, got {rate}")
         frames = int(np.floor(self.duration * rate + 1e-9)) + 1
-        times = np.arange(frames) / rate
+        # the last time may pass the span's end by a rounding error (6.8666…7 > 6.8666…45)
+        times = np.minimum(np.arange(frames) / rate, self.times[-1])
         if self.frames == 1:
             index = np.zeros(frames, int)
             return replace(self.slice(0, 1), rate=float(rate),

@@ -5,6 +5,7 @@ import numpy as np
 
 from mocap.errors import MocapError
 from mocap.io.c3d.forceplates import describe_plates
+from mocap.io.c3d.outputs import computed_positions
 from mocap.trial import Trial
 
 
@@ -34,7 +35,15 @@ def gap_table(trial: Trial) -> tuple[np.ndarray, np.ndarray]:
 
 
 def summarise(trial: Trial) -> dict:
-    """The ``mocap info --json`` object of one trial (``docs/formats/info-json.md`` and extras)."""
+    """The ``mocap info --json`` object of one trial (``docs/formats/info-json.md`` and extras).
+
+    ``markers`` and their gaps are the captured markers only: the positions a model computed
+    and stored as points (axis points, joint centres, centre of mass:
+    :func:`mocap.io.c3d.outputs.computed_positions`) are listed in ``computed_points``.
+    """
+    computed = computed_positions(trial.labels) if trial.format == "c3d" else {}
+    if computed:
+        trial = trial.select([label for label in trial.labels if label not in computed])
     gaps, longest = gap_table(trial)
     missing = trial.missing_fraction()
     summary = {
@@ -56,8 +65,11 @@ def summarise(trial: Trial) -> dict:
     }
     if "reader" in trial.metadata:
         summary["reader"] = trial.metadata["reader"]
+    if computed:
+        summary["computed_points"] = computed
     if trial.modelled is not None:
         summary["modelled_points"] = list(trial.modelled["labels"])
+        summary["modelled_kinds"] = list(trial.modelled["kinds"])
     if trial.events:
         summary["events"] = trial.events
     if trial.poses is not None:
@@ -71,6 +83,17 @@ def summarise(trial: Trial) -> dict:
         if plates:
             summary["force_plates"] = plates
     return summary
+
+
+def _output_counts(summary: dict) -> dict[str, int]:
+    """Model outputs of a summary by kind (``{"axis points": 76, "angles": 55 …}``)."""
+    counts: dict[str, int] = {}
+    for kind in summary.get("computed_points", {}).values():
+        counts[kind] = counts.get(kind, 0) + 1
+    kinds = summary.get("modelled_kinds") or []
+    for kind in kinds:
+        counts[kind.lower()] = counts.get(kind.lower(), 0) + 1
+    return counts
 
 
 def format_summary(summary: dict, list_markers: bool = False) -> str:
@@ -102,9 +125,10 @@ def format_summary(summary: dict, list_markers: bool = False) -> str:
                      f"Hz ({', '.join(names[:8])}{', …' if len(names) > 8 else ''})")
     for k, plate in enumerate(summary.get("force_plates", [])):
         lines.append(("plates:    " if k == 0 else "           ") + plate)
-    if summary.get("modelled_points"):
-        lines.append(f"modelled:  {len(summary['modelled_points'])} computed points "
-                     f"(angles, forces …) kept apart from the markers")
+    outputs = _output_counts(summary)
+    if outputs:
+        lines.append(f"outputs:   {sum(outputs.values())} model outputs stored as points, not "
+                     f"markers: " + ", ".join(f"{n} {kind}" for kind, n in outputs.items()))
     if summary.get("events"):
         shown = ", ".join(f"{e['context']} {e['label']} {e['time']:.2f} s".strip()
                           for e in summary["events"][:6])

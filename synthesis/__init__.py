@@ -21,9 +21,19 @@ signature
 regression
     :class:`~synthesis.regression.SignatureModel`: bases from complete people, signatures by
     ridge regression, rank and ridge by leave-one-out, imputation when few people are complete.
+interaction, transfer
+    The predictors of a person's cells from their other cells: the additive model plus the
+    N-mode SVD of its interaction residual, and the older action transfer.
+methods
+    Those predictors behind one interface (:class:`~synthesis.methods.CellMethod`) and the
+    registry ``--method`` chooses from (:data:`~synthesis.methods.METHODS`).
 model
-    :class:`~synthesis.model.MotionModel`: angles + timing models, synthesis, recognition,
-    ``.npz`` persistence.
+    :class:`~synthesis.model.MotionModel`: the corpus' angle and timing signatures and one
+    method for each; synthesis, blends, new people. It holds arrays and never reads a file.
+recognition
+    The most likely person and action of a cycle, from a method's predictions.
+model_file
+    The model's files: ``.npz`` save and load, a trial read the way the corpus was.
 evaluate
     Leave-one-cell-out evaluation against the "mean of the other people" baseline.
 plot

@@ -341,7 +341,7 @@ def leave_one_out(corpus: MotionCorpus, progress: Callable[[Iterable, str], Iter
             method = model.method_
             curve, duration = model.synthesize(person, action)
             baseline = version.angles[others, a].mean(axis=0)
-            additive = model.transfer_.additive(p, a).reshape(curve.shape)
+            additive = model.cells_.additive(p, a).reshape(curve.shape)
             recognition = model.recognize(captured, action)
             scores.setdefault(key, []).append(dict(
                 synthesis=rotation_errors(corpus, curve, captured),

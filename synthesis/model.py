@@ -24,58 +24,16 @@ from mocap.errors import MocapError
 from synthesis.corpus import MotionCorpus, check_corpus_size
 from mocap.clean.resample import resample
 from synthesis.cycles import normalise_cycles
+from synthesis.methods import CellMethod, make_method, method_name
 from synthesis.nmode import Rank
+from synthesis.recognition import Recognition, distances, recognize
 from synthesis.regression import SignatureModel
-from synthesis.signature import interpolate_signatures, posterior_scores
+from synthesis.signature import interpolate_signatures
 from synthesis.skeletons import cycle_motion
-from synthesis.interaction import MIN_DONORS, InteractionModel
 from synthesis.transfer import TransferModel
 
 #: File format version written into saved models.
 FORMAT_VERSION = 2
-#: Synthesis methods of a person's missing cell (``auto`` = ``interaction``).
-METHODS = ("auto", "interaction", "signature", "transfer")
-#: Shrinkage of the per-feature recognition variances towards their mean (chosen on the design
-#: split, bandai2 styles active/elderly/exhausted/feminine: docs/synthesis.md).
-RECOGNITION_SHRINKAGE = 0.1
-#: Interaction mode of each method (:class:`synthesis.interaction.InteractionModel`).
-INTERACTION_MODES = {"interaction": "both", "signature": "people"}
-
-
-def _interaction(method: str, angles: np.ndarray) -> InteractionModel | None:
-    """The interaction model a method synthesises missing cells with (None: transfer)."""
-    mode = INTERACTION_MODES.get(method)
-    return None if mode is None else InteractionModel(mode).fit(angles)
-
-
-@dataclass
-class Recognition:
-    """Result of :meth:`MotionModel.recognize`.
-
-    Attributes
-    ----------
-    person, action : str
-        Most likely person and action.
-    scores : dict of str to float
-        Person → score in [0, 1] (summing to 1) for the recognised action: softmax of
-        ``−½ (d / σ)²`` with ``d`` the RMS distance (degrees) between the trial and the model's
-        motion of that person, ``σ`` the model's leave-one-out synthesis RMS.
-    distances : dict of str to float
-        Person → RMS distance, degrees, for the recognised action.
-    action_scores : dict of str to float
-        Action → score (same softmax over each action's nearest person).
-    """
-
-    person: str
-    action: str
-    scores: dict
-    distances: dict
-    action_scores: dict
-
-    def to_json(self) -> dict:
-        """``{"person", "action", "scores", "distances_deg", "action_scores"}``."""
-        return {"person": self.person, "action": self.action, "scores": self.scores,
-                "distances_deg": self.distances, "action_scores": self.action_scores}
 
 
 @dataclass
@@ -90,14 +48,11 @@ class MotionModel:
     ridge : float or "auto"
         Relative ridge α of the angle signature fits, or ``"auto"`` (leave-one-out).
     method : {"auto", "interaction", "signature", "transfer"}
-        How a person's missing cell is synthesised (:mod:`synthesis.interaction`): the
-        additive model (action mean + the person's offset) corrected by the N-mode SVD of the
-        person × action interaction, its mode (action basis or people signature), rank and
-        ridge chosen by leave-one-donor-out, rank 0 being the additive model itself
-        (``"interaction"``, also ``"auto"``); the same with the people mode only
-        (``"signature"``); or by the older action transfer
-        (:class:`synthesis.transfer.TransferModel`). Blends and new people always use the
-        signatures of :class:`synthesis.regression.SignatureModel`.
+        How a person's missing cell is synthesised: a name of
+        :data:`synthesis.methods.METHODS` (``"auto"`` = ``"interaction"``, the additive
+        model corrected by the N-mode SVD of the person × action interaction, rank 0 being
+        the additive model itself). Blends and new people always use the signatures of
+        :class:`synthesis.regression.SignatureModel`.
 
     Examples
     --------
@@ -129,9 +84,8 @@ class MotionModel:
     timing_model_: SignatureModel | None = field(default=None, init=False, repr=False)
     spread_rms_: float = field(default=float("nan"), init=False)
     method_: str = field(default="signature", init=False)
-    transfer_: TransferModel | None = field(default=None, init=False, repr=False)
-    interaction_: InteractionModel | None = field(default=None, init=False, repr=False)
-    timing_interaction_: InteractionModel | None = field(default=None, init=False, repr=False)
+    cells_: CellMethod | None = field(default=None, init=False, repr=False)
+    timing_cells_: CellMethod | None = field(default=None, init=False, repr=False)
     timing_transfer_: TransferModel | None = field(default=None, init=False, repr=False)
     root_transfer_: TransferModel | None = field(default=None, init=False, repr=False)
     representation: str = field(default="euler", init=False)
@@ -156,6 +110,7 @@ class MotionModel:
         self
         """
         check_corpus_size(corpus.people, corpus.actions)
+        self.method_ = method_name(self.method)
         self.people, self.actions = list(corpus.people), list(corpus.actions)
         self.segments, self.parents = list(corpus.segments), list(corpus.parents)
         self.columns, self.sequence = list(corpus.columns), corpus.sequence
@@ -186,21 +141,31 @@ class MotionModel:
             raise MocapError(f"{error.problem}; missing cells: "
                              f"{_cells_text(corpus.missing_cells())} "
                              "(choose people= or actions=)") from None
-        self.transfer_ = TransferModel().fit(angles)
-        self.timing_transfer_ = TransferModel().fit(timing)
-        self.root_transfer_ = None if corpus.root is None else TransferModel().fit(
-            corpus.root.reshape(corpus.root.shape[:2] + (-1,)))
-        if self.method not in METHODS:
-            raise MocapError(f"unknown synthesis method {self.method!r}: "
-                             f"{', '.join(METHODS)}")
-        self.method_ = "interaction" if self.method == "auto" else self.method
-        self.interaction_ = _interaction(self.method_, angles)
-        self.timing_interaction_ = _interaction(self.method_, timing)
+        self.fit_methods(angles, timing, None if corpus.root is None else
+                         corpus.root.reshape(corpus.root.shape[:2] + (-1,)))
         complete = complete if complete.size else np.arange(len(self.people))
         deviations = np.where(observed[complete][..., None], angles[complete], np.nan) \
             - self.angle_model_.mean_
         self.spread_rms_ = float(np.sqrt(np.nanmean(deviations ** 2)))
         return self
+
+    def fit_methods(self, angles: np.ndarray, timing: np.ndarray,
+                    root: np.ndarray | None = None) -> None:
+        """Fit the synthesis method (:attr:`method_`) to the angle and timing cells, and the
+        action transfer of the mid-cycle phase and the root motion (the signature models must
+        be fitted already; :func:`synthesis.model_file.load_model` calls this too).
+
+        Parameters
+        ----------
+        angles : ndarray, shape (people, actions, samples · columns), degrees, NaN if missing
+        timing : ndarray, shape (people, actions, 1 or 2)
+            Log duration (and the mid-cycle phase).
+        root : ndarray, shape (people, actions, samples · 4), optional
+        """
+        self.cells_ = make_method(self.method_).fit(angles, self.angle_model_)
+        self.timing_cells_ = make_method(self.method_).fit(timing, self.timing_model_)
+        self.timing_transfer_ = TransferModel().fit(timing)
+        self.root_transfer_ = None if root is None else TransferModel().fit(root)
 
 
     # ------------------------------------------------------------------ using the model
@@ -304,54 +269,16 @@ class MotionModel:
             curve = resample(np.linspace(0.0, 1.0, self.samples), curve, 0.0, 1.0, samples)
         return curve, duration
 
-    @property
-    def cell_model(self) -> InteractionModel | TransferModel:
-        """The model that synthesises a known person's missing cells."""
-        return self.transfer_ if self.interaction_ is None else self.interaction_
-
-    @property
-    def timing_cell_model(self) -> InteractionModel | TransferModel:
-        """The model that predicts a known person's missing cycle timings."""
-        return self.timing_transfer_ if self.timing_interaction_ is None \
-            else self.timing_interaction_
-
     @staticmethod
-    def _cell(model: InteractionModel | TransferModel, person: int, action: int) -> np.ndarray:
-        """A captured cell as it is, a missing one by the interaction or transfer model."""
+    def _cell(model: TransferModel, person: int, action: int) -> np.ndarray:
+        """A captured cell as it is, a missing one by action transfer."""
         if model.observed_[person, action]:
             return model.data_[person, action]
         return model.predict(person, action)[0]
 
-    def _synthesised_cell(self, person: int, action: int, timing: bool = False,
-                          predict: bool = False) -> np.ndarray:
-        """A captured cell (angles, or ``timing``) as it is; a missing one from the cell
-        model, or — when fewer than :data:`~synthesis.interaction.MIN_DONORS` people share
-        the person's actions and this one in a corpus of more people (missing cells stand in
-        the way) — from the person's signature, imputed if need be
-        (:class:`synthesis.regression.SignatureModel`). With ``predict``, a captured cell is
-        predicted from the person's other cells too (when they have any)."""
-        if timing:
-            model, interaction, signatures = (self.timing_cell_model, self.timing_interaction_,
-                                              self.timing_model_)
-        else:
-            model, interaction, signatures = (self.cell_model, self.interaction_,
-                                              self.angle_model_)
-        captured = model.observed_[person, action]
-        if captured and not (predict and model.observed_[person].sum() > 1):
-            return model.data_[person, action]
-        if captured and interaction is not None:
-            # A recognition template: the configuration chosen for the action from all the
-            # others (the one whose variances weight the distance), not one per person.
-            others = tuple(a for a in range(len(self.actions)) if a != action)
-            return model.predict(person, action, model.interaction(action, others))[0]
-        prediction, chosen = model.predict(person, action)
-        signature = signatures.signatures_[person]
-        # Donors missing although the corpus has enough people: its missing cells stand in
-        # the way, and the (imputed) signatures fill them.
-        if interaction is not None and (chosen is None or not np.isfinite(chosen.loo_rms)) \
-                and len(self.people) > MIN_DONORS and np.isfinite(signature).all():
-            return signatures.predict(signature, action)
-        return prediction
+    def _synthesised_cell(self, person: int, action: int, timing: bool = False) -> np.ndarray:
+        """A captured cell (angles, or ``timing``) as it is, a missing one from the method."""
+        return (self.timing_cells_ if timing else self.cells_).cell(person, action)
 
     def synthesize_root(self, person: str | None, action: str) -> np.ndarray:
         """Root motion of a cycle in the heading frame, shape (samples, 4)
@@ -391,25 +318,6 @@ class MotionModel:
                                      self.action_index(action))[1])
         return cycle_motion(self.rig, self.rotation_means, curve, root, duration, cycles, phase)
 
-    def recognition_weights(self, action: int) -> np.ndarray | None:
-        """Per-feature weights of recognition distances for one action: the inverse of each
-        feature's leave-one-person-out prediction variance ``σ_f²`` (a diagonal Mahalanobis
-        distance), shrunk by :data:`RECOGNITION_SHRINKAGE` of the mean variance,
-        ``1 / (σ_f² + c · mean σ²)``; None when too few people give a variance.
-
-        Returns
-        -------
-        ndarray, shape (samples · columns,), or None
-        """
-        others = tuple(a for a in range(len(self.actions)) if a != action)
-        if self.interaction_ is not None:
-            variance = self.interaction_.interaction(action, others).variance
-        else:
-            variance = self.transfer_.transfer(action, others).variance
-        if not np.isfinite(variance).all() or not variance.mean() > 0:
-            return None
-        return 1.0 / (variance + RECOGNITION_SHRINKAGE * variance.mean())
-
     def synthesize_angles(self, person: str | None, action: str,
                           signature: "Signature | None" = None, samples: int | None = None):
         """:meth:`synthesize` as :class:`mocap.rotations.angles.JointAngles` whose times span the duration."""
@@ -446,75 +354,19 @@ class MotionModel:
         return curve, duration
 
     def distances(self, curve: np.ndarray, actions: Sequence[int] | None = None) -> np.ndarray:
-        """Weighted RMS distance between a cycle and every person's motion of every action.
-
-        A person's motion of an action is the model's prediction from their *other* actions
-        (their capture only when they have no other), for every person alike — so the person
-        whose cell was never captured is not the only one compared through a prediction; each
-        feature is weighted by :meth:`recognition_weights` (normalised to mean 1). Chosen on
-        the design split (docs/synthesis.md): bandai2 styles active/elderly/exhausted/feminine,
-        top-1 92 % against 79 % for the plain distance to the captures.
-
-        Parameters
-        ----------
-        curve : ndarray, shape (samples, columns), degrees
-            A cycle normalised like the corpus.
-        actions : sequence of int, optional
-            Action indices to compare with (default: all); the other columns are NaN.
-
-        Returns
-        -------
-        ndarray, shape (people, actions), degrees
-            NaN for people without a motion of that action.
-        """
+        """Weighted RMS distance (degrees) between a cycle (samples, columns) and every
+        person's motion of every action, shape (people, actions), NaN where unknown
+        (:func:`synthesis.recognition.distances`)."""
         self._check_fitted()
-        flat = np.asarray(curve, dtype=float).ravel()
-        table = np.full((len(self.people), len(self.actions)), np.nan)
-        for action in range(len(self.actions)) if actions is None else actions:
-            weights = self.recognition_weights(action)
-            for person in range(len(self.people)):
-                try:
-                    motion = self._synthesised_cell(person, action, predict=True)
-                except MocapError:
-                    continue
-                squared = (motion - flat) ** 2
-                if weights is not None:
-                    squared = squared * weights / weights.mean()
-                table[person, action] = np.sqrt(squared.mean())
-        return table
+        return distances(self.cells_, curve, actions)
 
     def recognize(self, curve: np.ndarray, action: str | None = None) -> Recognition:
-        """Most likely person (and action) of a captured cycle.
-
-        Parameters
-        ----------
-        curve : ndarray, shape (samples, columns), degrees
-        action : str, optional
-            The trial's action when known; otherwise it is recognised too.
-
-        Returns
-        -------
-        Recognition
-        """
+        """Most likely person (and action) of a captured cycle (samples, columns), degrees
+        (:func:`synthesis.recognition.recognize`; ``action``: the trial's when known)."""
         candidates = [self.action_index(action)] if action is not None \
             else list(range(len(self.actions)))
-        table = self.distances(curve, candidates)
         scale = self.loo_rms if np.isfinite(self.loo_rms) else self.spread_rms_
-        nearest = np.full(len(self.actions), np.inf)
-        for a in candidates:
-            if np.isfinite(table[:, a]).any():
-                nearest[a] = np.nanmin(table[:, a])
-        best_action = min(candidates, key=lambda a: nearest[a])
-        column = table[:, best_action]
-        valid = np.isfinite(column)
-        people = [self.people[i] for i in np.flatnonzero(valid)]
-        scores = posterior_scores(column[valid], scale)
-        action_scores = posterior_scores(nearest[candidates], scale)
-        return Recognition(
-            person=people[int(np.argmin(column[valid]))], action=self.actions[best_action],
-            scores={name: float(s) for name, s in zip(people, scores)},
-            distances={name: float(d) for name, d in zip(people, column[valid])},
-            action_scores={self.actions[a]: float(s) for a, s in zip(candidates, action_scores)})
+        return recognize(self.cells_, self.people, self.actions, curve, candidates, scale)
 
     # ------------------------------------------------------------------ persistence
 
@@ -544,17 +396,7 @@ class MotionModel:
 
     def _interaction_summary(self) -> dict:
         """Action → the interaction configuration that predicts it from all other actions."""
-        if self.interaction_ is None:
-            return {}
-        result = {}
-        for a, action in enumerate(self.actions):
-            others = tuple(b for b in range(len(self.actions)) if b != a)
-            chosen = self.interaction_.interaction(a, others)
-            if np.isfinite(chosen.loo_rms):
-                result[action] = {"mode": chosen.mode, "rank": chosen.rank,
-                                  "alpha": chosen.alpha, "loo_rms": chosen.loo_rms,
-                                  "additive_loo_rms": chosen.additive_loo_rms}
-        return result
+        return {self.actions[a]: chosen for a, chosen in self.cells_.describe().items()}
 
 
 @dataclass

@@ -15,10 +15,9 @@ from mocap.budget import read_npz
 from mocap.errors import MocapError
 from mocap.io.motion import read_motion
 from synthesis.corpus import read_trial_angles
-from synthesis.model import FORMAT_VERSION, MotionModel, _interaction
+from synthesis.model import FORMAT_VERSION, MotionModel
 from synthesis.regression import SignatureModel
 from synthesis.skeletons import trial_cycle
-from synthesis.transfer import TransferModel
 
 
 def save_model(model: MotionModel, path: str | os.PathLike) -> None:
@@ -39,8 +38,9 @@ def save_model(model: MotionModel, path: str | os.PathLike) -> None:
         "method": model.method, "method_": model.method_,
         "representation": model.representation, "rig": model.rig,
     }
-    extra = {"transfer_angles": model.transfer_.data_,
-             "transfer_timing": model.timing_transfer_.data_}
+    # The methods' state is their data: stored once, refitted on loading.
+    extra = {"transfer_angles": model.cells_.data_,
+             "transfer_timing": model.timing_cells_.data_}
     if model.root_transfer_ is not None:
         extra["transfer_root"] = model.root_transfer_.data_
     if model.rotation_means is not None:
@@ -84,14 +84,12 @@ def load_model(path: str | os.PathLike) -> MotionModel:
         model.representation = meta.get("representation", "euler")
         model.rig = meta.get("rig")
         model.rotation_means = arrays.get("rotation_means")
-        if "transfer_angles" in arrays:         # format 1 models have signatures only
-            model.transfer_ = TransferModel().fit(arrays["transfer_angles"])
-            model.interaction_ = _interaction(model.method_, arrays["transfer_angles"])
-            model.timing_transfer_ = TransferModel().fit(arrays["transfer_timing"])
-            model.timing_interaction_ = _interaction(model.method_,
-                                                     arrays["transfer_timing"])
-        if "transfer_root" in arrays:
-            model.root_transfer_ = TransferModel().fit(arrays["transfer_root"])
+        if "transfer_angles" not in arrays:
+            # Format 1 models held signatures only: they predict missing cells by them.
+            raise MocapError("motion model of format 1 (signatures only): decompose the "
+                             "corpus again", path)
+        model.fit_methods(arrays["transfer_angles"], arrays["transfer_timing"],
+                          arrays.get("transfer_root"))
     except (KeyError, TypeError, ValueError) as error:
         raise MocapError(f"damaged motion model file (missing {error})", path) from None
     return model

@@ -169,6 +169,13 @@ class CheckReport:
     def weight(self) -> float:
         return self.mass_kg * GRAVITY
 
+    @property
+    def penetration_series_mm(self) -> np.ndarray:
+        """Depth below the floor beyond the floor tolerance per frame, mm, shape (frames,):
+        0 where the lowest body point is above ``-FLOOR_TOLERANCE``; its maximum is
+        ``penetration_mm``, the figure the verdict judges."""
+        return np.clip(-self.lowest_point_mm - 1000.0 * FLOOR_TOLERANCE, 0.0, None)
+
     def to_dataframe(self):
         """The per-frame series as a pandas DataFrame: index ``time`` (s), the residual
         force (N) and torque (N·m) on the root in world axes (Y up), the total contact force

@@ -320,3 +320,38 @@ def _end_points(skeleton, index: int, kind: str) -> tuple[np.ndarray, np.ndarray
     if not children:
         raise MocapError(f"segment {names[index]!r} has no child to give its length")
     return origin, skeleton.offsets[children[0]]
+
+
+@dataclass(frozen=True)
+class DempsterSegment:
+    """One segment's inertial parameters as fractions (Plug-in Gait's Dempster table).
+
+    Attributes
+    ----------
+    mass_fraction : float
+        Of the body mass.
+    com_fraction : float
+        Of the segment length, from the proximal end.
+    radius_of_gyration : float
+        Of the segment length, applied about the centre of mass across the segment
+        (Dempster's radius about the proximal end, as Plug-in Gait; see the TOML).
+    """
+
+    mass_fraction: float
+    com_fraction: float
+    radius_of_gyration: float
+
+
+def plugingait_segments() -> dict[str, DempsterSegment]:
+    """Plug-in Gait's lower-limb inertial parameters: ``thigh``, ``shank``, ``foot``.
+
+    Dempster (1955) as Winter tabulates it and Plug-in Gait uses it, stored in
+    ``data/bodies/plugingait-dempster.toml`` (source and segment ends cited there).
+
+    >>> plugingait_segments()["thigh"].mass_fraction
+    0.1
+    """
+    path = data_path("bodies", "plugingait-dempster.toml")
+    table = parse_toml(path.read_text(encoding="utf-8"), path, "body table")
+    return {kind: DempsterSegment(*(float(v) for v in table[kind]))
+            for kind in ("thigh", "shank", "foot")}

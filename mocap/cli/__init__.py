@@ -14,6 +14,7 @@ import errno
 import importlib
 import os
 import re
+import shlex
 import signal
 import sys
 import threading
@@ -164,6 +165,30 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {one_line(message)} (see '{self.prog} --help')\n")
 
 
+#: Packages the commands import, by import name -> what ``pip install`` takes to bring it
+#: (docs/install.md says which command needs which).
+OPTIONAL_PACKAGES: dict[str, str] = {
+    "pinocchio": "pin", "tensorly": "tensorly", "matplotlib": "matplotlib", "numba": "numba",
+    "ezc3d": "ezc3d", "PIL": "pillow", "tqdm": "tqdm", "scipy": "scipy",
+    "pandas": "'mocap-toolkit[tables]'", "dask": "'mocap-toolkit[distributed]'",
+    "distributed": "'mocap-toolkit[distributed]'", "opensim": "'mocap-toolkit[interop]'",
+    "bvhio": "'mocap-toolkit[interop]'",
+}
+
+
+def missing_package_line(error: ModuleNotFoundError) -> str | None:
+    """The one line for a package a command needs but this installation lacks, or None
+    when the missing module is none of :data:`OPTIONAL_PACKAGES` (a bug, shown whole).
+
+    >>> missing_package_line(ModuleNotFoundError("No module named 'pinocchio'", name="pinocchio"))
+    'this command needs pinocchio, which is not installed: pip install pin'
+    """
+    root = (error.name or "").split(".")[0]
+    if root not in OPTIONAL_PACKAGES:
+        return None
+    return f"this command needs {root}, which is not installed: pip install {OPTIONAL_PACKAGES[root]}"
+
+
 #: Refusals of a path the user gave, whether or not they name it.
 _PATH_ERRORS = (PermissionError, IsADirectoryError, NotADirectoryError, FileExistsError,
                 FileNotFoundError)
@@ -234,6 +259,13 @@ class _Interrupts:
         return False
 
 
+def _stdout_to_devnull() -> None:
+    """Send what is left of standard output nowhere: its reader has gone (a broken pipe),
+    and Python's flush at exit would otherwise raise again."""
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, sys.stdout.fileno())
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``mocap`` console script; returns the exit status.
 
@@ -256,6 +288,7 @@ def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
         except SystemExit as done:              # --help, --version, or a one-line mistake
             return done.code if isinstance(done.code, int) else (0 if done.code is None else 2)
         command = args.command
+        args.command_line = "mocap " + " ".join(shlex.quote(word) for word in words)
         interrupts.arm()
         subparser = parser.commands.get(command)
         from mocap.cli.paths import check_paths
@@ -264,7 +297,13 @@ def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
         with warnings.catch_warnings(), all_or_nothing() as outputs:
             warnings.simplefilter("always", MocapWarning)
             warnings.showwarning = _warning_printer(command)
-            status = args.func(args)
+            try:
+                status = args.func(args)
+            except BrokenPipeError:
+                # the reader of our output went away (``mocap decompose … | head``): the
+                # files already complete stay (the model was written before the summary)
+                _stdout_to_devnull()
+                status = 1
             if interrupts.seen:                 # an interrupt Python swallowed on the way
                 raise KeyboardInterrupt
             if status not in (None, 0, 1):      # a refusal after some outputs: none stay
@@ -282,9 +321,16 @@ def _main(argv: list[str] | None, interrupts: _Interrupts) -> int:
         return 130
     except BrokenPipeError:
         # the reader of our output went away (``mocap info … | head``): stop quietly
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
+        _stdout_to_devnull()
         return 1
+    except ModuleNotFoundError as error:
+        line = missing_package_line(error)
+        if line is None or interrupts.seen:
+            raise
+        name = command if command != "mocap" else _command_of(words)
+        print(f"mocap {name}: error: {line}" if name else f"mocap: error: {line}",
+              file=sys.stderr)
+        return 2
     except OSError as error:
         # the system refused a path the user gave (no such file, permission, a folder, a
         # name too long for the file system, a symbolic-link loop, a full or read-only

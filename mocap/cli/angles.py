@@ -70,6 +70,16 @@ def register(subparsers: Subparsers) -> None:
                              "(clinical angles only); a knee alignment device in it (LKAX, "
                              "LKD1, LKD2 / RKAX, RKD1, RKD2 with data) is used automatically "
                              "for the knee axis and the thigh and shank rotation offsets")
+    parser.add_argument("--upper-body", action="store_true",
+                        help="clinical angles of Plug-in Gait's upper body too: thorax, "
+                             "spine, neck, head, shoulder, elbow, wrist and foot progression, "
+                             "columns <side>_<joint>.flexion|adduction|rotation = Vicon's "
+                             "<Side><Joint>Angles X|Y|Z (foot_progress: <Side>FootProgress"
+                             "Angles; see docs/plugingait-upper.md). Needs C7, T10, CLAV, "
+                             "STRN, the head, shoulder, elbow, wrist and finger markers and "
+                             "the subject's shoulder offset, elbow and wrist widths and hand "
+                             "thickness (the PROCESSING group of the walk or --static); what "
+                             "is missing is left empty with a warning")
     parser.add_argument("--flat-foot", choices=("auto", "on", "off"), default="auto",
                         help="Plug-in Gait's foot-flat static option: on, off, or auto (the "
                              "choice a previous Plug-in Gait run stored in the files, else "
@@ -122,6 +132,12 @@ def run_angles(args: argparse.Namespace) -> int:
                          "a markerless C3D file)")
     else:
         markerset = load_markerset(args.markerset)
+    if getattr(args, "upper_body", False):
+        if markerset is None or args.clinical is False:
+            raise MocapError("--upper-body adds Plug-in Gait's upper body to the clinical "
+                             "angles: it needs --markerset and does not go with "
+                             "--no-clinical or --from-rotations")
+        args.clinical = True
     args.clinical_auto = args.clinical is None
     if args.clinical is None:
         args.clinical = markerset is not None and markerset.name == "plugingait-lower"
@@ -230,7 +246,9 @@ def _angles_one(source: Path, target: Path, plot: Path | None, markerset,
             clinical = False
         except MocapError:
             pass                       # the clinical run below reports it
-    ours = (GimbalLockWarning, AnatomicalOffsetWarning, MissingMarkerWarning)
+    from mocap.plugingait.upper import UpperBodyWarning
+
+    ours = (GimbalLockWarning, AnatomicalOffsetWarning, MissingMarkerWarning, UpperBodyWarning)
     with warnings.catch_warnings(record=True) as caught:
         for category in ours:
             warnings.simplefilter("always", category)
@@ -285,7 +303,8 @@ def _clinical_angles(trial, args: argparse.Namespace):
     flat = {"on": True, "off": False}.get(args.flat_foot, "auto")
     cleaning = Cleaning(max_gap_seconds=args.fill_gaps, lowpass_hz=args.lowpass,
                         order=args.order, short_runs=args.short_runs)
-    result = clinical_angles(trial, args.static_trial, cleaning=cleaning, flat_foot=flat)
+    result = clinical_angles(trial, args.static_trial, cleaning=cleaning, flat_foot=flat,
+                             upper_body=getattr(args, "upper_body", False))
     return result.angles, result.gaps
 
 

@@ -26,17 +26,48 @@ CHECK_COLUMNS = ["residual_force_rms_pct_bw", "foot_skate_mm", "penetration_mm",
                  "verdict"]
 
 
-def find_trials(corpus: str | os.PathLike) -> list[Path]:
-    """Marker files directly inside ``corpus`` (a folder) or the file itself, sorted."""
-    return find_files([corpus], TRIAL_SUFFIXES)
+def find_trials(corpus: str | os.PathLike, recursive: bool = False) -> list[Path]:
+    """Marker files inside ``corpus`` (a folder; with ``recursive`` its sub-folders too) or
+    the file itself, sorted."""
+    return find_files([corpus], TRIAL_SUFFIXES, recursive=recursive)
 
 
-def _first_columns(path: str) -> dict:
-    """The columns every row starts with: path, person, action, status ``ok``, no error."""
+def is_static(path: str | os.PathLike) -> bool:
+    """Whether a trial is a standing (static) trial by its name: ``static`` in the file's
+    name or its folder's (``HC002D/Static/HC002D02.c3d``, ``ana_static.c3d``)."""
+    path = Path(path)
+    return "static" in path.stem.lower() or "static" in path.parent.name.lower()
+
+
+def pair_statics(walks: list[Path], statics: list[Path]) -> dict[str, str]:
+    """Each walk's static trial: the first (sorted) static in the walk's own folder, else in
+    a sibling folder of it (``Subject/Static/`` beside ``Subject/Straight/``). Walks without
+    one are left out of the result.
+
+    Returns
+    -------
+    dict
+        walk path -> static path (strings).
+    """
+    pairs = {}
+    for walk in walks:
+        mine = [s for s in statics if s.parent == walk.parent] or \
+            [s for s in statics if s.parent.parent == walk.parent.parent]
+        if mine:
+            pairs[str(walk)] = str(sorted(mine)[0])
+    return pairs
+
+
+def _first_columns(path: str, tree: bool = False) -> dict:
+    """The columns every row starts with: path, person, action, status ``ok``, no error.
+
+    Person and action come from a corpus name ``<person>_<action>…``; otherwise, in a
+    ``Subject/Condition/trial`` tree (``tree``), from the two folders above the file."""
     try:
         person, action = parse_trial_name(path)
     except MocapError:                  # not a corpus name: the trial is analysed all the same
-        person, action = "", ""
+        person, action = ("", "") if not tree else \
+            (Path(path).parent.parent.name, Path(path).parent.name)
     return {"path": str(path), "person": person, "action": action, "status": "ok",
             "error": "", "warnings": ""}
 
@@ -46,9 +77,27 @@ def lost_trial(path: str, problem: str) -> dict:
     return {**_first_columns(path), "status": "failed", "error": problem}
 
 
+def _clinical_columns(path: str, static: str | None, max_gap_seconds: float | None) -> dict:
+    """Plug-in Gait clinical angles of a walk (as ``mocap angles -m plugingait-lower
+    --static``): each angle's minimum and maximum over the trial, degrees, as
+    ``<segment>_<axis>_min_deg`` / ``_max_deg`` (``l_knee_flexion_max_deg``)."""
+    from mocap.pipeline import Cleaning, clinical_angles
+
+    angles = clinical_angles(path, static, cleaning=Cleaning(max_gap_seconds=max_gap_seconds)
+                             ).angles
+    row = {"static": static or ""}
+    low, high = np.nanmin(angles.values, axis=0), np.nanmax(angles.values, axis=0)
+    for s, segment in enumerate(angles.segments):
+        for a, axis in enumerate(angles.axes):
+            row[f"{segment}_{axis}_min_deg"] = round(float(low[s, a]), 3)
+            row[f"{segment}_{axis}_max_deg"] = round(float(high[s, a]), 3)
+    return row
+
+
 def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY",
                   check: bool = False, mass_kg: float = 75.0,
-                  lowpass: float | None = 6.0) -> dict:
+                  lowpass: float | None = 6.0, tree: bool = False, clinical: bool = False,
+                  statics: dict | None = None, max_gap_seconds: float | None = None) -> dict:
     """One row of the batch table for the trial at ``path``; never raises for bad input.
 
     Parameters
@@ -66,6 +115,15 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
         Body mass for the check.
     lowpass : float or None, Hz
         Low-pass of the motion before the check's inverse dynamics (None or 0: off).
+    tree : bool
+        Person and action from the ``Subject/Condition/`` folders when the file's name is
+        not ``<person>_<action>``.
+    clinical : bool
+        Plug-in Gait clinical angles (:func:`_clinical_columns`), calibrated with the
+        trial's static from ``statics`` (path -> static path; none: uncalibrated, said in
+        ``warnings``).
+    max_gap_seconds : float, optional
+        Gap filling before the clinical angles.
 
     Returns
     -------
@@ -73,7 +131,7 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
         Column → value; ``status`` is ``"ok"`` or ``"failed"`` with ``error`` set;
         ``warnings`` holds the reader's warnings, ``"; "``-separated.
     """
-    row = _first_columns(path)
+    row = _first_columns(path, tree)
     try:
         # the reader's warnings travel in the row (workers' warnings would be lost), and
         # ``mocap batch`` prints them
@@ -86,6 +144,13 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
         row.update(format=trial.format, rate_hz=round(trial.rate, 6), frames=trial.frames,
                    duration_s=round(trial.duration, 6) if trial.rate > 0 or trial.frames <= 1 else "", markers=len(trial.labels),
                    missing_pct=round(100.0 * float(missing), 3))
+        if clinical:
+            static = (statics or {}).get(str(path))
+            row.update(_clinical_columns(path, static, max_gap_seconds))
+            if static is None:
+                row["warnings"] = "; ".join(filter(None, [
+                    row["warnings"], "no static trial beside it: uncalibrated clinical angles "
+                    "(give --static, or put it in a Static folder beside the walk's)"]))
         if markerset:
             chosen = load_markerset(markerset)
             angles = marker_file_angles(trial, chosen, sequence).angles

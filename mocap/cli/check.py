@@ -43,14 +43,50 @@ def _motion_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--units", choices=("m", "cm", "mm", "in", "cmu"),
                         help="length unit of the input BVH (or ASF) file; detected from the "
                              "standing height of its first frame when not given (and printed)")
-    parser.add_argument("--rate", type=options.RATE, default=120.0, metavar="HZ",
+    parser.add_argument("--rate", type=options.RATE, default=None, metavar="HZ",
                         help="frame rate of an AMC motion, which does not store it "
-                             "(default 120, as CMU and HDM05)")
+                             f"(default {AMC_RATE_HZ:g}, as CMU and HDM05)")
     parser.add_argument("--joint-map", metavar="FILE.toml",
                         help="which joint is which body segment, for rigs whose joint names "
                              "are not recognised: lines such as l_thigh = \"MyLeftThigh\" "
                              "(segments: pelvis, thorax, head, l_/r_upperarm, forearm, hand, "
                              "thigh, shank, foot)")
+
+
+#: Frame rate of an AMC motion when --rate is not given (CMU and HDM05 capture at 120 Hz).
+AMC_RATE_HZ = 120.0
+
+
+def refuse_unused_motion_options(args: argparse.Namespace) -> None:
+    """Every motion option is used or refused: one that the input's kind ignores (``--asf``
+    or ``--rate`` with anything but an AMC, ``--markerset`` with a skeleton motion,
+    ``--units`` or ``--joint-map`` with a marker trial or angle CSV) is one line, exit 2.
+    Sets ``args.rate`` to :data:`AMC_RATE_HZ` when not given."""
+    suffix = Path(args.motion).suffix.lower()
+    try:
+        kind = file_kind(args.motion)
+    except (MocapError, OSError):
+        kind = None                             # the reader names the problem
+    what = {"motion": f"a {suffix[1:].upper()} motion", "markers": "a marker trial",
+            "angles": "a joint-angle CSV"}.get(kind, "this input")
+    if kind is not None:
+        if args.asf is not None and suffix != ".amc":
+            raise MocapError(f"--asf gives the skeleton of an AMC motion; {args.motion} is "
+                             f"{what}")
+        if args.rate is not None and suffix != ".amc":
+            raise MocapError(f"--rate gives the frame rate of an AMC motion (which does not "
+                             f"store one); {args.motion} is {what}, which does")
+        if args.markerset is not None and kind != "markers":
+            raise MocapError(f"--markerset builds a skeleton from a marker trial; "
+                             f"{args.motion} is {what}")
+        if args.units is not None and kind in ("markers", "angles"):
+            raise MocapError(f"--units is the length unit of a BVH or ASF file; "
+                             f"{args.motion} is {what}")
+        if args.joint_map is not None and kind in ("markers", "angles"):
+            raise MocapError(f"--joint-map names a rig's joints; {args.motion} is {what}, "
+                             "whose segments are the body's already")
+    if args.rate is None:
+        args.rate = AMC_RATE_HZ
 
 
 def register(subparsers: Subparsers) -> None:
@@ -106,8 +142,10 @@ def register(subparsers: Subparsers) -> None:
                        help="print one JSON object instead of text (keys as in the README), "
                             "with the estimated ground reaction and joint torque series")
     check.add_argument("--plot", metavar="OUT.png",
-                       help="also plot residuals, ground reactions, joint torques and the "
-                            "lowest point over time (.png, .pdf, .svg)")
+                       help="also plot over time the residual force and torque (each "
+                            "with the RMS the verdict judges and its limit), the ground "
+                            "reactions (and the measured plates with --forces plates), "
+                            "joint torques and the floor penetration (.png, .pdf, .svg)")
     check.set_defaults(func=run_check)
 
 
@@ -116,6 +154,7 @@ def run_check(args: argparse.Namespace) -> int:
     """Handler of ``mocap check``."""
     if args.plot and Path(args.plot).suffix.lower() not in (".png", ".pdf", ".svg"):
         raise MocapError("the plot must be a .png, .pdf or .svg file", args.plot)
+    refuse_unused_motion_options(args)
     if args.forces == "plates" and Path(args.motion).suffix.lower() != ".c3d":
         raise MocapError("--forces plates reads force plates from a C3D file", args.motion)
     floor: float | str = args.floor
@@ -133,7 +172,7 @@ def run_check(args: argparse.Namespace) -> int:
         print(f"{args.motion}: {result['note']}", file=sys.stderr)
     if args.plot:
         from dynamics.viz.animate import plot_check    # deferred: matplotlib
-        plot_check(report, args.plot)
+        plot_check(report, args.plot, plates=result.get("plates"))
     status = 1 if args.strict and report.verdict != "plausible" else 0
     if args.json:
         print(json.dumps({**summary, **result["series"]}, allow_nan=False,
@@ -236,7 +275,8 @@ def check_file(path, markerset=None, asf=None, units=None, rate=120.0, mass=None
             "names": list(report.joint_names),
             "torque_Nm": np.round(np.where(valid[..., None], torques, np.nan), 2).tolist()}
         series = _nan_to_none(series)
-    return {"report": report, "summary": summary, "series": series, "note": note}
+    return {"report": report, "summary": summary, "series": series, "note": note,
+            "plates": measured if plates else None}
 
 
 def ground_reaction_series(report) -> dict:

@@ -95,7 +95,8 @@ def _rms(a: np.ndarray, b: np.ndarray) -> float:
 def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
              markerset: str = "synthetic15", people: int = 6, seed: int = 0,
              hold_out: str | None = None, animation: bool = True,
-             echo: Callable[[str], None] = print, force: bool = False) -> dict:
+             echo: Callable[[str], None] = print, force: bool = False,
+             command: str | None = None) -> dict:
     """Run the whole pipeline and write its outputs under ``out_dir``.
 
     Parameters
@@ -117,6 +118,9 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
         Where progress lines go.
     force : bool
         Replace ``out_dir`` when it holds files other than a previous demo's.
+    command : str, optional
+        The command line that ran the demo, shown in the report (default: the call's
+        Python equivalent).
 
     Returns
     -------
@@ -132,7 +136,11 @@ def run_demo(out_dir: str | os.PathLike = "mocap-demo", data: str | None = None,
                          "replaces; choose another output", final)
     replace = force or (final / "index.html").is_file()          # a previous demo's output
     with atomic_folder(final, replace=replace) as out:
-        return _run(out, final, data, chosen, people, seed, person, animation, echo)
+        command = command or (
+            f"mocap.cli.demo.run_demo(out_dir={str(out_dir)!r}, data={data!r}, "
+            f"markerset={markerset!r}, people={people}, seed={seed}, hold_out={hold_out!r}, "
+            f"animation={animation})")
+        return _run(out, final, data, chosen, people, seed, person, animation, echo, command)
 
 
 def _check_inputs(data: str | None, hold_out: str | None, people: int, seed: int) -> str:
@@ -175,7 +183,7 @@ def _fits_without(person: str, cells: set[tuple[str, str]]) -> bool:
 
 
 def _run(out: Path, final: Path, data: str | None, chosen, people: int, seed: int,
-         person: str, animation: bool, echo: Callable[[str], None]) -> dict:
+         person: str, animation: bool, echo: Callable[[str], None], command: str) -> dict:
     """The steps, writing into the staging folder ``out`` that becomes ``final``."""
     def shown(path) -> str:                  # where a file will be once the demo is done
         path = Path(path)
@@ -291,7 +299,7 @@ def _run(out: Path, final: Path, data: str | None, chosen, people: int, seed: in
                          "(skeleton)").write(out / "view.html")
         summary["view"] = shown(out / "view.html")
         (out / "summary.json").write_text(json.dumps(summary, indent=1) + "\n")
-        _write_report(out, final, summary, corpus)
+        _write_report(out, final, summary, corpus, command)
 
     synthesis = summary["synthesis"]
     echo("")
@@ -389,9 +397,16 @@ def _explain(synthesis: dict, check: dict, people: int) -> tuple[str, str]:
     return synthesis_text, check_text
 
 
-def _write_report(out: Path, final: Path, summary: dict, corpus) -> None:
+def _write_report(out: Path, final: Path, summary: dict, corpus, command: str) -> None:
     """index.html beside the outputs (written in ``out``, read in ``final``), with
-    relative links only."""
+    relative links only, saying which version wrote it, when, and from which command."""
+    from datetime import datetime, timezone
+
+    from mocap.cli import package_version
+
+    made = (f"Written by mocap {html.escape(package_version())} on "
+            f"{datetime.now(timezone.utc):%Y-%m-%d %H:%M} UTC from "
+            f"<code>{html.escape(command)}</code>.")
     def link(path: str) -> str:
         path = final / Path(path).relative_to(out) if Path(path).is_relative_to(out) else path
         relative = os.path.relpath(path, final)
@@ -417,10 +432,20 @@ def _write_report(out: Path, final: Path, summary: dict, corpus) -> None:
 table{{border-collapse:collapse}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:left}}
 img{{max-width:100%}}</style></head><body>
 <h1>mocap demo</h1>
+<p>{made}</p>
 <p>Corpus: {link(summary['corpus'])} ({summary['trials']} trials). Tensor
 people × actions × features = {' × '.join(map(str, summary['tensor_shape']))}.</p>
 <table><tr><th></th>{''.join(f'<th>{html.escape(a)}</th>' for a in corpus.actions)}</tr>{cells}</table>
-<h2>Joint angles from marker planes</h2><img src="figures/captured_angles.png" alt="angles">
+<h2>Joint angles from marker planes</h2>
+<p>Each segment's frame comes from its three markers: X anterior, Y to the body's left, Z
+up along the segment. An angle <code>segment.Z</code>, <code>.X</code>, <code>.Y</code> is
+the segment's rotation relative to its parent's frame (the pelvis's: the lab's) as
+intrinsic Euler angles in the order Z, X, Y, degrees: <code>.Z</code> about the long axis
+(axial rotation), <code>.X</code> about the anterior axis (ab/adduction, side bending),
+<code>.Y</code> about the left axis (flexion/extension; <code>r_thigh.Y</code> is hip
+flexion, <code>r_shank.Y</code> knee flexion, both with the sign of the right-hand rule
+about the left axis).</p>
+<img src="figures/captured_angles.png" alt="angles">
 <h2>Synthesis of a held-out walk</h2>
 <p>The model never saw this walk: it was synthesised from the person's signature,
 estimated from their other actions.</p>

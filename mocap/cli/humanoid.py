@@ -16,7 +16,7 @@ from dynamics.secondary import simulate_secondary
 from dynamics.viz.animate import animate_motion
 from mocap.body.retarget import reduce_to_segments
 from mocap.cli import options
-from mocap.cli.check import _motion_options
+from mocap.cli.check import _motion_options, refuse_unused_motion_options
 from mocap.cli.commands import Subparsers, summary
 from mocap.cli.paths import output_format
 from mocap.errors import MocapError
@@ -61,6 +61,9 @@ def register(subparsers: Subparsers) -> None:
     export.add_argument("--round-rate", action="store_true",
                         help="resample a bvh output to the nearest whole frame rate (Hz); "
                              "by default the rate is kept exactly")
+    export.add_argument("--fps", type=options.real(above=0, maximum=10000), metavar="FPS",
+                        help="frames per second written (rotations by slerp, positions "
+                             "linearly; default: the motion's own rate)")
     export.add_argument("--model", choices=("gait2392", "rajagopal"),
                         help="with --format mot: write the coordinates of this OpenSim model "
                              "(pelvis_tilt … pelvis_tx/ty/tz, hip_flexion_r, knee_angle_r, "
@@ -122,6 +125,7 @@ def run_export(args: argparse.Namespace) -> int:
     """Handler of ``mocap export``."""
 
     args.format = output_format(args.output, EXPORT_SUFFIXES, args.format, "--format")
+    refuse_unused_motion_options(args)
     if args.model and args.format != "mot":
         raise MocapError("--model goes with --format mot (OpenSim coordinates)")
     if args.precision is not None and args.format not in ("trc", "mot"):
@@ -131,6 +135,11 @@ def run_export(args: argparse.Namespace) -> int:
                          "Y up already; csv angles are in the Z-up lab)")
     if args.format != "bvh" and (args.out_units or args.round_rate):
         raise MocapError("--out-units and --round-rate apply to --format bvh only")
+    if args.fps is not None and args.round_rate:
+        raise MocapError("give --fps or --round-rate, not both: both set the frame rate")
+    if args.fps is not None and args.static is not None:
+        raise MocapError("--fps resamples the motion; --static's clinical angles come at the "
+                         "trial's own rate: give one of them")
     plugingait = bool(args.markerset) and str(args.markerset).startswith("plugingait")
     if args.static is not None:
         if not (args.model and plugingait):
@@ -142,6 +151,8 @@ def run_export(args: argparse.Namespace) -> int:
     motion = _load(args)
     if args.body:
         motion = reduce_to_segments(motion)
+    if args.fps is not None and args.fps != motion.rate:
+        motion = motion.resampled(args.fps)
     clinical = None
     if args.model and plugingait:
         if args.static is None:
@@ -170,6 +181,7 @@ def run_animate(args: argparse.Namespace) -> int:
         raise MocapError("the animation must be a .gif or .mp4 file", output)
     if args.max_frames < 1:
         raise MocapError(f"--max-frames must be at least 1, got {args.max_frames}")
+    refuse_unused_motion_options(args)
     motion = loaded = _load(args)
     title = Path(args.motion).stem
     if args.physics:

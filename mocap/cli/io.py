@@ -13,6 +13,7 @@ from mocap.cli import options
 from mocap.cli.commands import Subparsers, summary
 from mocap.errors import MocapError, MocapWarning, one_line
 from mocap.io import format_of, motion_suffixes, read, suffixes, write
+from mocap.io.c3d.outputs import computed_positions
 from mocap.io.discovery import find_files
 from mocap.progress import progress, write_line
 from mocap.summary import format_summary, summarise
@@ -48,7 +49,9 @@ def register(subparsers: Subparsers) -> None:
         description="Convert a marker file to another format, chosen by the output "
                     "suffix: .c3d, .csv (time and <label>_x/_y/_z in metres) or .trc. "
                     "Missing samples stay missing; the output appears only when "
-                    "complete.",
+                    "complete. Only the markers are written: a model's outputs stored "
+                    "as points (Plug-in Gait angles, forces, axis points such as PELO, "
+                    "joint centres, CentreOfMass) are left out, with a note.",
     )
     convert.add_argument("input", metavar="IN", help="marker file to read (.c3d, .csv, .trc)")
     convert.add_argument("out", nargs="?", metavar="OUT",
@@ -56,7 +59,7 @@ def register(subparsers: Subparsers) -> None:
     convert.add_argument("-o", "--output", dest="output", metavar="OUT",
                          help="the output file, as every command spells it (instead of OUT)")
     convert.add_argument("--out-units", "--units", dest="units", choices=("mm", "cm", "m"),
-                         default="mm",
+                         default=None,
                          help="length unit stored in a C3D or TRC output (default mm; CSV "
                               "output is always metres); spelt --out-units as in export, "
                               "where --units is the input's")
@@ -200,20 +203,30 @@ def run_convert(args: argparse.Namespace) -> int:
                          f"{target_format.description}", target)
     if source.exists() and target.exists() and source.resolve() == target.resolve():
         raise MocapError("output is the input file; choose another name", target)
+    if args.units is not None and target_format.name == "csv":
+        raise MocapError("--out-units sets the unit of a C3D or TRC output; a CSV holds "
+                         "metres", target)
     if args.precision is not None and target_format.name not in ("trc", "csv"):
         raise MocapError(f"--precision applies to TRC and CSV output; {target.suffix} "
                          f"stores 32-bit floats", target)
     from mocap.io.lab import rotate_trial
 
     source_trial = read_marker_file(source)
-    trial = rotate_trial(source_trial, args.up)
-    writer_options = {"units": args.units} if target_format.name in ("c3d", "trc") else {}
+    computed = computed_positions(source_trial.labels) if source_trial.format == "c3d" else {}
+    markers = source_trial.select([label for label in source_trial.labels
+                                   if label not in computed]) if computed else source_trial
+    trial = rotate_trial(markers, args.up)
+    writer_options = {"units": args.units or "mm"} if target_format.name in ("c3d", "trc") \
+        else {}
     if target_format.name in ("trc", "csv"):
         writer_options["precision"] = args.precision
     notes = write(trial, target, **writer_options) or []
     dropped = []
     if trial.analog_labels and target_format.name != "c3d":
         dropped.append(f"{len(trial.analog_labels)} analog channels")
+    if computed:
+        kinds = sorted(set(computed.values()))
+        dropped.append(f"{len(computed)} computed positions ({', '.join(kinds)})")
     if source_trial.modelled is not None:
         dropped.append(f"{len(source_trial.modelled['labels'])} modelled points "
                        f"(angles, forces …)")

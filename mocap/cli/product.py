@@ -11,7 +11,7 @@ from mocap.rotations.angles import check_sequence
 from mocap.atomic import atomic_path
 from mocap.batch import rows_to_csv, run_batch
 from mocap.cli.batch_rows import (BASE_COLUMNS, CHECK_COLUMNS, analyse_trial, find_trials,
-                                   lost_trial)
+                                  is_static, lost_trial, pair_statics)
 from mocap.cli import options
 from mocap.cli.commands import Subparsers, summary
 from mocap.cli.demo import run_demo as demo
@@ -66,14 +66,29 @@ def register(subparsers: Subparsers) -> None:
     batch.add_argument("--markerset", "-m", metavar="SET",
                        help="marker set for joint-angle ranges: a preset name (synthetic15, "
                             "plugingait-lower, plugingait-full) or a TOML file")
-    batch.add_argument("--sequence", default="ZXY", metavar="SEQ",
+    batch.add_argument("--sequence", default=None, metavar="SEQ",
                        help="Euler sequence of the angles, scipy convention (default ZXY)")
+    batch.add_argument("-r", "--recursive", action="store_true",
+                       help="search the folders' sub-folders too (a Subject/Condition/*.c3d "
+                            "tree: person and action then come from the two folders when a "
+                            "file's name is not <person>_<action>)")
+    batch.add_argument("--clinical", action="store_true",
+                       help="Plug-in Gait clinical angles of each walk (as mocap angles -m "
+                            "plugingait-lower --static): the minimum and maximum of every "
+                            "angle; static trials (named or in a folder named *static*) are "
+                            "the walks' statics, not rows: the one in the walk's folder, else "
+                            "in a sibling folder (Subject/Static/ beside Subject/Straight/)")
+    batch.add_argument("--static", metavar="STATIC.c3d",
+                       help="with --clinical: the static trial of every walk (one subject)")
+    batch.add_argument("--fill-gaps", type=options.SECONDS_GAP, metavar="SECONDS",
+                       help="with --clinical: fill marker gaps up to this long first (as "
+                            "mocap angles --fill-gaps)")
     batch.add_argument("--check", action="store_true",
                        help="also run the humanoid dynamics check (as mocap check; a "
                             "lower-body set carries the trunk, head and arms on the pelvis)")
-    batch.add_argument("--mass", type=options.MASS, default=75.0, metavar="KG",
+    batch.add_argument("--mass", type=options.MASS, default=None, metavar="KG",
                        help="body mass in kg for --check (default 75)")
-    batch.add_argument("--lowpass", type=options.real(minimum=0, maximum=1e6), default=6.0,
+    batch.add_argument("--lowpass", type=options.real(minimum=0, maximum=1e6), default=None,
                        metavar="HZ",
                        help="low-pass the motion before --check's inverse dynamics "
                             "(zero-lag Butterworth, default 6 Hz; 0 turns it off)")
@@ -92,8 +107,27 @@ def run_batch_command(args: argparse.Namespace) -> int:
         raise MocapError("--check needs --markerset (a full-body marker set such as synthetic15)")
     if args.markerset:
         load_markerset(args.markerset)          # a bad marker set: one error, not one per trial
+    if args.sequence is not None and not args.markerset:
+        raise MocapError("--sequence orders the angles of --markerset: give --markerset too")
+    if (args.mass is not None or args.lowpass is not None) and not args.check:
+        raise MocapError("--mass and --lowpass go with --check")
+    args.sequence = args.sequence or "ZXY"
+    args.mass = 75.0 if args.mass is None else args.mass
+    args.lowpass = 6.0 if args.lowpass is None else args.lowpass
     check_sequence(args.sequence)
-    paths = [p for corpus in args.corpus for p in find_trials(corpus)]
+    if (args.static is not None or args.fill_gaps is not None) and not args.clinical:
+        raise MocapError("--static and --fill-gaps go with --clinical")
+    if args.static is not None and not os.path.isfile(args.static):
+        raise MocapError("static trial not found", args.static)
+    paths = [p for corpus in args.corpus for p in find_trials(corpus, args.recursive)]
+    statics = {}
+    if args.clinical:
+        standing = [p for p in paths if is_static(p)]
+        paths = [p for p in paths if not is_static(p)]
+        if not paths:
+            raise MocapError("no walks to analyse: every trial found is a static")
+        statics = ({str(p): str(args.static) for p in paths} if args.static is not None
+                   else pair_statics(paths, standing))
     if args.dask or args.scheduler:
         # Dask's own log lines (workers losing the scheduler when Ctrl-C stops the run,
         # heartbeats) are not the user's business: every trial's error is in its row.
@@ -106,6 +140,8 @@ def run_batch_command(args: argparse.Namespace) -> int:
                                 "json" if args.json else None, "--json") == "json"
     rows = run_batch(analyse_trial, paths, jobs=args.jobs, markerset=args.markerset, sequence=args.sequence,
                      check=args.check, mass_kg=args.mass, lowpass=args.lowpass,
+                     tree=args.recursive, clinical=args.clinical, statics=statics,
+                     max_gap_seconds=args.fill_gaps,
                      dask=args.dask,
                      scheduler=args.scheduler, lost=lost_trial)
     if len(rows) == 1 and rows[0]["status"] != "ok":
@@ -136,5 +172,5 @@ def run_demo(args: argparse.Namespace) -> int:
 
     demo(out_dir=args.out, data=args.data, markerset=args.markerset, people=args.people,
          seed=args.seed, hold_out=args.hold_out, animation=not args.no_animation,
-         force=args.force)
+         force=args.force, command=getattr(args, "command_line", None))
     return 0

@@ -19,6 +19,7 @@ from scipy.spatial.transform import Rotation
 from mocap.rotations.angles import JointAngles
 from mocap.cli import options
 from mocap.io.angles_csv import write_angles_csv
+from mocap.cli.clip_rate import RATE_KEY, corpus_rate_hz
 from mocap.cli.commands import Subparsers, summary
 from mocap.errors import MocapError
 from mocap.io.bvh import write_bvh
@@ -26,6 +27,7 @@ from mocap.io.motion import read_motion
 from mocap.progress import progress
 from synthesis.corpus import load_corpus
 from synthesis.evaluate import leave_one_out
+from synthesis.methods import METHODS
 from synthesis.model import MotionModel
 from synthesis.model_file import load_model, read_trial_curve, save_model
 from synthesis.plot import plot_evaluation
@@ -121,7 +123,7 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--ridge", type=_ridge, default="auto", metavar="ALPHA",
                         help="relative ridge of signature fits, or 'auto' to choose it by "
                              "leave-one-out (default)")
-    parser.add_argument("--method", choices=("auto", "interaction", "signature", "transfer"),
+    parser.add_argument("--method", choices=("auto",) + tuple(METHODS),
                         default="auto",
                         help="synthesis of a missing cell: interaction (the additive model, "
                              "action mean + the person's offset, corrected by the N-mode SVD "
@@ -149,6 +151,29 @@ def _load_corpus(args: argparse.Namespace):
         print(f"mocap {args.command}: {len(corpus.segments)} joints of {where}, rotation vectors "
               "about the corpus mean (heading removed)", file=sys.stderr)
     return corpus
+
+
+def _hold_out_cells(corpus, cells: list[tuple[str, str]]):
+    """The corpus without the ``--hold-out PERSON:ACTION`` cells (each must be captured)."""
+    for person, action in cells:
+        if person not in corpus.people:
+            raise MocapError(f"--hold-out {person}:{action}: no person {person!r} in the corpus "
+                             f"({', '.join(corpus.people)})")
+        if action not in corpus.actions:
+            raise MocapError(f"--hold-out {person}:{action}: no action {action!r} in the corpus "
+                             f"({', '.join(corpus.actions)})")
+        if not corpus.observed[corpus.people.index(person), corpus.actions.index(action)]:
+            raise MocapError(f"--hold-out {person}:{action}: the corpus has no such trial")
+        corpus = corpus.without_cell(person, action)
+    return corpus
+
+
+def _cell(text: str) -> tuple[str, str]:
+    """``PERSON:ACTION`` of ``--hold-out``."""
+    person, colon, action = text.partition(":")
+    if not (colon and person.strip() and action.strip()):
+        raise argparse.ArgumentTypeError(f"{text!r} is not PERSON:ACTION (e.g. ben:walk)")
+    return person.strip(), action.strip()
 
 
 def _model_options(args: argparse.Namespace) -> dict:
@@ -183,6 +208,11 @@ def decompose(args: argparse.Namespace) -> int:
 
     _check_output(args.output)
     corpus = _load_corpus(args)
+    if args.hold_out:
+        corpus = _hold_out_cells(corpus, args.hold_out)
+    rate = corpus_rate_hz(path for paths in corpus.sources.values() for path in paths)
+    if rate is not None:
+        corpus.cleaning[RATE_KEY] = rate      # saved with the model: synthesize's clip rate
     model = MotionModel(**_model_options(args)).fit(corpus)
     save_model(model, args.output)
     summary = model.summary()
@@ -192,6 +222,9 @@ def decompose(args: argparse.Namespace) -> int:
     ranks = summary["ranks"]
     print(f"wrote {args.output}: {len(model.people)} people × {len(model.actions)} actions × "
           f"{model.samples} samples × {len(model.columns)} angles")
+    if args.hold_out:
+        print("  held out (not in the model): "
+              + ", ".join(f"{person} {action}" for person, action in args.hold_out))
     print(f"  ranks people/actions/features: {ranks[0]}/{ranks[1]}/{ranks[2]} "
           f"(kept energy {', '.join(f'{100 * e:.1f} %' for e in summary['energy'])})")
     if summary["imputed_people_rank"]:
@@ -244,7 +277,31 @@ def synthesize(args: argparse.Namespace) -> int:
                          "--from TRIAL for a new person")
     if args.to is not None and args.person is None:
         raise MocapError("--to blends two known people: give --person too")
+    if args.weight is not None and args.to is None:
+        raise MocapError("--weight is the blend weight of --to: give --to P2 too")
+    if args.from_actions and not args.trials:
+        raise MocapError("--from-action names the action of a --from trial: give --from too")
+    if args.skeleton is not None and suffix != ".bvh":
+        raise MocapError("--skeleton gives the body of a BVH output; an angle CSV has no body")
+    if args.samples is not None and suffix == ".bvh":
+        raise MocapError("--samples sets the frames of an angle CSV; a BVH clip is timed by "
+                         "--fps")
     model = load_model(args.model)
+    if model.representation == "rotvec":
+        if args.skeleton is not None:
+            raise MocapError("--skeleton applies to models of marker corpora: this model "
+                             "writes on its corpus' own rig")
+        if args.samples is not None:
+            raise MocapError("--samples sets the frames of a joint-angle cycle: this model "
+                             "writes clips on its corpus' rig, timed by --fps")
+    elif suffix == ".csv":
+        if args.cycles != 1:
+            raise MocapError("--cycles repeats a BVH output: an angle CSV holds one cycle")
+        if args.fps is not None and args.samples is not None:
+            raise MocapError("give --samples or --fps, not both: both set the frames of the "
+                             "cycle")
+    if args.weight is None:
+        args.weight = 0.5
     model.action_index(args.action)
     if args.person is not None:
         if args.to is not None:
@@ -267,8 +324,13 @@ def synthesize(args: argparse.Namespace) -> int:
         who = "new person from " + ", ".join(Path(p).name for p in args.trials)
     if model.representation == "rotvec":
         return _write_rig_cycle(model, args, signature, who, suffix)
-    angles = model.synthesize_angles(None, args.action, signature=signature,
-                                     samples=args.samples)
+    fps = _clip_rate(model, args)
+    samples = args.samples
+    if suffix == ".csv" and args.fps is not None:
+        duration = float(model.synthesize_angles(None, args.action, signature=signature
+                                                 ).times[-1])
+        samples = max(2, int(np.floor(duration * args.fps + 1e-9)) + 1)
+    angles = model.synthesize_angles(None, args.action, signature=signature, samples=samples)
     if suffix == ".csv":
         write_angles_csv(angles, args.output)
     else:
@@ -285,14 +347,26 @@ def synthesize(args: argparse.Namespace) -> int:
         except MocapError as error:
             raise MocapError(f"cannot build a BVH skeleton for these segments: {error.problem}",
                              args.output) from None
+        if fps is not None:
+            motion = motion.resampled(fps)
         write_bvh(motion, args.output)
     if suffix == ".csv":
         print(f"wrote {args.output}: {who} doing {args.action}, {angles.frames} frames over "
               f"{angles.times[-1]:.3f} s")
     else:
         print(f"wrote {args.output}: {who} doing {args.action}, {args.cycles} cycle(s) of "
-              f"{angles.times[-1]:.3f} s, {motion.frames} frames, feet planted")
+              f"{angles.times[-1]:.3f} s, {motion.frames} frames at {motion.rate:g} fps, feet "
+              "planted")
     return 0
+
+
+def _clip_rate(model, args: argparse.Namespace) -> float | None:
+    """Frames per second of a synthesised clip: ``--fps``, else the rate the model's corpus
+    was captured at (recorded by decompose), else None (the model's own sampling)."""
+    if args.fps is not None:
+        return float(args.fps)
+    rate = model.cleaning.get(RATE_KEY)
+    return float(rate) if rate else None
 
 
 def _write_rig_cycle(model, args: argparse.Namespace, signature, who: str, suffix: str) -> int:
@@ -301,11 +375,14 @@ def _write_rig_cycle(model, args: argparse.Namespace, signature, who: str, suffi
     motion = model.synthesize_motion(person, args.action,
                                      signature=None if person is not None else signature,
                                      cycles=args.cycles)
+    fps = _clip_rate(model, args)
+    if fps is not None:
+        motion = motion.resampled(fps)
     if suffix == ".bvh":
         write_bvh(motion, args.output)
         print(f"wrote {args.output}: {who} doing {args.action}, {args.cycles} cycle(s), "
-              f"{motion.frames} frames on the corpus' rig, root path from the synthesised "
-              "root motion")
+              f"{motion.frames} frames at {motion.rate:g} fps on the corpus' rig, root path "
+              "from the synthesised root motion")
         return 0
     joints = feature_joints(motion.skeleton.parents)
     euler = Rotation.from_matrix(motion.rotations[:, joints].reshape(-1, 3, 3)).as_euler(
@@ -330,18 +407,26 @@ def recognize(args: argparse.Namespace) -> int:
     limit = args.max_distance if args.max_distance is not None else \
         UNKNOWN_FACTOR * person_spacing(model, result.action)
     person, nearest = open_set_person(result.person, result.distances, limit)
+    ranking = sorted(result.distances, key=lambda name: result.distances[name])
+    margin = (result.distances[ranking[1]] - result.distances[ranking[0]]
+              if len(ranking) > 1 else math.nan)
     if args.json:
         _print_json({**result.to_json(), "person": person, "nearest_person": nearest,
-                     "max_distance_deg": limit})
+                     "max_distance_deg": limit, "margin_deg": margin,
+                     "ranking": [{"person": name, "distance_deg": result.distances[name]}
+                                 for name in ranking]})
         return 0
     if person == UNKNOWN:
         print(f"{args.trial}: unknown person doing {result.action} (nearest {nearest} at "
               f"{result.distances[nearest]:.2f}°, beyond the {limit:.2f}° limit)")
     else:
-        print(f"{args.trial}: {person} doing {result.action}")
-    for person in sorted(result.scores, key=result.scores.get, reverse=True):
-        print(f"  {person:<16} score {result.scores[person]:.3f}   "
-              f"distance {result.distances[person]:.2f}°")
+        print(f"{args.trial}: {person} doing {result.action}"
+              + (f", {margin:.2f}° nearer than {ranking[1]}" if len(ranking) > 1 else ""))
+    print("  RMS distance between the trial and each person's modelled motion:")
+    for name in ranking:
+        behind = result.distances[name] - result.distances[ranking[0]]
+        print(f"  {name:<16} {result.distances[name]:6.2f}°"
+              + (f"   +{behind:.2f}°" if name != ranking[0] else ""))
     return 0
 
 
@@ -410,6 +495,10 @@ def register(subparsers: Subparsers) -> None:
                     "the N-mode SVD into motion signatures and action bases (Vasilescu 2002).")
     _add_corpus_options(parser)
     _add_model_options(parser)
+    parser.add_argument("--hold-out", action="append", type=_cell, metavar="PERSON:ACTION",
+                        help="leave this captured cell out of the model (repeat for several), "
+                             "e.g. to compare 'mocap synthesize --person PERSON --action "
+                             "ACTION' with the trial the model never saw")
     parser.add_argument("-o", "--output", required=True, metavar="MODEL.npz",
                         help="model file to write")
     parser.add_argument("--json", action="store_true", help="print the model summary as JSON")
@@ -424,7 +513,7 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument("--person", metavar="P", help="known person whose signature to use")
     parser.add_argument("--to", metavar="P2",
                         help="second person: blend the signatures of --person and --to")
-    parser.add_argument("--weight", type=options.real(0, 1), default=0.5, metavar="W",
+    parser.add_argument("--weight", type=options.real(0, 1), default=None, metavar="W",
                         help="blend weight of --to (0 = --person, 1 = --to; default 0.5)")
     parser.add_argument("--from", dest="trials", action="append", metavar="TRIAL",
                         help="captured trial of a new person (repeat for several actions); its "
@@ -434,7 +523,14 @@ def register(subparsers: Subparsers) -> None:
                              "name <person>_<action>, else recognised)")
     parser.add_argument("--action", required=True, metavar="A", help="action to synthesise")
     parser.add_argument("--samples", type=options.whole(2, 100000), default=None, metavar="N",
-                        help="frames of the cycle written (default: the model's sample count)")
+                        help="angle CSV of a marker-corpus model: frames of the cycle written "
+                             "(default: the model's sample count)")
+    parser.add_argument("--fps", type=options.real(above=0, maximum=10000), default=None,
+                        metavar="FPS",
+                        help="frames per second of the clip written (default: the rate the "
+                             "model's corpus was captured at, so a 30 fps corpus gives 30 fps "
+                             "clips; an angle CSV of a marker-corpus model keeps --samples "
+                             "unless --fps is given)")
     parser.add_argument("--cycles", type=options.whole(1, 1000), default=1, metavar="N",
                         help="BVH output: cycles to write, the root path planted on the feet "
                              "(default 1)")
@@ -449,8 +545,9 @@ def register(subparsers: Subparsers) -> None:
 
     parser = subparsers.add_parser(
         "recognize", help=summary("recognize"),
-        description="Compare a trial with every person's model motion and print the most "
-                    "likely person and action with scores.")
+        description="Compare a trial with every person's model motion and print the people "
+                    "ranked by RMS distance in degrees (nearest first), and the margin by "
+                    "which the nearest beats the next.")
     parser.add_argument("model", metavar="MODEL.npz", help="model from 'mocap decompose'")
     parser.add_argument("trial", metavar="TRIAL",
                         help="marker trial (read with the model's marker set), angle CSV, "
@@ -464,8 +561,9 @@ def register(subparsers: Subparsers) -> None:
                              f"{UNKNOWN_FACTOR:g} x the median distance between a known "
                              "person's modelled motion and the nearest other person's)")
     parser.add_argument("--json", action="store_true",
-                        help='print {"person": …, "action": …, "scores": {person: score}} '
-                             "as JSON")
+                        help='print {"person": …, "action": …, "ranking": [{"person", '
+                             '"distance_deg"} …], "margin_deg": …, "distances_deg": …, '
+                             '"scores": …} as JSON')
     parser.set_defaults(func=recognize)
 
     parser = subparsers.add_parser(

@@ -10,8 +10,16 @@ calibration
 clinical
     The clinical recipe for one walk: subject values, gap filling inside each rigid
     segment, the clinical angle table (:func:`~mocap.plugingait.clinical.plugingait_angles`).
+upper
+    The upper body (thorax, head, arms) and the foot progression, as Vicon's
+    ``<Side><Joint>Angles`` (``plugingait_angles(..., upper_body=True)``).
 events
     Gait events (from the file or detected) and gait cycles at 0–100 %.
+curves, normative, scores
+    Outputs per gait cycle under Vicon's names; normative mean ± SD curves (built in, or
+    a lab's own); the Gait Profile Score and Gait Variable Scores (Baker et al. 2009).
+walks, report
+    One walk analysed for a report (curves, parameters, subject, notes); the HTML report.
 
 The recipe from a walk (and its static) to clinical angles, with the command line's
 defaults, is :func:`mocap.pipeline.clinical_angles`.

@@ -24,6 +24,7 @@ from mocap.trial import Trial
 
 if TYPE_CHECKING:
     from mocap.clean.gapfill import GapReport
+    from mocap.plugingait.upper import UpperSubject
 
 
 def _merge(primary: Subject, secondary: Subject) -> Subject:
@@ -166,8 +167,25 @@ def clinical_columns() -> list[str]:
     return [f"{side}_{joint}" for side in SIDES for joint in JOINTS]
 
 
+def vicon_label(segment: str) -> str:
+    """Vicon's output label of a clinical angle segment (the upper body's too).
+
+    Examples
+    --------
+    >>> vicon_label("l_hip"), vicon_label("r_foot_progress")
+    ('LHipAngles', 'RFootProgressAngles')
+    """
+    from mocap.plugingait.upper import VICON_NAMES
+
+    side, _, joint = segment.partition("_")
+    if side not in SIDES or joint not in JOINTS + tuple(VICON_NAMES):
+        raise KeyError(segment)
+    return side.upper() + VICON_NAMES.get(joint, f"{joint.capitalize()}Angles")
+
+
 def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
-                      static: Trial | None = None, flat_foot: bool | str = "auto"):
+                      static: Trial | None = None, flat_foot: bool | str = "auto",
+                      upper_body: bool = False, upper_subject: UpperSubject | None = None):
     """Plug-in Gait joint angles (clinical convention) of a walk.
 
     Parameters
@@ -188,12 +206,22 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
         command line) takes the option that reproduces the offsets a previous
         Plug-in Gait run stored in the walk or the static (PROCESSING
         StaticPlantFlex), else off.
+    upper_body : bool
+        Also the upper body and the foot progression
+        (:mod:`mocap.plugingait.upper`): segments ``l_thorax, l_spine, l_neck,
+        l_head, l_shoulder, l_elbow, l_wrist, l_foot_progress, r_…`` follow the
+        lower body's, each Vicon's ``<Side><Joint>Angles``
+        (``<Side>FootProgressAngles``).  Parts whose markers or measurements are
+        missing are NaN, with an :class:`~mocap.plugingait.upper.UpperBodyWarning`.
+    upper_subject : UpperSubject, optional
+        Upper-body measurements to use instead of the walk's (then the static's)
+        PROCESSING group (:func:`mocap.plugingait.upper.upper_subject_from_trial`).
 
     Returns
     -------
     JointAngles
-        Segments ``l_pelvis, l_hip, l_knee, l_ankle, r_…``, axes
-        ``flexion, adduction, rotation`` (degrees, Vicon's X, Y, Z of
+        Segments ``l_pelvis, l_hip, l_knee, l_ankle, r_…`` (then the upper body's),
+        axes ``flexion, adduction, rotation`` (degrees, Vicon's X, Y, Z of
         ``<Side><Joint>Angles``), sequence ``"YXZ"``; NaN where markers are
         missing; columns of joints whose markers are absent are all NaN (with a
         :class:`MissingMarkerWarning`).
@@ -224,7 +252,24 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
             if p is None or d is None:
                 continue
             values[:, i * len(JOINTS) + j] = clinical_angles(p, d, joint, side)
-    return JointAngles(times=trial.times, values=values, segments=clinical_columns(),
+    segments = clinical_columns()
+    if upper_body:
+        from mocap.plugingait.upper import (UPPER_MARKERS, UpperBodyWarning, upper_angles,
+                                            upper_columns, upper_kinematics,
+                                            upper_subject_from_trial)
+
+        if upper_subject is None:
+            upper_subject = upper_subject_from_trial(trial, static)
+        upper_markers = markers_from_trial(trial, UPPER_MARKERS)[0]
+        if not upper_markers:
+            raise MocapError(f"no Plug-in Gait upper-body markers with data "
+                             f"({', '.join(UPPER_MARKERS[:4])}, …) in the trial", path)
+        upper = upper_kinematics(upper_markers, upper_subject)
+        for note in upper.notes:
+            warnings.warn(f"{path or 'trial'}: {note}", UpperBodyWarning, stacklevel=2)
+        values = np.concatenate([values, upper_angles(kin, upper, progression)], axis=1)
+        segments += upper_columns()
+    return JointAngles(times=trial.times, values=values, segments=segments,
                        sequence="YXZ", parents=[-1] * values.shape[1], axes=list(PLANES))
 
 
@@ -237,10 +282,21 @@ RIGID_SEGMENTS = (("LASI", "RASI", "SACR", "LPSI", "RPSI"),
                   ("LHEE", "LTOE"), ("RHEE", "RTOE"))
 
 
-def plugingait_labels(trial: Trial) -> list[str]:
-    """The trial's labels the model reads (subject prefixes allowed), in file order."""
+#: Rigid marker groups of the upper body, filled from each other (the thorax's four and
+#: the head's four); the arm markers have no rigid set of their own and keep their splines.
+UPPER_RIGID_SEGMENTS = (("C7", "T10", "CLAV", "STRN"), ("LFHD", "RFHD", "LBHD", "RBHD"))
+
+
+def plugingait_labels(trial: Trial, upper_body: bool = False) -> list[str]:
+    """The trial's labels the model reads (subject prefixes allowed), in file order;
+    with ``upper_body``, the upper body's markers too."""
+    names = MARKERS
+    if upper_body:
+        from mocap.plugingait.upper import UPPER_MARKERS
+
+        names = MARKERS + UPPER_MARKERS
     index = _LabelIndex(trial.labels)
-    columns = sorted({c for c in (index.find(n) for n in MARKERS) if c is not None})
+    columns = sorted({c for c in (index.find(n) for n in names) if c is not None})
     if not columns:
         raise MocapError("no Plug-in Gait markers (LASI, RASI, …) in the trial", trial.path)
     return [trial.labels[c] for c in columns]
@@ -266,7 +322,10 @@ def fill_plugingait(trial: Trial, subject: Subject, max_gap_frames: int
     moves with it — the hip centre (from the pelvis markers) for the thigh, the
     knee centre for the shank, the ankle centre for the foot.  The segments are
     filled from the pelvis down, so each joint centre comes from an already
-    filled segment; the joint centres are not kept in the result.  See
+    filled segment; the joint centres are not kept in the result.  The upper
+    body's thorax and head markers are filled from the others of their group
+    (:data:`UPPER_RIGID_SEGMENTS`), like the pelvis's; any other marker by its
+    spline.  See
     :func:`mocap.clean.gapfill.fill_gaps` for the methods and what stays unfilled.
 
     Parameters
@@ -337,8 +396,19 @@ def fill_plugingait(trial: Trial, subject: Subject, max_gap_frames: int
         report.filled += stage.filled
         report.unfilled += stage.unfilled
         current = current.with_points(filled.points[:, :len(labels)])
+    # the upper body's rigid groups from each other, as the pelvis (a root segment)
+    upper: dict[str, list[str]] = {}
+    for group in UPPER_RIGID_SEGMENTS:
+        present = [bare[n] for n in group if n in bare]
+        upper.update({label: [d for d in present if d != label] for label in present})
+    if upper:
+        filled, stage = fill_gaps(current, max_gap_frames=max_gap_frames, donors=upper,
+                                  only=list(upper), correlate=False, rehearse=True)
+        report.filled += stage.filled
+        report.unfilled += stage.unfilled
+        current = filled
     # markers of no segment (if any were passed) are filled by their spline
-    rest = [label for label in labels if label not in donors]
+    rest = [label for label in labels if label not in donors and label not in upper]
     if rest:
         filled, stage = fill_gaps(current, max_gap_frames=max_gap_frames, only=rest)
         report.filled += stage.filled

@@ -19,7 +19,6 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import find_peaks
 
 from mocap.atomic import atomic_path
 from mocap.clean.resample import resample
@@ -93,6 +92,8 @@ def detect_events(trial: Trial, min_cycle_seconds: float = 0.5, min_travel: floa
     list of GaitEvent, by frame (``source="detected"``); a side without its
     heel or toe marker gives none.
     """
+    from scipy.signal import find_peaks   # deferred: scipy.signal takes ~0.5 s to import
+
     pelvis = _pelvis_centre(trial)
     if pelvis is None:
         return []

@@ -20,6 +20,7 @@ import numpy as np
 
 from mocap.body.retarget import Z_UP_TO_Y_UP
 from mocap.errors import MocapError
+from mocap.io.c3d.outputs import computed_positions
 from mocap.io.lab import Z_TO_Y_UP
 from mocap.markersets import MarkerSet, load_markerset, preset_names
 from mocap.skeleton import Motion
@@ -236,7 +237,8 @@ def marker_layer(trial: Trial, markerset: MarkerSet | str | None = "auto",
     Returns
     -------
     Layer
-        The recorded markers, then the set's virtual markers (flagged ``virtual``).
+        The recorded markers, then the set's virtual markers (flagged ``virtual``, as are
+        a C3D file's computed positions: :func:`mocap.io.c3d.outputs.computed_positions`).
     """
     if isinstance(markerset, str):
         markerset = None if markerset == "none" else auto_markerset(trial.labels) \
@@ -248,7 +250,11 @@ def marker_layer(trial: Trial, markerset: MarkerSet | str | None = "auto",
         bones = marker_bones(markerset, trial.labels)
     if up == "auto":
         up = str(trial.metadata.get("up") or detect_up(trial.points))
-    virtual = np.arange(len(trial.labels)) >= recorded
+    # a model's outputs stored as points (axis points, joint centres, centre of mass) are
+    # computed, not captured: drawn as the set's virtual markers are
+    computed = computed_positions(trial.labels[:recorded]) if trial.format == "c3d" else {}
+    virtual = (np.arange(len(trial.labels)) >= recorded) | \
+        np.isin(np.arange(len(trial.labels)), [trial.labels.index(c) for c in computed])
     return Layer(name or _file_name(trial.path, "markers"), "markers", trial.points,
                  list(trial.labels), bones, _rate(trial.rate, trial.path), up, virtual,
                  markerset.name if markerset is not None else "")

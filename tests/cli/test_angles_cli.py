@@ -136,7 +136,7 @@ def test_help_explains_every_option():
     text = angles.format_help()
     for option in ("--markerset", "--sequence", "--fill-gaps", "--lowpass", "--order",
                    "--short-runs", "--output", "--plot", "--clinical", "--static",
-                   "--flat-foot", "--cycles"):
+                   "--flat-foot", "--cycles", "--upper-body"):
         assert option in text
 
 

@@ -58,6 +58,14 @@ def test_demo_writes_every_promised_output(tmp_path, capsys):
     # ... and explains the verdict and the baseline in words, not raw summary keys
     assert "the mean walk of the other 4 people" in page and "Verdict: <b>" in page
     assert "synthesis_rms_deg" not in page and "residual_force_rms_pct_bw" not in page
+    # ... says which version wrote it, when and from which command (issue 26) ...
+    from mocap.cli import package_version
+    made = re.search(r"Written by mocap (\S+) on (\d{4}-\d\d-\d\d \d\d:\d\d) UTC from "
+                     r"<code>([^<]+)</code>", page)
+    assert made and made.group(1) == package_version()
+    assert made.group(3) == f"mocap demo -o {out} --people 5"
+    # ... and what the angle names mean
+    assert "<code>.Y</code> about the left axis (flexion/extension" in page
     # every path it reports is where the files are now (not the staging folder)
     assert all(str(out) in summary[key] for key in ("output", "corpus", "bvh", "report"))
     assert sorted(p.name for p in tmp_path.iterdir()) == ["demo"]

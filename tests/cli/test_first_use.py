@@ -69,7 +69,7 @@ def test_check_plot_names_joints_and_tells_sides_apart():
     frames = 12
     motion = Motion(skeleton, np.zeros((frames, 3)),
                     np.tile(np.eye(3), (frames, skeleton.count, 1, 1)), 50.0)
-    torque_axis = plot_check(check_motion(motion)).axes[2]
+    torque_axis = plot_check(check_motion(motion)).axes[3]
     lines = {line.get_label(): line for line in torque_axis.get_lines()}
     left, right = lines["l_thigh (hip)"], lines["r_thigh (hip)"]      # named as the text is
     assert left.get_color() == right.get_color()

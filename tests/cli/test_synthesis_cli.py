@@ -91,7 +91,15 @@ def test_synthesize_blend_resampled_and_from_a_new_trial(model_path, capsys, tmp
     assert np.sqrt(np.mean((values - truth) ** 2)) < 0.5
 
 
-def test_synthesize_bvh(model_path, capsys, tmp_path):
+def _synthesized_csv(model_path, capsys, tmp_path):
+    path = tmp_path / "p1_walk.csv"
+    assert main(["synthesize", str(model_path), "--person", "p1", "--action", "walk", "-o",
+                 str(path)]) == 0
+    capsys.readouterr()
+    return path
+
+
+def test_synthesize_bvh(model_path, capsys, tmp_path, corpus):
     pytest.importorskip("mocap.io.bvh")
     from mocap.io.bvh import read_bvh
 
@@ -99,7 +107,13 @@ def test_synthesize_bvh(model_path, capsys, tmp_path):
                          "-o", tmp_path / "p1_walk.bvh")
     assert status == 0, err
     motion = read_bvh(tmp_path / "p1_walk.bvh")
-    assert motion.frames == 40
+    # written at the corpus' frame rate (the median over its files), not the model's sampling
+    captured = np.isfinite(corpus.durations)
+    captured[3, 2] = False                                  # p3 run, left out of the model
+    rate = np.median((corpus.samples - 1) / corpus.durations[captured])
+    assert motion.rate == pytest.approx(rate, rel=1e-4)     # the CSV times hold 1 us of 24 ms
+    cycle = read_angles_csv(_synthesized_csv(model_path, capsys, tmp_path)).times[-1]
+    assert motion.frames == int(np.floor(cycle * motion.rate + 1e-6)) + 1
 
 
 def test_recognize_json(model_path, capsys, tmp_path, corpus):

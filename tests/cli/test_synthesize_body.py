@@ -4,8 +4,19 @@ from __future__ import annotations
 import json
 
 from mocap.cli import main
+from mocap.io import read
+from mocap.io.angles_csv import read_angles_csv
 from mocap.io.bvh import read_bvh
 from mocap.synthetic import generate_corpus
+
+
+def cycle_seconds(model, capsys, tmp_path) -> float:
+    """The duration of ben's synthesised walk cycle (its angle CSV's last time)."""
+    path = tmp_path / "walk.csv"
+    assert main(["synthesize", str(model), "--person", "ben", "--action", "walk", "-o",
+                 str(path)]) == 0
+    capsys.readouterr()
+    return float(read_angles_csv(path).times[-1])
 
 
 def test_synthesised_walk_on_the_persons_body_is_plausible(tmp_path, capsys):
@@ -19,7 +30,12 @@ def test_synthesised_walk_on_the_persons_body_is_plausible(tmp_path, capsys):
     capsys.readouterr()
     assert main(["check", str(bvh), "--json"]) == 0
     report = json.loads(capsys.readouterr().out)
-    assert report["frames"] == motion.frames == 2 * 100
+    # the clip comes at the corpus' capture rate, over two cycles of the model's duration
+    assert motion.rate == read(tmp_path / "corpus" / "ben_run.c3d").rate
+    assert report["frames"] == motion.frames
+    # (two cycles of the model's samples join with the seam frame doubled: a frame longer)
+    span = (motion.frames - 1) / motion.rate
+    assert abs(span - 2 * cycle_seconds(model, capsys, tmp_path)) <= 1.5 / motion.rate
     assert report["residual_force_rms_pct_bw"] < 5.0
     assert report["foot_skate_mm"] < 3.0 and report["penetration_mm"] < 10.0
     assert report["verdict"] == "plausible", report["reasons"]

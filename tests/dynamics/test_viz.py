@@ -34,16 +34,16 @@ def test_plots_and_animations_leave_the_matplotlib_state_alone(svg_backend, tmp_
     open_figures = plt.get_fignums()
 
     figure = plot_check(check_motion(motion), tmp_path / "check.png", dpi=20)
-    assert len(figure.axes) == 5                    # four panels and the torque's own axis
-    force_axis, torque_axis = figure.axes[0], figure.axes[4]
+    assert len(figure.axes) == 5                    # force, torque, reactions, joints, floor
+    force_axis, torque_axis = figure.axes[0], figure.axes[1]
     assert "% BW" in force_axis.get_ylabel() and "N·m" in torque_axis.get_ylabel()
     assert force_axis.get_lines()[0].get_color() != torque_axis.get_lines()[0].get_color()
-    for axis in figure.axes[:4]:                    # time ticks on every panel
+    for axis in figure.axes:                        # time ticks on every panel
         assert axis.get_xlabel() == "time (s)"
         assert axis.xaxis.get_tick_params()["labelbottom"]
     with Image.open(tmp_path / "check.png") as image:
-        assert image.size == (160, 200)                 # 8 × 10 inches at 20 dpi
-    assert plot_check(check_motion(motion)).axes[3].get_xlabel() == "time (s)"   # no file
+        assert image.size == (160, 240)                 # 8 × 12 inches at 20 dpi
+    assert plot_check(check_motion(motion)).axes[4].get_xlabel() == "time (s)"   # no file
 
     gif = tmp_path / "motion.gif"
     assert animate_motion(motion, gif, max_frames=3, dpi=20, size=(2, 2)) == 3

@@ -61,10 +61,9 @@ import numpy as np
 from mocap.errors import MocapError
 from mocap.io.c3d.decode import decode_c3d_data
 from mocap.io.c3d.layout import C3DLayout, count_parameter, inspect_c3d
+from mocap.io.c3d.outputs import MODELLED_KINDS, listed_outputs
 from mocap.trial import Trial
 
-#: POINT parameters listing computed (non-marker) points, as Vicon and others write them.
-MODELLED_KINDS = ("ANGLES", "FORCES", "MOMENTS", "POWERS", "SCALARS", "REACTIONS")
 
 _UNIT_FACTORS = {
     "mm": 1e-3, "millimeter": 1e-3, "millimeters": 1e-3, "millimetre": 1e-3,
@@ -380,11 +379,7 @@ def _to_trial(layout: C3DLayout, reader: str, points: np.ndarray, residuals: np.
 
     raw_labels = _point_labels(layout)
     point_group = layout.parameters.get("POINT", {})
-    modelled_names = {}
-    for kind in MODELLED_KINDS:
-        for label in _string_list(point_group.get(kind)):
-            if label.strip():
-                modelled_names.setdefault(label.strip(), kind)
+    modelled_names = listed_outputs(point_group)
     is_modelled = np.array([bool(label) and label in modelled_names for label in raw_labels],
                            dtype=bool)
     marker_columns = np.flatnonzero(~is_modelled)

@@ -16,6 +16,7 @@ from mocap.atomic import atomic_path
 from mocap.errors import MocapError
 from mocap.io import require_rate
 from mocap.io.c3d.layout import inspect_c3d
+from mocap.io.c3d.parameters import _set as set_parameter
 from mocap.io.c3d.parameters import carry_parameters, offsets_to_keep, patch_int_parameter
 from mocap.io.c3d.read import unit_factor
 from mocap.trial import Trial
@@ -51,7 +52,14 @@ def _check_written(written: Path, markers: int, frames: int, path) -> None:
                          "written: no space left on the device, or a file-size limit)", path)
 
 
-def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> list[str]:
+#: POINT unit parameters of each kind of output, as Vicon Nexus writes them.
+OUTPUT_UNITS = {"ANGLES": ("ANGLE_UNITS", "deg"), "FORCES": ("FORCE_UNITS", "N"),
+                "MOMENTS": ("MOMENT_UNITS", "Nmm"), "POWERS": ("POWER_UNITS", "W"),
+                "SCALARS": ("SCALAR_UNITS", "mm")}
+
+
+def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm", *,
+              outputs: list | None = None, groups: dict | None = None) -> list[str]:
     """Write a trial's markers (and analogs) to a C3D file with ezc3d.
 
     Parameters
@@ -62,6 +70,14 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> list[
         Written all-or-nothing (temporary file, then rename).
     units : {"mm", "cm", "m"}
         Length unit stored in the file (POINT:UNITS); points are converted.
+    outputs : list of (label, kind, values), optional
+        Model outputs written after the markers as points, unconverted: ``kind`` one of
+        ANGLES, FORCES, MOMENTS, POWERS, SCALARS (listed in that POINT parameter, with
+        its unit parameter as Vicon writes it, :data:`OUTPUT_UNITS`), ``values``
+        (frames, 3) in those units, NaN where invalid (residual -1).
+    groups : dict, optional
+        ``{group: {name: value}}`` parameters set last (over any kept from the source),
+        e.g. an ANALYSIS group.
 
     Returns
     -------
@@ -81,7 +97,12 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> list[
     factor = unit_factor(units)
     if factor is None or units not in ("mm", "cm", "m"):
         raise MocapError(f"cannot write C3D in units {units!r} (use mm, cm or m)", path)
-    labels = list(trial.labels)
+    outputs = list(outputs or [])
+    for _, kind, values in outputs:
+        if kind not in OUTPUT_UNITS or np.shape(values) != (trial.frames, 3):
+            raise MocapError(f"an output must be {'/'.join(OUTPUT_UNITS)} with "
+                             f"({trial.frames}, 3) values", path)
+    labels = list(trial.labels) + [label for label, _, _ in outputs]
     if len(set(labels)) != len(labels) or any(len(label) == 0 for label in labels):
         raise MocapError("marker labels must be unique and non-empty to write C3D", path)
     too_long = [label for label in labels if len(label.encode("utf-8")) > 255]
@@ -98,6 +119,9 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> list[
     c3d.add_parameter("POINT", "UNITS", [units])
     values = np.ones((4, markers, frames))
     coordinates = trial.points.transpose(2, 1, 0) / factor
+    if outputs:
+        extra = np.stack([np.asarray(v, dtype=float) for _, _, v in outputs], axis=1)
+        coordinates = np.concatenate([coordinates, extra.transpose(2, 1, 0)], axis=1)
     missing = ~np.isfinite(coordinates).all(axis=0)
     values[:3] = np.where(missing[None], 0.0, coordinates)
     first_frame = int(trial.time_base()[0][0])
@@ -175,6 +199,14 @@ def write_c3d(trial: Trial, path: str | os.PathLike, units: str = "mm") -> list[
         c3d.add_parameter("ANALOG", "SCALE", scale)
         c3d.add_parameter("ANALOG", "GEN_SCALE", np.array([1.0]))
         notes.append(f"ANALOG:SCALE of {int(unusable.sum())} channel(s) that was 0 (set to 1)")
+    for kind, (unit_name, unit) in OUTPUT_UNITS.items():
+        listed = [label for label, k, _ in outputs if k == kind]
+        if listed:
+            c3d.add_parameter("POINT", kind, listed)
+            c3d.add_parameter("POINT", unit_name, [unit])
+    for group, entries in (groups or {}).items():
+        for name, value in entries.items():
+            set_parameter(c3d, group, name, value)
     poses = trial.poses
     if poses is not None:
         notes += poses.write_to(c3d, 1.0 / factor)

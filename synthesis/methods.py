@@ -1,0 +1,223 @@
+"""The synthesis methods of a person's cells, behind one interface, and their registry.
+
+A *method* predicts the cells of a people × actions × features corpus from each person's
+other cells. :class:`synthesis.model.MotionModel` holds one for the joint angles and one for
+the cycle timing and asks only this interface (:class:`CellMethod`); ``mocap decompose |
+evaluate --method NAME`` picks one from :data:`METHODS`:
+
+``interaction`` (default, also ``auto``)
+    The additive model (action mean + the person's offset) corrected by the N-mode SVD of the
+    person × action interaction, mode (action basis or people signature), rank and ridge
+    chosen by leave-one-donor-out inside the training people; rank 0 is the additive model
+    (:class:`synthesis.interaction.InteractionModel`, ``mode="both"``).
+``signature``
+    The same with the people mode only: the N-mode SVD signature model.
+``transfer``
+    The older action transfer (:class:`synthesis.transfer.TransferModel`).
+
+Every method takes arrays (never files); the fitted data are the method's whole state, so a
+saved model stores the data and refits the method on loading.
+"""
+from __future__ import annotations
+
+from typing import ClassVar
+
+import numpy as np
+
+from mocap.errors import MocapError
+from synthesis.interaction import MIN_DONORS, InteractionModel
+from synthesis.regression import SignatureModel
+from synthesis.transfer import TransferModel
+
+
+class CellMethod:
+    """Interface of a synthesis method (subclasses fill in the four hooks).
+
+    Attributes
+    ----------
+    name : str
+        Registry name (:data:`METHODS`).
+    data_ : ndarray, shape (people, actions, features)
+        The fitted cells, NaN where missing.
+    observed_ : ndarray, shape (people, actions), bool
+    """
+
+    name: ClassVar[str] = ""
+
+    def __init__(self) -> None:
+        self.data_: np.ndarray | None = None
+        self.observed_: np.ndarray | None = None
+        self.signatures_: SignatureModel | None = None
+
+    def fit(self, data: np.ndarray, signatures: SignatureModel | None = None) -> "CellMethod":
+        """Fit to the cells.
+
+        Parameters
+        ----------
+        data : ndarray, shape (people, actions, features)
+            NaN where a cell is missing.
+        signatures : SignatureModel, optional
+            The motion model's signature fit of the same data; a method may fall back on it
+            where its own predictor has too few people.
+
+        Returns
+        -------
+        self
+        """
+        data = np.asarray(data, dtype=float)
+        if data.ndim != 3:
+            raise MocapError("method data must be people × actions × features")
+        self.data_, self.observed_ = data, np.isfinite(data).all(axis=2)
+        self.signatures_ = signatures
+        self._fit(data)
+        return self
+
+    # ------------------------------------------------------------------ the interface
+
+    def cell(self, person: int, action: int) -> np.ndarray:
+        """A captured cell as it is, a missing one predicted from the person's other cells.
+
+        Returns
+        -------
+        ndarray, shape (features,)
+        """
+        if self.observed_[person, action]:
+            return self.data_[person, action]
+        return self._missing(person, action)
+
+    def template(self, person: int, action: int) -> np.ndarray:
+        """The person's motion of an action as recognition compares it with a trial: a
+        captured cell predicted from the person's other cells (their capture when they have
+        no other), a missing one as :meth:`cell`.
+
+        Returns
+        -------
+        ndarray, shape (features,)
+        """
+        if not self.observed_[person, action]:
+            return self._missing(person, action)
+        if self.observed_[person].sum() > 1:
+            return self._held_out(person, action)
+        return self.data_[person, action]
+
+    def additive(self, person: int, action: int) -> np.ndarray:
+        """The additive prediction ``m_b + mean_a (d_{p,a} − m_a)`` of cell (person, action),
+        means over the other people (shape (features,))."""
+        return self._additive_model.additive(person, action)
+
+    def feature_variance(self, action: int) -> np.ndarray | None:
+        """Leave-one-person-out mean squared error of each feature when ``action`` is
+        predicted from all the others (shape (features,)); None when too few people."""
+        raise NotImplementedError
+
+    def describe(self) -> dict:
+        """Action → what predicts it from all the other actions (empty when nothing to say)."""
+        return {}
+
+    # ------------------------------------------------------------------ hooks
+
+    _additive_model: TransferModel | InteractionModel
+
+    def _fit(self, data: np.ndarray) -> None:
+        raise NotImplementedError
+
+    def _missing(self, person: int, action: int) -> np.ndarray:
+        raise NotImplementedError
+
+    def _held_out(self, person: int, action: int) -> np.ndarray:
+        raise NotImplementedError
+
+    def _others(self, action: int) -> tuple[int, ...]:
+        return tuple(a for a in range(self.data_.shape[1]) if a != action)
+
+
+class InteractionMethod(CellMethod):
+    """Additive model + N-mode SVD of the interaction, both modes
+    (:class:`synthesis.interaction.InteractionModel`)."""
+
+    name = "interaction"
+    mode = "both"
+
+    def _fit(self, data: np.ndarray) -> None:
+        self.model_ = InteractionModel(self.mode).fit(data)
+        self._additive_model = self.model_
+
+    def _missing(self, person: int, action: int) -> np.ndarray:
+        prediction, chosen = self.model_.predict(person, action)
+        # Too few donors although the corpus has enough people: its missing cells stand in
+        # the way, and the (imputed) signatures fill the cell.
+        signatures = self.signatures_
+        if signatures is not None and (chosen is None or not np.isfinite(chosen.loo_rms)) \
+                and self.data_.shape[0] > MIN_DONORS \
+                and np.isfinite(signatures.signatures_[person]).all():
+            return signatures.predict(signatures.signatures_[person], action)
+        return prediction
+
+    def _held_out(self, person: int, action: int) -> np.ndarray:
+        # The configuration chosen for the action from all the others (the one whose
+        # variances weight the distance), not one per person.
+        chosen = self.model_.interaction(action, self._others(action))
+        return self.model_.predict(person, action, chosen)[0]
+
+    def feature_variance(self, action: int) -> np.ndarray | None:
+        variance = self.model_.interaction(action, self._others(action)).variance
+        return variance if np.isfinite(variance).all() else None
+
+    def describe(self) -> dict:
+        result = {}
+        for a in range(self.data_.shape[1]):
+            chosen = self.model_.interaction(a, self._others(a))
+            if np.isfinite(chosen.loo_rms):
+                result[a] = {"mode": chosen.mode, "rank": chosen.rank, "alpha": chosen.alpha,
+                             "loo_rms": chosen.loo_rms,
+                             "additive_loo_rms": chosen.additive_loo_rms}
+        return result
+
+
+class SignatureMethod(InteractionMethod):
+    """The N-mode SVD signature model: the interaction's people mode only."""
+
+    name = "signature"
+    mode = "people"
+
+
+class TransferMethod(CellMethod):
+    """Action transfer (:class:`synthesis.transfer.TransferModel`)."""
+
+    name = "transfer"
+
+    def _fit(self, data: np.ndarray) -> None:
+        self.model_ = TransferModel().fit(data)
+        self._additive_model = self.model_
+
+    def _missing(self, person: int, action: int) -> np.ndarray:
+        return self.model_.predict(person, action)[0]
+
+    _held_out = _missing
+
+    def feature_variance(self, action: int) -> np.ndarray | None:
+        variance = self.model_.transfer(action, self._others(action)).variance
+        return variance if np.isfinite(variance).all() else None
+
+
+#: Synthesis methods by name (``--method``).
+METHODS: dict[str, type[CellMethod]] = {
+    method.name: method for method in (InteractionMethod, SignatureMethod, TransferMethod)}
+#: The method ``auto`` stands for.
+DEFAULT_METHOD = "interaction"
+
+
+def method_name(name: str) -> str:
+    """The registered name of a method (``auto`` → :data:`DEFAULT_METHOD`); MocapError
+    listing the methods for an unknown one."""
+    if name == "auto":
+        return DEFAULT_METHOD
+    if name not in METHODS:
+        raise MocapError(f"unknown synthesis method {name!r}: "
+                         f"{', '.join(('auto',) + tuple(METHODS))}")
+    return name
+
+
+def make_method(name: str) -> CellMethod:
+    """A new, unfitted method by name (``auto`` included)."""
+    return METHODS[method_name(name)]()

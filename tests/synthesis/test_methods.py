@@ -1,0 +1,114 @@
+"""synthesis.methods: every registered method behind one interface; the CLI's --method is the
+registry; a saved model refits its method from the stored cells and answers the same."""
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from mocap.cli import main
+from mocap.errors import MocapError
+from synthesis.methods import METHODS, CellMethod, make_method, method_name
+from synthesis.model import MotionModel
+from synthesis.model_file import load_model, save_model
+from tests.synthesis.test_model import multilinear_corpus
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def cells(people=8, actions=4, features=30, seed=1):
+    """Main effects plus a rank-1 people × actions interaction: the full tensor and a copy
+    with two cells missing (shape (people, actions, features))."""
+    rng = np.random.default_rng(seed)
+    full = (rng.normal(0, 10, (1, actions, features)) + rng.normal(0, 5, (people, 1, features))
+            + np.einsum("p,a,f->paf", rng.normal(size=people), rng.normal(size=actions),
+                        rng.normal(0, 4, features)))
+    data = full.copy()
+    data[1, 2] = np.nan
+    data[4, 0] = np.nan
+    return full, data
+
+
+@pytest.fixture(scope="module")
+def fitted():
+    full, data = cells()
+    return full, data, {name: make_method(name).fit(data) for name in METHODS}
+
+
+def test_registry_names_and_auto():
+    assert set(METHODS) == {"interaction", "signature", "transfer"}
+    assert method_name("auto") == "interaction"
+    assert all(issubclass(method, CellMethod) and method.name == name
+               for name, method in METHODS.items())
+    with pytest.raises(MocapError, match="interaction, signature, transfer"):
+        make_method("nmode")
+
+
+@pytest.mark.parametrize("name", sorted(METHODS))
+def test_every_method_answers_the_interface(fitted, name):
+    _, data, methods = fitted
+    method = methods[name]
+    keep = np.isfinite(data).all(axis=2)
+    # Captured cells come back as they are; missing ones are predicted, finite.
+    assert np.array_equal(method.cell(0, 1), data[0, 1])
+    assert np.isfinite(method.cell(1, 2)).all() and np.isfinite(method.cell(4, 0)).all()
+    # The additive prediction of a missing cell: the action's mean over the other people plus
+    # the person's mean offset from those means.
+    person, action = 1, 2
+    others = keep.copy()
+    others[person] = False
+    means = np.array([data[others[:, a], a].mean(axis=0) for a in range(data.shape[1])])
+    observed = [a for a in range(data.shape[1]) if a != action and keep[person, a]]
+    expected = means[action] + np.mean([data[person, a] - means[a] for a in observed], axis=0)
+    assert np.allclose(method.additive(person, action), expected, atol=1e-12)
+    # A recognition template of a captured cell never echoes the capture.
+    assert not np.allclose(method.template(0, 1), data[0, 1])
+    variance = method.feature_variance(1)
+    assert variance.shape == (data.shape[2],) and (variance > 0).all()
+
+
+def test_the_interaction_methods_beat_the_additive_model_on_a_rank_one_interaction(fitted):
+    full, _, methods = fitted
+    for name in ("interaction", "signature"):
+        method = methods[name]
+        for person, action in [(1, 2), (4, 0)]:
+            error = np.abs(method.cell(person, action) - full[person, action]).mean()
+            additive = np.abs(method.additive(person, action) - full[person, action]).mean()
+            assert error < 0.5 * additive, (name, person, action)
+
+
+@pytest.mark.parametrize("name", ["interaction", "transfer"])
+def test_a_saved_model_refits_its_method_and_answers_the_same(tmp_path, name):
+    corpus = multilinear_corpus(people=6).without_cell("p2", "run")
+    model = MotionModel(method=name).fit(corpus)
+    save_model(model, tmp_path / "model.npz")
+    again = load_model(tmp_path / "model.npz")
+    assert type(again.cells_) is METHODS[name] and again.method_ == name
+    for person in ("p2", "p4"):
+        first, second = model.synthesize(person, "run"), again.synthesize(person, "run")
+        assert np.array_equal(first[0], second[0]) and first[1] == second[1]
+    assert again.recognize(corpus.angles[4, 1]).distances == \
+        model.recognize(corpus.angles[4, 1]).distances
+
+
+def test_the_cli_offers_exactly_the_registry(capsys):
+    assert main(["evaluate", "--method", "nmode", "--leave-one-out", "x"]) == 2
+    message = capsys.readouterr().err
+    assert all(f"'{name}'" in message for name in ("auto",) + tuple(METHODS))
+
+
+def test_models_and_methods_never_read_files():
+    """Only the loaders (corpus, model_file, skeletons' trial reading) import the readers."""
+    for module in ("model", "methods", "recognition", "interaction", "transfer",
+                   "regression", "signature", "nmode", "evaluate"):
+        tree = ast.parse((ROOT / "synthesis" / f"{module}.py").read_text())
+        imported = {node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom)}
+        imported |= {alias.name for node in ast.walk(tree) if isinstance(node, ast.Import)
+                     for alias in node.names}
+        assert not any(name.startswith("mocap.io") for name in imported), module
+        assert "synthesis.model_file" not in imported, module
+        calls = {getattr(node.func, "id", getattr(node.func, "attr", None))
+                 for node in ast.walk(tree) if isinstance(node, ast.Call)}
+        assert not calls & {"open", "load", "read_text", "read_motion", "read_npz"}, module
