@@ -173,6 +173,14 @@ class InteractionModel:
     ----------
     data_ : ndarray, shape (people, actions, features)
     observed_ : ndarray, shape (people, actions), bool
+    basis_ : ndarray, shape (features, r)
+        Orthonormal basis of the span of the captured cells (r ≤ their count): every
+        prediction is a linear combination of cells and every error a Euclidean norm, so the
+        interaction is decomposed in these coordinates (the feature mode reduced first, as
+        the N-mode SVD does) and its predictions mapped back, at a cost independent of the
+        feature count.
+    coords_ : ndarray, shape (people, actions, r)
+        The cells in that basis (NaN where missing).
     """
 
     mode: str = "actions"
@@ -180,6 +188,8 @@ class InteractionModel:
     max_rank: int | None = None
     data_: np.ndarray | None = field(default=None, repr=False)
     observed_: np.ndarray | None = field(default=None, repr=False)
+    basis_: np.ndarray | None = field(default=None, repr=False)
+    coords_: np.ndarray | None = field(default=None, repr=False)
     _cache: dict = field(default_factory=dict, repr=False)
 
     def fit(self, data: np.ndarray) -> "InteractionModel":
@@ -192,12 +202,18 @@ class InteractionModel:
             raise MocapError("interaction data must be people × actions × features")
         self.data_ = data
         self.observed_ = np.isfinite(data).all(axis=2)
+        captured = data[self.observed_]                                          # (n, F)
+        if captured.shape[0]:
+            self.basis_ = np.linalg.qr(captured.T)[0]                            # (F, r)
+        else:
+            self.basis_ = np.eye(data.shape[2])
+        self.coords_ = data @ self.basis_
         self._cache = {}
         return self
 
     # ------------------------------------------------------------------ main effects
 
-    def _means(self, *excluded: int | None) -> np.ndarray:
+    def _means(self, *excluded: int | None, coords: bool = False) -> np.ndarray:
         """Action means over the people not in ``excluded`` who have each action (NaN for an
         action nobody else has), shape (actions, features)."""
         keep = self.observed_.copy()
@@ -205,7 +221,8 @@ class InteractionModel:
             if person is not None:
                 keep[person] = False
         counts = keep.sum(axis=0)
-        total = np.where(keep[..., None], self.data_, 0.0).sum(axis=0)
+        cells = self.coords_ if coords else self.data_
+        total = np.where(keep[..., None], cells, 0.0).sum(axis=0)
         return total / np.where(counts > 0, counts, np.nan)[:, None]
 
     def _observed_actions(self, person: int, target: int, means: np.ndarray) -> tuple:
@@ -233,8 +250,8 @@ class InteractionModel:
         keep = self.observed_[:, order].copy()
         if exclude is not None:
             keep[exclude] = False
-        sums = np.where(keep[..., None], self.data_[:, order], 0.0).sum(axis=0)
-        return self.data_[donors][:, order], sums, keep.sum(axis=0).astype(float)
+        sums = np.where(keep[..., None], self.coords_[:, order], 0.0).sum(axis=0)
+        return self.coords_[donors][:, order], sums, keep.sum(axis=0).astype(float)
 
     def _candidates(self, training: np.ndarray, x: np.ndarray, people_rank: int
                     ) -> tuple[list, np.ndarray]:
@@ -290,7 +307,7 @@ class InteractionModel:
                                  np.full(features, np.nan))
             self._cache[key] = result
             return result
-        labels, folds, residuals = self._folds(cells, sums, counts, len(observed))
+        labels, folds, residuals = self._folds(cells, sums, counts, len(observed), features)
         best = self._choose(folds)
         if NESTED and best and donors > MIN_DONORS:
             # The selection itself held out: each donor predicted with the configuration the
@@ -299,7 +316,7 @@ class InteractionModel:
             for k in range(donors):
                 others = np.arange(donors) != k
                 inner_labels, inner, _ = self._folds(cells[others], sums - cells[k],
-                                                     counts - 1, len(observed))
+                                                     counts - 1, len(observed), features)
                 chosen = inner_labels[self._choose(inner)]
                 nested.append(folds[k, labels.index(chosen)])
             nested = np.asarray(nested)
@@ -307,17 +324,18 @@ class InteractionModel:
                 best = 0
         errors = folds.mean(axis=0)
         mode, rank, alpha = labels[best]
-        variance = np.mean([residual[best] ** 2 for residual in residuals], axis=0)
+        variance = np.mean([(self.basis_ @ residual[best]) ** 2 for residual in residuals],
+                           axis=0)
         result = Interaction(mode, rank, alpha, float(np.sqrt(errors[best])),
                              float(np.sqrt(errors[0])), variance)
         self._cache[key] = result
         return result
 
-    def _folds(self, cells: np.ndarray, sums: np.ndarray, counts: np.ndarray, m: int
-               ) -> tuple[list, np.ndarray, list]:
-        """Leave-one-donor-out of every configuration: labels, squared errors (Q, C) and
-        residuals (Q of (C, F))."""
-        donors, features = cells.shape[0], cells.shape[2]
+    def _folds(self, cells: np.ndarray, sums: np.ndarray, counts: np.ndarray, m: int,
+               features: int) -> tuple[list, np.ndarray, list]:
+        """Leave-one-donor-out of every configuration: labels, mean squared errors over the
+        ``features`` (Q, C) and residuals (Q of (C, r), in :attr:`basis_` coordinates)."""
+        donors = cells.shape[0]
         counts = counts[:, None]
         labels, residuals, folds = None, [], []
         for k in range(donors):
@@ -367,9 +385,14 @@ class InteractionModel:
             return means[target], None
         if chosen is None:
             chosen = self.interaction(target, observed, person)
-        x = np.stack([self.data_[person, a] - means[a] for a in observed])      # (m, F)
-        correction = self._correction(chosen, target, observed, person, x)
-        return means[target] + correction, chosen
+        offset = np.mean([self.data_[person, a] - means[a] for a in observed], axis=0)
+        if chosen.rank == 0:
+            return means[target] + offset, chosen
+        reduced = self._means(person, coords=True)
+        x = np.stack([self.coords_[person, a] - reduced[a] for a in observed])   # (m, r)
+        # The additive part as it is, the interaction's correction mapped back.
+        correction = self._correction(chosen, target, observed, person, x) - x.mean(axis=0)
+        return means[target] + offset + self.basis_ @ correction, chosen
 
     def _correction(self, chosen: Interaction, target: int, observed: tuple, person: int,
                     x: np.ndarray) -> np.ndarray:
