@@ -202,11 +202,7 @@ class InteractionModel:
             raise MocapError("interaction data must be people × actions × features")
         self.data_ = data
         self.observed_ = np.isfinite(data).all(axis=2)
-        captured = data[self.observed_]                                          # (n, F)
-        if captured.shape[0]:
-            self.basis_ = np.linalg.qr(captured.T)[0]                            # (F, r)
-        else:
-            self.basis_ = np.eye(data.shape[2])
+        self.basis_ = span_basis(data[self.observed_])
         self.coords_ = data @ self.basis_
         self._cache = {}
         return self
@@ -261,27 +257,30 @@ class InteractionModel:
         ----------
         training : ndarray, shape (Q, m + 1, F)
             Offsets of the training donors (observed actions, then the target).
-        x : ndarray, shape (m, F)
-            Offsets of the predicted person's observed actions.
+        x : ndarray, shape (m, F) or (n, m, F)
+            Offsets of the predicted person's observed actions (or of n people predicted
+            from the same training donors).
         people_rank : int
             Largest people rank tried.
 
         Returns
         -------
         labels : list of (mode, rank, alpha); the first is the additive model
-        predictions : ndarray, shape (len(labels), F)
+        predictions : ndarray, shape (len(labels), F) or (n, len(labels), F)
         """
-        m = x.shape[0]
+        single = x.ndim == 2
+        x = x[None] if single else x
+        n, m, features = x.shape
         labels = [("additive", 0, float("inf"))]
-        blocks = [x.mean(axis=0)[None]]
+        blocks = [x.mean(axis=1)[:, None]]
         if self.max_rank == 0:
-            return labels, blocks[0]
+            return labels, blocks[0][0] if single else blocks[0]
         centred = training - training.mean(axis=1, keepdims=True)             # E (Q, m+1, F)
         if self.mode in ("actions", "both"):
             _, vectors = np.linalg.eigh(np.einsum("qaf,qbf->ab", centred, centred))
             weights = action_weight_grid(vectors[:, ::-1][:, :m])              # (m, alphas, m)
             labels += [("actions", rank + 1, alpha) for rank in range(m) for alpha in ALPHAS]
-            blocks.append((weights @ x).reshape(-1, x.shape[1]))
+            blocks.append((weights.reshape(-1, m) @ x))                       # (n, R·A, F)
         if self.mode in ("people", "both"):
             # One observed action cannot tell an offset from a signature: there the people
             # mode decomposes the offsets themselves (Vasilescu's uncentred signature).
@@ -289,7 +288,8 @@ class InteractionModel:
                 centred if m >= 2 else training, x, people_rank, free_offset=m >= 2)
             labels += people_labels
             blocks.append(predictions)
-        return labels, np.concatenate(blocks)
+        predictions = np.concatenate(blocks, axis=1)
+        return labels, predictions[0] if single else predictions
 
     def interaction(self, target: int, observed: tuple, exclude: int | None = None
                     ) -> Interaction:
@@ -312,14 +312,7 @@ class InteractionModel:
         if NESTED and best and donors > MIN_DONORS:
             # The selection itself held out: each donor predicted with the configuration the
             # other donors would have chosen.
-            nested = []
-            for k in range(donors):
-                others = np.arange(donors) != k
-                inner_labels, inner, _ = self._folds(cells[others], sums - cells[k],
-                                                     counts - 1, len(observed), features)
-                chosen = inner_labels[self._choose(inner)]
-                nested.append(folds[k, labels.index(chosen)])
-            nested = np.asarray(nested)
+            nested = self._nested(cells, sums, counts, len(observed), features, folds, labels)
             if nested.mean() > (1.0 - self.margin) * folds[:, 0].mean():
                 best = 0
         errors = folds.mean(axis=0)
@@ -348,6 +341,33 @@ class InteractionModel:
             residuals.append(residual)
             folds.append(np.einsum("cf,cf->c", residual, residual) / features)
         return labels, np.asarray(folds), residuals
+
+    def _nested(self, cells: np.ndarray, sums: np.ndarray, counts: np.ndarray, m: int,
+                features: int, folds: np.ndarray, labels: list) -> np.ndarray:
+        """Each donor's error (Q,) with the configuration the other donors would choose.
+
+        The selection without donor ``k`` is a leave-one-donor-out over the others; its fold
+        ``j`` trains on every donor but ``j`` and ``k`` — the same training as the fold ``k``
+        of the selection without ``j`` — so each pair of donors is one batched prediction."""
+        donors = cells.shape[0]
+        counts = counts[:, None]
+        errors, inner_labels = {}, None
+        for k in range(donors):
+            for j in range(k + 1, donors):
+                rest = np.ones(donors, bool)
+                rest[[j, k]] = False
+                pool = sums - cells[j] - cells[k]
+                training = cells[rest] - (pool - cells[rest]) / (counts - 3)
+                pair = np.stack([cells[j], cells[k]]) - pool / (counts - 2)
+                inner_labels, predictions = self._candidates(training, pair[:, :m], donors - 3)
+                residual = predictions - pair[:, None, m]                        # (2, C, F)
+                error = np.einsum("ncf,ncf->nc", residual, residual) / features
+                errors[k, j], errors[j, k] = error          # (k out, j predicted), and back
+        nested = []
+        for k in range(donors):
+            table = np.stack([errors[k, j] for j in range(donors) if j != k])
+            nested.append(folds[k, labels.index(inner_labels[self._choose(table)])])
+        return np.asarray(nested)
 
     def _choose(self, folds: np.ndarray) -> int:
         """Index of the configuration kept: the lowest mean error, unless it is not
@@ -409,6 +429,37 @@ class InteractionModel:
             else x.mean(axis=0)             # the rank is not reached with every donor: additive
 
 
+def span_basis(cells: np.ndarray) -> np.ndarray:
+    """Orthonormal basis of the span of a few long vectors, from their Gram matrix.
+
+    Parameters
+    ----------
+    cells : ndarray, shape (n, F)
+
+    Returns
+    -------
+    ndarray, shape (F, r)
+        r ≤ n columns; directions whose singular value is below 1e-6 of the largest are
+        left out (they hold less than 1e-12 of the energy). Orthonormalised twice (the
+        second pass on an r × r Gram), so ``basisᵀ basis`` is the identity to ~1e-12.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> basis = span_basis(np.array([[3.0, 0.0, 4.0], [6.0, 0.0, 8.0]]))
+    >>> basis.shape, bool(np.allclose(np.abs(basis[:, 0]), [0.6, 0.0, 0.8]))
+    ((3, 1), True)
+    """
+    if cells.shape[0] == 0:
+        return np.eye(cells.shape[1])
+    # einsum, not BLAS: small products that threaded BLAS makes slower on a busy machine.
+    values, vectors = np.linalg.eigh(np.einsum("if,jf->ij", cells, cells))
+    keep = values > 1e-12 * max(float(values.max()), 1e-300)
+    basis = np.einsum("if,ik->fk", cells, vectors[:, keep] / np.sqrt(values[keep]))
+    values, vectors = np.linalg.eigh(np.einsum("fk,fl->kl", basis, basis))
+    return np.einsum("fk,kl->fl", basis, vectors / np.sqrt(values) @ vectors.T)
+
+
 def _people_candidates(centred: np.ndarray, x: np.ndarray, largest: int,
                        free_offset: bool = True) -> tuple[list, np.ndarray]:
     """People-mode (signature) predictions of a person's target offset for every rank and ridge.
@@ -422,7 +473,8 @@ def _people_candidates(centred: np.ndarray, x: np.ndarray, largest: int,
     ----------
     centred : ndarray, shape (Q, m + 1, F)
         Interaction of the training donors (offsets minus each donor's mean offset).
-    x : ndarray, shape (m, F)
+    x : ndarray, shape (n, m, F)
+        Offsets of n predicted people.
     largest : int
         Largest rank tried (capped at :data:`MAX_PEOPLE_RANK`).
     free_offset : bool
@@ -432,26 +484,26 @@ def _people_candidates(centred: np.ndarray, x: np.ndarray, largest: int,
     Returns
     -------
     labels : list of ("people", rank, alpha)
-    predictions : ndarray, shape (len(labels), F)
+    predictions : ndarray, shape (n, len(labels), F)
     """
-    m = x.shape[0]
+    n, m, features = x.shape
     tilde = centred - centred[:, :m].mean(axis=1, keepdims=True) if free_offset else centred
-    start = x.mean(axis=0) if free_offset else np.zeros(x.shape[1])
+    start = x.mean(axis=1) if free_offset else np.zeros((n, features))      # (n, F)
     values, vectors = np.linalg.eigh(np.einsum("qaf,raf->qr", centred, centred))
     values, vectors = values[::-1], vectors[:, ::-1]
     system = np.einsum("qaf,raf->qr", tilde[:, :m], tilde[:, :m])
-    side = np.einsum("qaf,af->q", tilde[:, :m], x)
-    labels, blocks = [], [np.zeros((0, x.shape[1]))]
+    side = np.einsum("qaf,naf->nq", tilde[:, :m], x)                          # (n, Q)
+    labels, blocks = [], [np.zeros((n, 0, features))]
     alphas = np.asarray(ALPHAS)
     for rank in range(1, min(largest, MAX_PEOPLE_RANK, len(values)) + 1):
         u = vectors[:, :rank]
         # Every ridge from one eigen-decomposition of the reduced system (pseudo-inverse at 0).
         eigenvalues, eigenvectors = np.linalg.eigh(u.T @ system @ u)
-        projected = eigenvectors.T @ (u.T @ side)
+        projected = (side @ u) @ eigenvectors                                  # (n, r)
         scale = eigenvalues[None] + alphas[:, None] * float(np.mean(values[:rank])) / m
         tiny = 1e-10 * max(float(eigenvalues.max(initial=0.0)), 1e-300)
         inverse = np.where(np.abs(scale) > tiny, 1.0 / np.where(scale == 0, 1.0, scale), 0.0)
-        signatures = (inverse * projected) @ eigenvectors.T                   # (alphas, r)
-        blocks.append(start + (signatures @ u.T) @ tilde[:, m])              # (alphas, F)
+        signatures = (inverse[None] * projected[:, None]) @ eigenvectors.T     # (n, alphas, r)
+        blocks.append(start[:, None] + (signatures @ u.T) @ tilde[:, m])      # (n, alphas, F)
         labels += [("people", rank, alpha) for alpha in ALPHAS]
-    return labels, np.concatenate(blocks)
+    return labels, np.concatenate(blocks, axis=1)
