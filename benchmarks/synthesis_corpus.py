@@ -7,7 +7,8 @@ commands with ``--body`` (every trial mapped onto the 15-segment body model, the
 route; with a BVH reader that cannot map the rig this fails — printed, not raised).
 CPU seconds are the ones to compare on a shared machine. Then the same two commands with
 every ``--method`` (interaction = the default, signature, transfer = the previous default),
-with each one's CPU time as a ratio of transfer's. Never asserts.
+with each one's CPU time as a ratio of transfer's, and the default's beside the issue-25
+reference figures (:data:`REFERENCE_CPU`; the target is at most twice them). Never asserts.
 
     PYTHONPATH=$PWD python benchmarks/synthesis_corpus.py [--manifest FILE.csv] [--no-body]
 """
@@ -20,6 +21,10 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+
+#: CPU seconds of ``decompose`` and ``evaluate --leave-one-out`` on bandai2 when issue 25 was
+#: filed (the action-transfer default of then, same machine class).
+REFERENCE_CPU = {"decompose": 3.0, "evaluate": 15.6}
 
 DEFAULT = Path(__file__).resolve().parents[1] / ".." / "shared" / "realdata" / "bandai2" / \
     "manifest.csv"
@@ -53,7 +58,9 @@ def main() -> None:
                              "--leave-one-out", "--json"]):
                 wall, cpu, status, last = run(command + extra)
                 note = "" if status == 0 else f"  exit {status}: {last}"
-                print(f"{label:<22} {command[0]:<10} wall {wall:7.2f} s  cpu {cpu:7.2f} s{note}")
+                reference = REFERENCE_CPU[command[0]]
+                print(f"{label:<22} {command[0]:<10} wall {wall:7.2f} s  cpu {cpu:7.2f} s  "
+                      f"({cpu / reference:.2f}x the reference {reference:.1f} s){note}")
         print()
         cpus: dict = {}
         for method in ("transfer", "interaction", "signature"):

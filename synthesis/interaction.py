@@ -173,6 +173,14 @@ class InteractionModel:
     ----------
     data_ : ndarray, shape (people, actions, features)
     observed_ : ndarray, shape (people, actions), bool
+    basis_ : ndarray, shape (features, r)
+        Orthonormal basis of the span of the captured cells (r ≤ their count): every
+        prediction is a linear combination of cells and every error a Euclidean norm, so the
+        interaction is decomposed in these coordinates (the feature mode reduced first, as
+        the N-mode SVD does) and its predictions mapped back, at a cost independent of the
+        feature count.
+    coords_ : ndarray, shape (people, actions, r)
+        The cells in that basis (NaN where missing).
     """
 
     mode: str = "actions"
@@ -180,6 +188,8 @@ class InteractionModel:
     max_rank: int | None = None
     data_: np.ndarray | None = field(default=None, repr=False)
     observed_: np.ndarray | None = field(default=None, repr=False)
+    basis_: np.ndarray | None = field(default=None, repr=False)
+    coords_: np.ndarray | None = field(default=None, repr=False)
     _cache: dict = field(default_factory=dict, repr=False)
 
     def fit(self, data: np.ndarray) -> "InteractionModel":
@@ -192,12 +202,14 @@ class InteractionModel:
             raise MocapError("interaction data must be people × actions × features")
         self.data_ = data
         self.observed_ = np.isfinite(data).all(axis=2)
+        self.basis_ = span_basis(data[self.observed_])
+        self.coords_ = data @ self.basis_
         self._cache = {}
         return self
 
     # ------------------------------------------------------------------ main effects
 
-    def _means(self, *excluded: int | None) -> np.ndarray:
+    def _means(self, *excluded: int | None, coords: bool = False) -> np.ndarray:
         """Action means over the people not in ``excluded`` who have each action (NaN for an
         action nobody else has), shape (actions, features)."""
         keep = self.observed_.copy()
@@ -205,7 +217,8 @@ class InteractionModel:
             if person is not None:
                 keep[person] = False
         counts = keep.sum(axis=0)
-        total = np.where(keep[..., None], self.data_, 0.0).sum(axis=0)
+        cells = self.coords_ if coords else self.data_
+        total = np.where(keep[..., None], cells, 0.0).sum(axis=0)
         return total / np.where(counts > 0, counts, np.nan)[:, None]
 
     def _observed_actions(self, person: int, target: int, means: np.ndarray) -> tuple:
@@ -233,8 +246,8 @@ class InteractionModel:
         keep = self.observed_[:, order].copy()
         if exclude is not None:
             keep[exclude] = False
-        sums = np.where(keep[..., None], self.data_[:, order], 0.0).sum(axis=0)
-        return self.data_[donors][:, order], sums, keep.sum(axis=0).astype(float)
+        sums = np.where(keep[..., None], self.coords_[:, order], 0.0).sum(axis=0)
+        return self.coords_[donors][:, order], sums, keep.sum(axis=0).astype(float)
 
     def _candidates(self, training: np.ndarray, x: np.ndarray, people_rank: int
                     ) -> tuple[list, np.ndarray]:
@@ -244,27 +257,30 @@ class InteractionModel:
         ----------
         training : ndarray, shape (Q, m + 1, F)
             Offsets of the training donors (observed actions, then the target).
-        x : ndarray, shape (m, F)
-            Offsets of the predicted person's observed actions.
+        x : ndarray, shape (m, F) or (n, m, F)
+            Offsets of the predicted person's observed actions (or of n people predicted
+            from the same training donors).
         people_rank : int
             Largest people rank tried.
 
         Returns
         -------
         labels : list of (mode, rank, alpha); the first is the additive model
-        predictions : ndarray, shape (len(labels), F)
+        predictions : ndarray, shape (len(labels), F) or (n, len(labels), F)
         """
-        m = x.shape[0]
+        single = x.ndim == 2
+        x = x[None] if single else x
+        n, m, features = x.shape
         labels = [("additive", 0, float("inf"))]
-        blocks = [x.mean(axis=0)[None]]
+        blocks = [x.mean(axis=1)[:, None]]
         if self.max_rank == 0:
-            return labels, blocks[0]
+            return labels, blocks[0][0] if single else blocks[0]
         centred = training - training.mean(axis=1, keepdims=True)             # E (Q, m+1, F)
         if self.mode in ("actions", "both"):
             _, vectors = np.linalg.eigh(np.einsum("qaf,qbf->ab", centred, centred))
             weights = action_weight_grid(vectors[:, ::-1][:, :m])              # (m, alphas, m)
             labels += [("actions", rank + 1, alpha) for rank in range(m) for alpha in ALPHAS]
-            blocks.append((weights @ x).reshape(-1, x.shape[1]))
+            blocks.append((weights.reshape(-1, m) @ x))                       # (n, R·A, F)
         if self.mode in ("people", "both"):
             # One observed action cannot tell an offset from a signature: there the people
             # mode decomposes the offsets themselves (Vasilescu's uncentred signature).
@@ -272,7 +288,8 @@ class InteractionModel:
                 centred if m >= 2 else training, x, people_rank, free_offset=m >= 2)
             labels += people_labels
             blocks.append(predictions)
-        return labels, np.concatenate(blocks)
+        predictions = np.concatenate(blocks, axis=1)
+        return labels, predictions[0] if single else predictions
 
     def interaction(self, target: int, observed: tuple, exclude: int | None = None
                     ) -> Interaction:
@@ -290,34 +307,28 @@ class InteractionModel:
                                  np.full(features, np.nan))
             self._cache[key] = result
             return result
-        labels, folds, residuals = self._folds(cells, sums, counts, len(observed))
+        labels, folds, residuals = self._folds(cells, sums, counts, len(observed), features)
         best = self._choose(folds)
         if NESTED and best and donors > MIN_DONORS:
             # The selection itself held out: each donor predicted with the configuration the
             # other donors would have chosen.
-            nested = []
-            for k in range(donors):
-                others = np.arange(donors) != k
-                inner_labels, inner, _ = self._folds(cells[others], sums - cells[k],
-                                                     counts - 1, len(observed))
-                chosen = inner_labels[self._choose(inner)]
-                nested.append(folds[k, labels.index(chosen)])
-            nested = np.asarray(nested)
+            nested = self._nested(cells, sums, counts, len(observed), features, folds, labels)
             if nested.mean() > (1.0 - self.margin) * folds[:, 0].mean():
                 best = 0
         errors = folds.mean(axis=0)
         mode, rank, alpha = labels[best]
-        variance = np.mean([residual[best] ** 2 for residual in residuals], axis=0)
+        variance = np.mean([(self.basis_ @ residual[best]) ** 2 for residual in residuals],
+                           axis=0)
         result = Interaction(mode, rank, alpha, float(np.sqrt(errors[best])),
                              float(np.sqrt(errors[0])), variance)
         self._cache[key] = result
         return result
 
-    def _folds(self, cells: np.ndarray, sums: np.ndarray, counts: np.ndarray, m: int
-               ) -> tuple[list, np.ndarray, list]:
-        """Leave-one-donor-out of every configuration: labels, squared errors (Q, C) and
-        residuals (Q of (C, F))."""
-        donors, features = cells.shape[0], cells.shape[2]
+    def _folds(self, cells: np.ndarray, sums: np.ndarray, counts: np.ndarray, m: int,
+               features: int) -> tuple[list, np.ndarray, list]:
+        """Leave-one-donor-out of every configuration: labels, mean squared errors over the
+        ``features`` (Q, C) and residuals (Q of (C, r), in :attr:`basis_` coordinates)."""
+        donors = cells.shape[0]
         counts = counts[:, None]
         labels, residuals, folds = None, [], []
         for k in range(donors):
@@ -330,6 +341,33 @@ class InteractionModel:
             residuals.append(residual)
             folds.append(np.einsum("cf,cf->c", residual, residual) / features)
         return labels, np.asarray(folds), residuals
+
+    def _nested(self, cells: np.ndarray, sums: np.ndarray, counts: np.ndarray, m: int,
+                features: int, folds: np.ndarray, labels: list) -> np.ndarray:
+        """Each donor's error (Q,) with the configuration the other donors would choose.
+
+        The selection without donor ``k`` is a leave-one-donor-out over the others; its fold
+        ``j`` trains on every donor but ``j`` and ``k`` — the same training as the fold ``k``
+        of the selection without ``j`` — so each pair of donors is one batched prediction."""
+        donors = cells.shape[0]
+        counts = counts[:, None]
+        errors, inner_labels = {}, None
+        for k in range(donors):
+            for j in range(k + 1, donors):
+                rest = np.ones(donors, bool)
+                rest[[j, k]] = False
+                pool = sums - cells[j] - cells[k]
+                training = cells[rest] - (pool - cells[rest]) / (counts - 3)
+                pair = np.stack([cells[j], cells[k]]) - pool / (counts - 2)
+                inner_labels, predictions = self._candidates(training, pair[:, :m], donors - 3)
+                residual = predictions - pair[:, None, m]                        # (2, C, F)
+                error = np.einsum("ncf,ncf->nc", residual, residual) / features
+                errors[k, j], errors[j, k] = error          # (k out, j predicted), and back
+        nested = []
+        for k in range(donors):
+            table = np.stack([errors[k, j] for j in range(donors) if j != k])
+            nested.append(folds[k, labels.index(inner_labels[self._choose(table)])])
+        return np.asarray(nested)
 
     def _choose(self, folds: np.ndarray) -> int:
         """Index of the configuration kept: the lowest mean error, unless it is not
@@ -367,9 +405,14 @@ class InteractionModel:
             return means[target], None
         if chosen is None:
             chosen = self.interaction(target, observed, person)
-        x = np.stack([self.data_[person, a] - means[a] for a in observed])      # (m, F)
-        correction = self._correction(chosen, target, observed, person, x)
-        return means[target] + correction, chosen
+        offset = np.mean([self.data_[person, a] - means[a] for a in observed], axis=0)
+        if chosen.rank == 0:
+            return means[target] + offset, chosen
+        reduced = self._means(person, coords=True)
+        x = np.stack([self.coords_[person, a] - reduced[a] for a in observed])   # (m, r)
+        # The additive part as it is, the interaction's correction mapped back.
+        correction = self._correction(chosen, target, observed, person, x) - x.mean(axis=0)
+        return means[target] + offset + self.basis_ @ correction, chosen
 
     def _correction(self, chosen: Interaction, target: int, observed: tuple, person: int,
                     x: np.ndarray) -> np.ndarray:
@@ -386,6 +429,37 @@ class InteractionModel:
             else x.mean(axis=0)             # the rank is not reached with every donor: additive
 
 
+def span_basis(cells: np.ndarray) -> np.ndarray:
+    """Orthonormal basis of the span of a few long vectors, from their Gram matrix.
+
+    Parameters
+    ----------
+    cells : ndarray, shape (n, F)
+
+    Returns
+    -------
+    ndarray, shape (F, r)
+        r ≤ n columns; directions whose singular value is below 1e-6 of the largest are
+        left out (they hold less than 1e-12 of the energy). Orthonormalised twice (the
+        second pass on an r × r Gram), so ``basisᵀ basis`` is the identity to ~1e-12.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> basis = span_basis(np.array([[3.0, 0.0, 4.0], [6.0, 0.0, 8.0]]))
+    >>> basis.shape, bool(np.allclose(np.abs(basis[:, 0]), [0.6, 0.0, 0.8]))
+    ((3, 1), True)
+    """
+    if cells.shape[0] == 0:
+        return np.eye(cells.shape[1])
+    # einsum, not BLAS: small products that threaded BLAS makes slower on a busy machine.
+    values, vectors = np.linalg.eigh(np.einsum("if,jf->ij", cells, cells))
+    keep = values > 1e-12 * max(float(values.max()), 1e-300)
+    basis = np.einsum("if,ik->fk", cells, vectors[:, keep] / np.sqrt(values[keep]))
+    values, vectors = np.linalg.eigh(np.einsum("fk,fl->kl", basis, basis))
+    return np.einsum("fk,kl->fl", basis, vectors / np.sqrt(values) @ vectors.T)
+
+
 def _people_candidates(centred: np.ndarray, x: np.ndarray, largest: int,
                        free_offset: bool = True) -> tuple[list, np.ndarray]:
     """People-mode (signature) predictions of a person's target offset for every rank and ridge.
@@ -399,7 +473,8 @@ def _people_candidates(centred: np.ndarray, x: np.ndarray, largest: int,
     ----------
     centred : ndarray, shape (Q, m + 1, F)
         Interaction of the training donors (offsets minus each donor's mean offset).
-    x : ndarray, shape (m, F)
+    x : ndarray, shape (n, m, F)
+        Offsets of n predicted people.
     largest : int
         Largest rank tried (capped at :data:`MAX_PEOPLE_RANK`).
     free_offset : bool
@@ -409,26 +484,26 @@ def _people_candidates(centred: np.ndarray, x: np.ndarray, largest: int,
     Returns
     -------
     labels : list of ("people", rank, alpha)
-    predictions : ndarray, shape (len(labels), F)
+    predictions : ndarray, shape (n, len(labels), F)
     """
-    m = x.shape[0]
+    n, m, features = x.shape
     tilde = centred - centred[:, :m].mean(axis=1, keepdims=True) if free_offset else centred
-    start = x.mean(axis=0) if free_offset else np.zeros(x.shape[1])
+    start = x.mean(axis=1) if free_offset else np.zeros((n, features))      # (n, F)
     values, vectors = np.linalg.eigh(np.einsum("qaf,raf->qr", centred, centred))
     values, vectors = values[::-1], vectors[:, ::-1]
     system = np.einsum("qaf,raf->qr", tilde[:, :m], tilde[:, :m])
-    side = np.einsum("qaf,af->q", tilde[:, :m], x)
-    labels, blocks = [], [np.zeros((0, x.shape[1]))]
+    side = np.einsum("qaf,naf->nq", tilde[:, :m], x)                          # (n, Q)
+    labels, blocks = [], [np.zeros((n, 0, features))]
     alphas = np.asarray(ALPHAS)
     for rank in range(1, min(largest, MAX_PEOPLE_RANK, len(values)) + 1):
         u = vectors[:, :rank]
         # Every ridge from one eigen-decomposition of the reduced system (pseudo-inverse at 0).
         eigenvalues, eigenvectors = np.linalg.eigh(u.T @ system @ u)
-        projected = eigenvectors.T @ (u.T @ side)
+        projected = (side @ u) @ eigenvectors                                  # (n, r)
         scale = eigenvalues[None] + alphas[:, None] * float(np.mean(values[:rank])) / m
         tiny = 1e-10 * max(float(eigenvalues.max(initial=0.0)), 1e-300)
         inverse = np.where(np.abs(scale) > tiny, 1.0 / np.where(scale == 0, 1.0, scale), 0.0)
-        signatures = (inverse * projected) @ eigenvectors.T                   # (alphas, r)
-        blocks.append(start + (signatures @ u.T) @ tilde[:, m])              # (alphas, F)
+        signatures = (inverse[None] * projected[:, None]) @ eigenvectors.T     # (n, alphas, r)
+        blocks.append(start[:, None] + (signatures @ u.T) @ tilde[:, m])      # (n, alphas, F)
         labels += [("people", rank, alpha) for alpha in ALPHAS]
-    return labels, np.concatenate(blocks)
+    return labels, np.concatenate(blocks, axis=1)

@@ -51,6 +51,31 @@ def test_the_batched_action_grid_is_every_single_fit():
                                    atol=1e-12)
 
 
+def test_the_paired_nested_selection_is_the_selection_without_each_donor():
+    """The nested check shares one batched prediction per pair of donors; it must equal, for
+    each donor k, the plain leave-one-donor-out selection run on the other donors (means
+    without k), and the predictions in the cells' basis must equal those in feature space."""
+    data, rng = main_effects(people=8, features=40)
+    data = data + np.einsum("p,a,f->paf", rng.normal(size=8), rng.normal(size=5),
+                            rng.normal(0, 3, 40)) + rng.normal(0, 1, data.shape)
+    model = InteractionModel("both").fit(data)
+    target, observed = 4, (0, 1, 2, 3)
+    cells, sums, counts = model._donors(target, observed, None)
+    labels, folds, _ = model._folds(cells, sums, counts, 4, 40)
+    nested = model._nested(cells, sums, counts, 4, 40, folds, labels)
+    for k in range(cells.shape[0]):
+        others = np.arange(cells.shape[0]) != k
+        inner_labels, inner, _ = model._folds(cells[others], sums - cells[k], counts - 1, 4, 40)
+        assert nested[k] == pytest.approx(
+            folds[k, labels.index(inner_labels[model._choose(inner)])], rel=1e-12)
+    # The same folds computed on the cells themselves (no basis) give the same errors.
+    plain = InteractionModel("both").fit(data)
+    plain.basis_, plain.coords_ = np.eye(40), data
+    cells, sums, counts = plain._donors(target, observed, None)
+    assert np.allclose(plain._folds(cells, sums, counts, 4, 40)[1], folds, rtol=1e-10)
+    assert model.basis_.shape[1] <= 8 * 5
+
+
 def test_noise_without_interaction_keeps_the_additive_model():
     """Main effects plus white noise: nothing for the interaction to learn, and the donors'
     leave-one-out says so for (almost) every cell."""
