@@ -30,7 +30,8 @@ def register(subparsers: Subparsers) -> None:
         "angles", help=summary("angles"),
         description="Write joint angles as CSV. With -m plugingait-lower: Plug-in Gait's "
                     "clinical joint angles (columns <side>_<joint>.flexion|adduction|rotation "
-                    "for pelvis, hip, knee and ankle, Vicon's axes and signs; --static "
+                    "for pelvis, hip, knee, ankle and foot progression, Vicon's axes "
+                    "and signs; --static "
                     "calibrates them). Otherwise (or with --no-clinical): segment angles "
                     "from three markers per segment, child relative to parent, the root "
                     "relative to the lab, as <segment>.<axis> on the principal Euler branch. "
