@@ -51,7 +51,7 @@ def framing(motion) -> tuple[float, float, float, int]:
     end_index, ends = motion.end_site_positions(world)
     chosen = _frames(motion)
     points = np.concatenate([world[1], ends], axis=1)[chosen]
-    bones, marked = drawn_bones(motion.skeleton.parents, end_index)
+    bones, marked = drawn_bones(motion.skeleton)
     centres = points[:, marked[0]].copy()
     centres[:, 1] = 0.0
     screens = figure_screens(points, bones, centres)
@@ -71,7 +71,7 @@ def reference_matplotlib(motion, path: Path) -> None:
     world = motion.forward_kinematics()
     end_index, ends = motion.end_site_positions(world)
     points = np.concatenate([world[1], ends], axis=1)[..., [0, 2, 1]]
-    bones, _ = drawn_bones(motion.skeleton.parents, end_index)
+    bones, _ = drawn_bones(motion.skeleton)
     chosen = _frames(motion)
     figure = Figure(figsize=(5, 5), dpi=80)
     axes = figure.add_subplot(projection="3d")

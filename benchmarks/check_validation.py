@@ -52,7 +52,7 @@ def toe_bound(paths: list[Path]) -> None:
     active, exhausted, masculine, youthful) vs report half (elderly, feminine, normal):
     the highest still toe joint in leg lengths and the takes whose feet stand above the
     bound (they would float), with the bound and with the 0.07 it replaced."""
-    from dynamics.humanoid.contact import SOLE_BELOW_LOWEST, still_foot_height
+    from dynamics.humanoid.soles import SOLE_BELOW_LOWEST, still_foot_height
     from mocap.body.anthropometry import leg_length
 
     design = {"active", "exhausted", "masculine", "youthful"}

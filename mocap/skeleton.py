@@ -74,6 +74,20 @@ class Skeleton:
         """Number of segments."""
         return len(self.names)
 
+    def transform_root(self) -> bool:
+        """Whether the root (segment 0) is a transform node rather than a body part: it has
+        one child and no end site (a BVH's ``joint_Root`` above ``Hips``, which stays at the
+        floor origin in bandai2's captures and travels 4.3 m from the hips in clips
+        synthesised on that rig). The line from it to its child is no bone.
+
+        >>> Skeleton(["root", "hips", "leg"], [-1, 0, 1], np.zeros((3, 3))).transform_root()
+        True
+        >>> Skeleton(["hips", "l", "r"], [-1, 0, 0], np.zeros((3, 3))).transform_root()
+        False
+        """
+        return self.count > 1 and self.parents.count(0) == 1 and \
+            not np.isfinite(self.end_sites[0]).all()
+
     def index(self, name: str) -> int:
         """Index of segment ``name`` (KeyError if absent)."""
         try:

@@ -48,8 +48,7 @@ from mocap.skeleton import Motion
 from mocap.trial import runs as runs_of_true
 
 from dynamics.humanoid.contact import (ballistic_runs, calibrate_contacts, estimate_floor,
-                                       flight_accelerations,
-                                       foot_skate, points_in_world, rig_soles,
+                                       flight_accelerations, foot_skate, points_in_world,
                                        rollover_centres)
 from dynamics.humanoid.contact_forces import (contact_columns, preference_weights,
                                               solve_contact_forces)
@@ -60,6 +59,7 @@ from dynamics.humanoid.limits import (COVERAGE, LUMPED_SPREAD, MASS_SPREAD, expe
                                       noise_gain)
 from mocap.body.anthropometry import leg_length
 from dynamics.humanoid.model import GRAVITY, Humanoid, build_humanoid
+from dynamics.humanoid.soles import rig_soles
 
 #: Low-pass (Hz) of the motion before the inverse dynamics when none is given: Winter's
 #: customary cutoff for walking kinematics, the one the real Plug-in Gait walks and their
@@ -370,7 +370,8 @@ def check_motion(motion: Motion, body_mass: float = 75.0, sex: str = "male",
     # Skating on the smoothed motion: marker noise, differentiated, would read as sliding.
     skate_mm, skating_ratio = foot_skate(contact_world - np.stack(
         [np.zeros_like(calibration.floors), calibration.floors,
-         np.zeros_like(calibration.floors)], axis=2), contact_height, contact_speed, rate)
+         np.zeros_like(calibration.floors)], axis=2), contact_height, contact_speed, rate,
+        segments, FLOOR_TOLERANCE)
     below = np.clip(-lowest - FLOOR_TOLERANCE, 0.0, None)
     penetration_mm = 1000.0 * float(below.max()) if frames else 0.0
     # Off the floor: the toe tip counts here — a body on its toes stands on the floor.

@@ -90,7 +90,7 @@ class Humanoid:
         ----------
         points : ndarray, shape (points, 3), metres
             New contact points in their segment's frame, in ``contact_points`` order (a
-            rig's soles, :func:`dynamics.humanoid.contact.rig_soles`).
+            rig's soles, :func:`dynamics.humanoid.soles.rig_soles`).
 
         Returns
         -------

@@ -170,16 +170,33 @@ def plate_stances(report, plates: MeasuredPlates) -> tuple[list[Stance], np.ndar
     return stances, owner
 
 
-def carried_frames(report, stances: list[Stance]) -> np.ndarray:
+def carried_frames(report, stances: list[Stance], lag: bool = True) -> np.ndarray:
     """Frames (bool) where the plates carry the whole body: some foot is on a clean
-    stance's plate and every foot the check puts in contact is."""
+    stance's plate and every foot the check puts in contact is, nor does any foot touch
+    off the plates within :func:`contact_lag` of the frame (the check finds a contact
+    from the low-passed motion, which lags a heel strike or a toe-off off the plates by
+    about that: the floor then carries some of the weight the plates do not see);
+    ``lag=False`` leaves that guard out."""
     segments = np.asarray(report.contact_segments)
     feet = sorted(set(segments.tolist()))
     clean = np.zeros((len(feet), report.frames), bool)
     for stance in stances:
         clean[feet.index(stance.foot), stance.start:stance.stop] = True
     touching = np.stack([report.contact_active[:, segments == f].any(axis=1) for f in feet])
-    return (touching <= clean).all(axis=0) & clean.any(axis=0)
+    guard = contact_lag(report.rate, report.lowpass_hz) if lag else 0
+    off = (touching & ~clean).any(axis=0).astype(float)
+    near = np.convolve(off, np.ones(2 * guard + 1), mode="same") > 0 if guard else off > 0
+    return (touching <= clean).all(axis=0) & clean.any(axis=0) & ~near
+
+
+def contact_lag(rate: float, lowpass: float | None) -> int:
+    """Frames by which the check's contacts may lag the floor's: a quarter period of the
+    motion's low-pass (42 ms at 6 Hz, 4 frames at 100 Hz), the time its zero-lag filter
+    spreads a foot's landing or lift-off over; 0 without one. Chosen on the design half of
+    the visible walks (alternate subjects; 0-15 frames tried at 100 Hz: 4 gave the best
+    median r of ground_reaction against the raw plates there, 0.964, and 0.968 on the
+    report half, against 0.942 and 0.921 without it)."""
+    return int(round(rate / (4.0 * lowpass))) if lowpass else 0
 
 
 def _figures(estimated: np.ndarray, measured: np.ndarray, weight: float) -> dict:

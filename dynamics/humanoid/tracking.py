@@ -28,7 +28,7 @@ from mocap.body.retarget import reduce_to_segments
 from mocap.progress import progress
 from mocap.skeleton import Motion
 
-from dynamics.humanoid.contact import rig_soles
+from dynamics.humanoid.soles import rig_soles
 from dynamics.humanoid.kinematics import motion_kinematics
 from dynamics.humanoid.model import Humanoid, build_humanoid
 
@@ -70,7 +70,7 @@ def simulate_tracking(motion: Motion, body_mass: float = 75.0, sex: str = "male"
     motion : Motion
         Any skeleton our body model can map; floor y = 0, Y up. A rig whose feet end at
         joints (BVH, ASF) stands on the soles the check lays out below them
-        (:func:`dynamics.humanoid.contact.rig_soles`), not on the joints.
+        (:func:`dynamics.humanoid.soles.rig_soles`), not on the joints.
     body_mass : float, kg
     sex : {"male", "female"}
     dt : float, s

@@ -69,7 +69,7 @@ def animate_motion(motion, path: str | os.PathLike, secondary=None, fps: float |
     joints = world[1]
     end_index, ends = motion.end_site_positions(world)
     points = np.concatenate([joints, ends], axis=1)                    # (F, J+E, 3)
-    bones, marked = drawn_bones(motion.skeleton.parents, end_index)
+    bones, marked = drawn_bones(motion.skeleton)
     if fps:                     # the user's playback rate: frames evenly spaced
         chosen = np.unique(np.linspace(0, motion.frames - 1,
                                        min(max_frames, motion.frames)).astype(int))

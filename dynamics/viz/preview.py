@@ -3,9 +3,9 @@
 What is drawn:
 
 - **Only bones**: a line from each joint to its parent and to its end sites, except from a
-  placeholder root, a root joint with a single child and no end site of its own: a
-  transform node, not a body part (a BVH's ``joint_Root``, which stays at the floor origin
-  in bandai2's captures and travels 4.3 m from the hips in clips synthesised on that rig),
+  root that is a transform node, not a body part
+  (:meth:`mocap.skeleton.Skeleton.transform_root`: a BVH's ``joint_Root``, at the floor
+  origin in bandai2's captures and 4.3 m from the hips in clips synthesised on that rig),
   whose "bone" would be a line of metres from the hips.
 - **Framed**: the camera (orthographic, 15° above the floor, 60° round from the motion's
   x axis, as the earlier 3-D plots looked) follows the body across the floor, and the scale
@@ -44,15 +44,14 @@ COLOURS = {"background": (255, 255, 255), "floor": (175, 175, 175), "bone": (31,
 _INDEX = {name: k for k, name in enumerate(COLOURS)}
 
 
-def drawn_bones(parents: list[int], end_index: list[int]) -> tuple[np.ndarray, np.ndarray]:
+def drawn_bones(skeleton) -> tuple[np.ndarray, np.ndarray]:
     """The bones a preview draws and the joints it marks.
 
     Parameters
     ----------
-    parents : list of int
-        Parent of each joint (-1 for a root).
-    end_index : list of int
-        Joint of each end site (its points follow the joints' in the drawn points).
+    skeleton : mocap.skeleton.Skeleton
+        Its end sites' points follow the joints' in the drawn points, in joint order
+        (as :meth:`mocap.skeleton.Motion.end_site_positions` gives them).
 
     Returns
     -------
@@ -63,13 +62,15 @@ def drawn_bones(parents: list[int], end_index: list[int]) -> tuple[np.ndarray, n
 
     Examples
     --------
-    >>> bones, joints = drawn_bones([-1, 0, 1], [])      # a transform root above a chain
+    >>> from mocap.skeleton import Skeleton
+    >>> chain = Skeleton(["root", "hips", "leg"], [-1, 0, 1], np.zeros((3, 3)))
+    >>> bones, joints = drawn_bones(chain)             # a transform root above a chain
     >>> bones.tolist(), joints.tolist()
     ([[2, 1]], [1, 2])
     """
-    count = len(parents)
-    placeholders = {root for root in (j for j, p in enumerate(parents) if p < 0)
-                    if sum(p == root for p in parents) == 1 and root not in end_index}
+    parents, count = skeleton.parents, skeleton.count
+    end_index = [j for j in range(count) if np.isfinite(skeleton.end_sites[j]).all()]
+    placeholders = {0} if skeleton.transform_root() else set()
     bones = [(j, p) for j, p in enumerate(parents) if p >= 0 and p not in placeholders]
     bones += [(count + k, j) for k, j in enumerate(end_index)]
     joints = np.array([j for j in range(count) if j not in placeholders], dtype=int)

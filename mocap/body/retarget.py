@@ -351,6 +351,6 @@ def reduce_to_segments(motion: Motion, partial: bool = False,
     _default_end_sites(reduced.skeleton)
     reduced.metadata["segment_map"] = {s: sk.names[found[s]] for s in names}
     # Feet whose toe is a joint of the rig (a toe joint or the toe's end site): points on
-    # the foot's bones, with the sole below them (``dynamics.humanoid.contact.joint_soles``).
+    # the foot's bones, with the sole below them (``dynamics.humanoid.soles.joint_soles``).
     reduced.metadata["feet_at_joints"] = joint_feet
     return reduced

@@ -69,7 +69,9 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument("--static", metavar="STATIC.c3d",
                         help="static (standing) trial of the same subject: calibrates "
                              "Plug-in Gait's foot offsets and missing subject measurements "
-                             "(clinical angles only); a knee alignment device in it (LKAX, "
+                             "(clinical angles only; without it, the walk's PROCESSING group, "
+                             "else estimates from the markers, one warning line each); a "
+                             "knee alignment device in it (LKAX, "
                              "LKD1, LKD2 / RKAX, RKD1, RKD2 with data) is used automatically "
                              "for the knee axis and the thigh and shank rotation offsets")
     parser.add_argument("--upper-body", action="store_true",
@@ -140,7 +142,6 @@ def run_angles(args: argparse.Namespace) -> int:
                              "angles: it needs --markerset and does not go with "
                              "--no-clinical or --from-rotations")
         args.clinical = True
-    args.clinical_auto = args.clinical is None
     if args.clinical is None:
         args.clinical = markerset is not None and markerset.name == "plugingait-lower"
     if args.clinical and markerset is None:
@@ -231,26 +232,16 @@ def _angles_one(source: Path, target: Path, plot: Path | None, markerset,
         if plot is not None:
             plot_angles(angles, plot, title=f"{source.name} (segment poses, {args.sequence})")
         return
-    from mocap.plugingait.clinical import estimate_missing
     from mocap.markersets.model import MissingMarkerWarning
-    from mocap.plugingait.model import (MARKERS, AnatomicalOffsetWarning, MissingMeasurementError,
-                                  markers_from_trial, subject_from_trial)
+    from mocap.plugingait.estimates import EstimatedMeasurementWarning
+    from mocap.plugingait.model import AnatomicalOffsetWarning
 
     trial = _read_marker_trial(source)
     clinical = args.clinical
-    if clinical and args.clinical_auto and args.static_trial is None:
-        try:
-            estimate_missing(subject_from_trial(trial), markers_from_trial(trial, MARKERS)[0],
-                             trial.path)
-        except MissingMeasurementError as error:
-            print(f"mocap angles: warning: {error}; writing segment angles instead "
-                  f"(--clinical makes this an error)", file=sys.stderr)
-            clinical = False
-        except MocapError:
-            pass                       # the clinical run below reports it
     from mocap.plugingait.upper import UpperBodyWarning
 
-    ours = (GimbalLockWarning, AnatomicalOffsetWarning, MissingMarkerWarning, UpperBodyWarning)
+    ours = (GimbalLockWarning, AnatomicalOffsetWarning, MissingMarkerWarning, UpperBodyWarning,
+            EstimatedMeasurementWarning)
     with warnings.catch_warnings(record=True) as caught:
         for category in ours:
             warnings.simplefilter("always", category)

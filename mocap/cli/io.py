@@ -235,8 +235,9 @@ def run_convert(args: argparse.Namespace) -> int:
         print(f"note: not kept in {target.name}: the rate ({trial.rate:g} Hz; a CSV's time "
               "column of one frame holds no time step)", file=sys.stderr)
     if dropped and target_format.name != "c3d":
-        print(f"note: {' and '.join(dropped)} not written; {target.suffix} holds markers",
-              file=sys.stderr)
+        listed = ", ".join(dropped[:-1]) + " and " + dropped[-1] if len(dropped) > 1 \
+            else dropped[0]
+        print(f"note: {listed} not written; {target.suffix} holds markers", file=sys.stderr)
     elif dropped or notes:
         print(f"note: not kept in {target.name}: {'; '.join(dropped + list(notes))}",
               file=sys.stderr)

@@ -17,10 +17,11 @@ import numpy as np
 
 from mocap.errors import MocapError, MocapWarning
 from mocap.markersets.model import MissingMarkerWarning, _LabelIndex
+from mocap.plugingait.estimates import estimate_missing
 from mocap.plugingait.model import (CLINICAL_SEGMENTS, JOINTS, MARKERS, PLANES, SIDES,
-                                    AnatomicalOffsetWarning, MissingMeasurementError, Subject,
-                                    clinical_angles, foot_progression_angles, kinematics,
-                                    markers_from_trial, progression_frame, subject_from_trial)
+                                    AnatomicalOffsetWarning, Subject, clinical_angles,
+                                    foot_progression_angles, kinematics, markers_from_trial,
+                                    progression_frame, subject_from_trial)
 from mocap.trial import Trial
 
 if TYPE_CHECKING:
@@ -40,59 +41,6 @@ def _merge(primary: Subject, secondary: Subject) -> Subject:
     if out.inter_asis is None:
         out.inter_asis = secondary.inter_asis
     return out
-
-
-def estimate_missing(subject: Subject, markers: dict, path: str | None = None,
-                     keep: dict | None = None) -> Subject:
-    """Fill the inter-ASIS distance and leg lengths from a walk, when unknown.
-
-    Only frames where the markers involved are all present count, so a gap
-    (or a gap fill) in some frames cannot change the estimate much; the median
-    ASIS distance and the 95th percentile ASIS–lateral malleolus distance plus
-    the marker radius (the leg extended) stand in for the measurements.
-    ``keep`` maps marker names to bool (frames,) of frames no gap fill wrote
-    (:func:`mocap.clean.gapfill.recorded_frames`): only those count.
-    Raises MocapError when knee or ankle widths are unknown.
-    """
-    sub = replace(subject, leg_length=dict(subject.leg_length))
-    keep = keep or {}
-
-    def distance(a: str, b: str) -> np.ndarray:
-        absent = [name for name in (a, b) if name not in markers]
-        if absent:
-            raise MocapError(f"no {' or '.join(absent)} marker to estimate the subject's "
-                             "measurements from", path)
-        d = np.linalg.norm(markers[a] - markers[b], axis=1)
-        for name in (a, b):
-            if name in keep:
-                d = np.where(keep[name], d, np.nan)
-        return d
-
-    if sub.inter_asis is None:
-        sub.inter_asis = float(np.nanmedian(distance("LASI", "RASI")))
-    for side in SIDES:
-        S = side.upper()
-        if sub.leg_length[side] is None and f"{S}ANK" in markers:
-            d = distance(f"{S}ASI", f"{S}ANK")
-            d = d[np.isfinite(d)]
-            if d.size:
-                sub.leg_length[side] = float(np.percentile(d, 95)) + sub.radius
-    known = [sub.leg_length[s] for s in SIDES if sub.leg_length[s] is not None]
-    if not known:
-        raise MocapError("Plug-in Gait needs the leg length (the file's PROCESSING group "
-                         "has none and no ankle marker gives an estimate)", path)
-    for side in SIDES:
-        if sub.leg_length[side] is None:
-            sub.leg_length[side] = known[0]
-    missing = [f"{S} {what}" for S, side in (("L", "l"), ("R", "r"))
-               for what, key in (("knee width", "knee_width"), ("ankle width", "ankle_width"))
-               if getattr(sub, key)[side] is None]
-    if missing:
-        raise MissingMeasurementError(f"Plug-in Gait needs subject measurements the file lacks: "
-                         f"{', '.join(missing)} (a C3D PROCESSING group, or a static with "
-                         f"medial knee/malleolus markers; segment angles need none of "
-                         f"them)", path)
-    return sub
 
 
 def prepare_subject(trial: Trial, subject: Subject | None = None, *,
@@ -119,10 +67,18 @@ def prepare_subject(trial: Trial, subject: Subject | None = None, *,
         subject = subject_from_trial(trial)
         if static is not None:
             subject = _merge(subject, subject_from_trial(static))
+    keep = None
+    if trial.filled:
+        from mocap.clean.gapfill import recorded_frames
+
+        index = _LabelIndex(trial.labels)
+        keep = {name: recorded_frames(trial, [trial.labels[index.find(name)]])
+                for name in markers if index.find(name) is not None}
     if static is not None:
         from mocap.plugingait.calibration import calibrate, resolve_flat_foot
 
         _warn_if_moving(static)
+        subject = _estimate_unmeasurable_widths(subject, static, markers, path, keep, warn)
 
         flat = resolve_flat_foot(static, subject, flat_foot, walk=trial)
         subject = calibrate(static, subject, flat_foot=flat)
@@ -131,14 +87,28 @@ def prepare_subject(trial: Trial, subject: Subject | None = None, *,
                       f"uncorrected (foot plantar-flexion and rotation offsets taken as 0; "
                       f"give --static for Plug-in Gait's calibration)",
                       AnatomicalOffsetWarning, stacklevel=3)
-    keep = None
-    if trial.filled:
-        from mocap.clean.gapfill import recorded_frames
+    return estimate_missing(subject, markers, path, keep, warn=warn)
 
-        index = _LabelIndex(trial.labels)
-        keep = {name: recorded_frames(trial, [trial.labels[index.find(name)]])
-                for name in markers if index.find(name) is not None}
-    return estimate_missing(subject, markers, path, keep)
+
+def _estimate_unmeasurable_widths(subject: Subject, static: Trial, markers: dict,
+                                  path: str | None, keep: dict | None, warn: bool) -> Subject:
+    """The knee and ankle widths neither given nor measurable by the static's medial
+    markers, estimated from the walk (:func:`estimate_missing`); the rest as given."""
+    from mocap.plugingait.calibration import (MEDIAL_ANKLE, MEDIAL_KNEE, _first_present,
+                                              static_markers)
+
+    unknown = [(key, side) for key in ("knee_width", "ankle_width") for side in SIDES
+               if getattr(subject, key)[side] is None]
+    if not unknown:
+        return subject
+    standing = static_markers(static)
+    medial = {"knee_width": MEDIAL_KNEE, "ankle_width": MEDIAL_ANKLE}
+    blind = [(key, side) for key, side in unknown
+             if _first_present(standing, medial[key], side) is None]
+    if not blind:
+        return subject
+    return estimate_missing(subject, markers, path, keep, warn=warn, lengths=False,
+                            widths=blind)
 
 
 #: Horizontal travel of the ASIS midpoint beyond which a "static" trial is not one,

@@ -65,7 +65,10 @@ SIDES = ("l", "r")
 
 
 class MissingMeasurementError(MocapError):
-    """Subject measurements Plug-in Gait needs (knee, ankle widths) are unknown."""
+    """Subject measurements Plug-in Gait needs (knee, ankle widths) are unknown.
+
+    No longer raised by the model: missing widths are estimated from the walk
+    (:mod:`mocap.plugingait.estimates`); kept for callers that catch it."""
 
 
 class AnatomicalOffsetWarning(UserWarning):

@@ -261,7 +261,8 @@ def marker_layer(trial: Trial, markerset: MarkerSet | str | None = "auto",
 
 
 def skeleton_layer(motion: Motion, name: str | None = None) -> Layer:
-    """A motion's joints (segment origins, then end sites) and its hierarchy as bones.
+    """A motion's joints (segment origins, then end sites) and its hierarchy as bones
+    (none from a root that is a transform node: :meth:`mocap.skeleton.Skeleton.transform_root`).
 
     Parameters
     ----------
@@ -273,7 +274,9 @@ def skeleton_layer(motion: Motion, name: str | None = None) -> Layer:
     world = motion.forward_kinematics()
     ends, end_points = motion.end_site_positions(world)
     points = np.concatenate([world[1], end_points], axis=1)
-    bones = [(p, i) for i, p in enumerate(skeleton.parents) if p >= 0]
+    # no line from a root that is a transform node (a BVH's joint_Root, metres away)
+    skip = 0 if skeleton.transform_root() else -1
+    bones = [(p, i) for i, p in enumerate(skeleton.parents) if p >= 0 and p != skip]
     bones += [(segment, skeleton.count + k) for k, segment in enumerate(ends)]
     labels = list(skeleton.names) + [f"{skeleton.names[s]} (end)" for s in ends]
     return Layer(name or _file_name(motion.metadata.get("source"), "motion"), "skeleton",

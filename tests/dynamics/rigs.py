@@ -131,10 +131,12 @@ def walking_on_the_spot(body, centre_of_mass, lift_deg: float = 40.0):
     the left foot (its legs lean, both feet planted and flat, the pelvis drops so they
     stay on the floor) until its centre of mass stands over the left ankle, lifts the
     right foot straight up (thigh flexed by ``lift_deg``, the shank back so that the
-    ankle keeps its place fore and aft, the foot level) and puts it down, shifts over the right foot, lifts the left, and comes back.
+    ankle keeps its place fore and aft, the foot level) and puts it down, shifts over the
+    right foot, lifts the left, and comes back. Built in the body's own axes (left, up,
+    forward), whichever way it faces.
 
     ``centre_of_mass(motion)`` gives the body's centre of mass per frame (frames, 3): the
-    lean is chosen so that it stands over the stance ankle (bisection), so that one foot
+    lean is chosen so that it stands over the stance ankle (interpolated), so that one foot
     carries the whole body with no residual. Returns the Motion.
     """
     from mocap.skeleton import Motion
@@ -143,9 +145,16 @@ def walking_on_the_spot(body, centre_of_mass, lift_deg: float = 40.0):
     rate, frames = body.rate, int(round(8.0 * body.rate))
     t = np.arange(frames) / rate
     world_r, world_p = body.forward_kinematics()
-    world_r, world_p = world_r[0], world_p[0]
     legs = {side: [sk.index(f"{side}_{s}") for s in ("thigh", "shank", "foot")]
             for side in ("l", "r")}
+    # The body's own axes, whichever way it faces: X to its left (hip to hip, level), Y up,
+    # Z = X × Y; the construction below works in them (``frame`` turns them to the world).
+    left_axis = world_p[0, legs["l"][0]] - world_p[0, legs["r"][0]]
+    left_axis[1] = 0.0
+    left_axis /= np.linalg.norm(left_axis)
+    frame = np.stack([left_axis, [0.0, 1.0, 0.0], np.cross(left_axis, [0.0, 1.0, 0.0])],
+                     axis=1)
+    world_r, world_p = frame.T @ world_r[0], world_p[0] @ frame
     hips = {side: world_p[legs[side][0]] for side in legs}
     knees = {side: world_p[legs[side][1]] for side in legs}
     ankle = {side: world_p[legs[side][2]] for side in legs}
@@ -169,7 +178,7 @@ def walking_on_the_spot(body, centre_of_mass, lift_deg: float = 40.0):
         world = np.repeat(world_r[None], lean.size, axis=0)
         for side, (thigh, shank, foot) in legs.items():
             # The thigh flexed forward, the shank back so that the ankle rises straight up
-            # (its fore-aft place kept): b_y sin φ + b_z cos φ = k about world X.
+            # (its fore-aft place kept): b_y sin φ + b_z cos φ = k about the left axis.
             a = tilt @ (knees[side] - hips[side])
             b = tilt @ (ankle[side] - knees[side])
             k = a[:, 2] + b[:, 2] - np.sin(flex[side]) * a[:, 1] \
@@ -181,16 +190,17 @@ def walking_on_the_spot(body, centre_of_mass, lift_deg: float = 40.0):
             world[:, thigh] = _turn(0, flex[side]) @ tilt @ world_r[thigh]
             world[:, shank] = _turn(0, back) @ tilt @ world_r[shank]
         local = world.copy()
+        local[:, 0] = frame @ world[:, 0]
         for j in range(1, sk.count):
             local[:, j] = np.swapaxes(world[:, sk.parents[j]], 1, 2) @ world[:, j]
-        return Motion(sk, body.root_translation[:1] + lift + move, local, rate,
+        return Motion(sk, body.root_translation[:1] + (lift + move) @ frame.T, local, rate,
                       dict(body.metadata))
 
-    # Lean (rad, about world Z) putting the centre of mass over the left ankle: on a
+    # Lean (rad, about the forward axis) putting the centre of mass over the left ankle: on a
     # fine grid of leans, interpolated where its sideways offset from it changes sign.
     grid = np.linspace(-1.0, 1.0, 801)
     rest = np.zeros_like(grid)
-    off = centre_of_mass(pose(grid, {"l": rest, "r": rest}))[:, 0] - ankle["l"][0]
+    off = centre_of_mass(pose(grid, {"l": rest, "r": rest})) @ left_axis - ankle["l"][0]
     k = int(np.flatnonzero(np.diff(np.sign(off)))[0])
     left = grid[k] - off[k] * (grid[k + 1] - grid[k]) / (off[k + 1] - off[k])
     lean = left * (_smooth(t, 0.0, 1.5) - 2 * _smooth(t, 2.5, 5.0) + _smooth(t, 6.0, 7.5))

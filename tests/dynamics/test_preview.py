@@ -27,7 +27,7 @@ def _drawn(motion):
     world = motion.forward_kinematics()
     end_index, ends = motion.end_site_positions(world)
     points = np.concatenate([world[1], ends], axis=1)
-    bones, marked = drawn_bones(motion.skeleton.parents, end_index)
+    bones, marked = drawn_bones(motion.skeleton)
     return points, bones, marked
 
 
@@ -79,3 +79,11 @@ def test_the_gif_draws_the_framed_figure(walk, tmp_path):
             assert np.ptp(rows) > 0.6 * SIZE[1]
             assert columns.min() > 0 and columns.max() < SIZE[0] - 1
             assert rows.min() > TITLE_BAND * SIZE[1] - 3 and rows.max() < SIZE[1] - 1
+
+
+def test_the_viewer_draws_no_line_from_the_transform_root(walk):
+    from mocap.view.scene import skeleton_layer
+
+    layer = skeleton_layer(walk)
+    assert len(layer.bones) and 0 not in layer.bones
+    assert walk.skeleton.transform_root()

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from dynamics.humanoid.check import check_motion
-from dynamics.humanoid.contact import _runs, points_in_world, rig_soles
+from dynamics.humanoid.contact import _runs, points_in_world
+from dynamics.humanoid.soles import rig_soles
 from dynamics.humanoid.kinematics import centre_of_mass
 from dynamics.humanoid.model import build_humanoid
 from dynamics.humanoid.tracking import simulate_tracking

@@ -162,6 +162,10 @@ def test_synthesised_cycle_goes_back_onto_the_rig(manifest, tmp_path, capsys):
     assert main(["decompose", "--manifest", str(manifest), "--cycles", "--samples", "40",
                  "--actions", "walk,run,walk-turn-left", "-o", str(model_path)]) == 0
     model = load_model(model_path)
+    # the model's own sampling (39 steps a cycle), not the corpus' 30 fps the CLI defaults to
+    fps = 39 / model.synthesize("elderly", "run")[1]
+    assert main(["synthesize", str(model_path), "--person", "elderly", "--action", "run",
+                 "--cycles", "2", "--fps", repr(fps), "-o", str(tmp_path / "run.bvh")]) == 0
     assert model.method_ == "interaction" and model.representation == "rotvec"
     curve, duration = model.synthesize("elderly", "run")
     # By default the clip is at the corpus' capture rate (bandai2: 30 fps) over two cycles.
