@@ -4,7 +4,9 @@ Agreement: every real C3D file that stores Vicon's upper-body angles (LThoraxAng
 the 24 biomechzoo files, 8 subjects × static, straight and turn, and pyCGM's three) is
 run through ``plugingait_angles(..., upper_body=True)`` (walks with their session's
 static; a static with itself) and compared with Vicon's stored angles per file × side ×
-output × component (RMS over the frames where both exist).  pyCGM's ROM static has no
+output × component (RMS over the frames where both exist).  The foot progression, a
+lower-body angle, is taken from the same file with its upper-body markers removed
+(``plugingait_angles(lower_body_only, static=...)``), as a lower-body marker set gives it.  pyCGM's ROM static has no
 subject measurements (no PROCESSING group): only its thorax, spine, neck and head, which
 need none, are computed (from the markers, without the lower body).  The files are split
 by alternate subjects: design (HC002D, HC031A, HC033A, HC038A, pyCGM's Test subject) and
@@ -41,11 +43,11 @@ import numpy as np
 
 import mocap.plugingait.upper as upper
 from mocap.io import read
-from mocap.plugingait.clinical import plugingait_angles
+from mocap.plugingait.clinical import plugingait_angles, vicon_label
 from mocap.plugingait.model import (MARKERS, Kinematics, markers_from_trial, pelvis_frame,
                                     progression_frame)
-from mocap.plugingait.upper import (UPPER_JOINTS, UPPER_MARKERS, VICON_NAMES, UpperSubject,
-                                    upper_angles, upper_columns, upper_kinematics)
+from mocap.plugingait.upper import (UPPER_JOINTS, UPPER_MARKERS, UpperSubject, upper_angles,
+                                    upper_columns, upper_kinematics)
 from mocap.trial import Trial
 
 REALDATA = Path(__file__).resolve().parents[1].parent / "shared" / "realdata"
@@ -85,12 +87,20 @@ def trunk_only(trial: Trial) -> dict:
     return dict(zip(upper_columns(), np.moveaxis(values, 1, 0)))
 
 
+def lower_body_only(trial: Trial) -> Trial:
+    """The trial without its upper-body markers (a lower-body marker set)."""
+    return trial.select([label for label in trial.labels
+                         if label.rpartition(":")[2] not in UPPER_MARKERS])
+
+
 def agreement(radius: float | None) -> list[tuple]:
     """Rows (subject, file, side, joint, component, RMS degrees, is a static) with the
-    upper body's marker radius ``radius`` metres (None: the subject's MarkerDiameter / 2)."""
+    upper body's marker radius ``radius`` metres (None: the subject's MarkerDiameter / 2);
+    the foot progression (``foot_progress``) from the trial without its upper-body markers."""
     rows = []
     for path, static_path, subject in files():
         trial = read(path)
+        joints = UPPER_JOINTS
         if static_path is None:
             ours = trunk_only(trial)
         else:
@@ -106,10 +116,14 @@ def agreement(radius: float | None) -> list[tuple]:
             finally:
                 upper.upper_kinematics.__defaults__ = (upper.UPPER_MARKER_RADIUS_M,)
             ours = {c: angles.segment(c) for c in upper_columns()}
+            lower = plugingait_angles(lower_body_only(trial), static=static)
+            ours.update({f"{s}_foot_progress": lower.segment(f"{s}_foot_progress")
+                         for s in "lr"})
+            joints = UPPER_JOINTS + ("foot_progress",)
         stored = _stored(trial)
         for side in "lr":
-            for joint in UPPER_JOINTS:
-                vicon = stored[side.upper() + VICON_NAMES[joint]]
+            for joint in joints:
+                vicon = stored[vicon_label(f"{side}_{joint}")]
                 mine = ours[f"{side}_{joint}"]
                 for k, component in enumerate("XYZ"):
                     both = np.isfinite(mine[:, k]) & np.isfinite(vicon[:, k])
@@ -138,13 +152,13 @@ def _summary(rows: list[tuple], label: str) -> None:
 
 
 def lower_chords() -> None:
-    """Walks' foot progression and lower-body RMS with the knee and ankle chords at the
-    subject's marker radius (as now) and at 7 mm (the widths 2 × 2 mm wider)."""
+    """Walks' foot progression and lower-body RMS (lower-body markers only) with the knee
+    and ankle chords at the subject's marker radius (as now) and at 7 mm (the widths
+    2 × 2 mm wider)."""
     from dataclasses import replace
 
     from mocap.plugingait.clinical import prepare_subject
     from mocap.plugingait.model import JOINTS
-    from mocap.plugingait.upper import upper_subject_from_trial
 
     rms: dict = {}
     for path, static_path, subject in files():
@@ -161,8 +175,7 @@ def lower_chords() -> None:
                               knee_width={s: w + extra for s, w in measured.knee_width.items()},
                               ankle_width={s: w + extra
                                            for s, w in measured.ankle_width.items()})
-            angles = plugingait_angles(trial, subject=sub, upper_body=True,
-                                       upper_subject=upper_subject_from_trial(trial, static))
+            angles = plugingait_angles(lower_body_only(trial), subject=sub)
             for side in "lr":
                 outputs = [("foot_progress", "FootProgressAngles")] + [
                     (j, j.capitalize() + "Angles") for j in JOINTS]

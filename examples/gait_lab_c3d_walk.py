@@ -72,7 +72,7 @@ print(f"{walk_path}: {trial.frames} frames at {trial.rate:g} Hz, {len(trial.labe
 
 # Subject measurements, static calibration, then Plug-in Gait's angles (Vicon's axes/signs).
 subject = prepare_subject(trial, subject, static=static, flat_foot="auto")
-angles = plugingait_angles(trial, subject=subject)         # segments l_pelvis ... r_ankle
+angles = plugingait_angles(trial, subject=subject)    # l_pelvis ... l_foot_progress, r_...
 write_angles_csv(angles, args.out / "angles.csv")
 
 # Foot strikes and offs (the file's events, else detected from heel and toe markers),

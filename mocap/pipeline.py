@@ -158,8 +158,8 @@ def clinical_angles(source: str | os.PathLike | Trial, static: str | os.PathLike
         Measurements to use instead of the files' (see
         :func:`mocap.plugingait.clinical.prepare_subject`).
     upper_body : bool
-        Also the upper body and foot progression angles (segments ``l_thorax …
-        r_foot_progress`` after the lower body's, :mod:`mocap.plugingait.upper`),
+        Also the upper body's angles (segments ``l_thorax … r_wrist`` after the lower
+        body's, :mod:`mocap.plugingait.upper`),
         with the measurements of the walk's PROCESSING group, else the static's.
         Its thorax and head markers are gap-filled from their groups, the arms' by
         their splines (:func:`mocap.plugingait.clinical.fill_plugingait`).
@@ -167,9 +167,10 @@ def clinical_angles(source: str | os.PathLike | Trial, static: str | os.PathLike
     Returns
     -------
     AnglesResult
-        ``angles`` with segments ``l_pelvis … r_ankle`` (then ``l_thorax …
-        r_foot_progress`` with ``upper_body``) and axes ``flexion, adduction,
-        rotation`` (degrees, Vicon's X, Y, Z of ``<Side><Joint>Angles``); ``trial``
+        ``angles`` with segments ``l_pelvis, l_hip, l_knee, l_ankle, l_foot_progress,
+        r_…`` (then ``l_thorax … r_wrist`` with ``upper_body``) and axes ``flexion,
+        adduction, rotation`` (degrees, Vicon's X, Y, Z of ``<Side><Joint>Angles``;
+        ``<Side>FootProgressAngles``); ``trial``
         the cleaned Plug-in Gait markers; ``gaps`` the gap report when gaps were filled.
     """
     import numpy as np

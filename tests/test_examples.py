@@ -23,7 +23,8 @@ from tests.conftest import realdata_path
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
-CLINICAL = [f"{side}_{joint}" for side in "lr" for joint in ("pelvis", "hip", "knee", "ankle")]
+CLINICAL = [f"{side}_{joint}" for side in "lr"
+            for joint in ("pelvis", "hip", "knee", "ankle", "foot_progress")]
 
 
 def run_example(name: str, tmp_path: Path, *args) -> str:
@@ -97,7 +98,9 @@ def test_gait_lab_walk_on_a_real_vicon_walk_matches_vicons_angles(tmp_path):
     angles = read_angles_csv(out / "angles.csv")
     modelled = io.read(walk).modelled
     for label, segment in (("LKneeAngles", "l_knee"), ("RKneeAngles", "r_knee"),
-                           ("LHipAngles", "l_hip"), ("RHipAngles", "r_hip")):
+                           ("LHipAngles", "l_hip"), ("RHipAngles", "r_hip"),
+                           ("LFootProgressAngles", "l_foot_progress"),
+                           ("RFootProgressAngles", "r_foot_progress")):
         vicon = modelled["values"][:, modelled["labels"].index(label), 0]
         assert rms(angles.segment(segment)[:, 0], vicon) < 1.5, label
     check_cycles(out)

@@ -30,7 +30,8 @@ def register(subparsers: Subparsers) -> None:
         "angles", help=summary("angles"),
         description="Write joint angles as CSV. With -m plugingait-lower: Plug-in Gait's "
                     "clinical joint angles (columns <side>_<joint>.flexion|adduction|rotation "
-                    "for pelvis, hip, knee and ankle, Vicon's axes and signs; --static "
+                    "for pelvis, hip, knee, ankle and foot progression, Vicon's axes "
+                    "and signs; --static "
                     "calibrates them). Otherwise (or with --no-clinical): segment angles "
                     "from three markers per segment, child relative to parent, the root "
                     "relative to the lab, as <segment>.<axis> on the principal Euler branch. "
@@ -61,8 +62,9 @@ def register(subparsers: Subparsers) -> None:
                              "YXZ)")
     parser.add_argument("--clinical", action=argparse.BooleanOptionalAction, default=None,
                         help="Plug-in Gait joint angles in columns <side>_<joint>.flexion|"
-                             "adduction|rotation (pelvis, hip, knee, ankle; Vicon's signs, "
-                             "see docs/plugingait.md); the default with -m plugingait-lower. "
+                             "adduction|rotation (pelvis, hip, knee, ankle, foot_progress = "
+                             "Vicon's <Side>FootProgressAngles; Vicon's signs, see "
+                             "docs/plugingait.md); the default with -m plugingait-lower. "
                              "--no-clinical gives segment angles (<segment>.<axis>)")
     parser.add_argument("--static", metavar="STATIC.c3d",
                         help="static (standing) trial of the same subject: calibrates "
@@ -74,10 +76,10 @@ def register(subparsers: Subparsers) -> None:
                              "for the knee axis and the thigh and shank rotation offsets")
     parser.add_argument("--upper-body", action="store_true",
                         help="clinical angles of Plug-in Gait's upper body too: thorax, "
-                             "spine, neck, head, shoulder, elbow, wrist and foot progression, "
+                             "spine, neck, head, shoulder, elbow and wrist, "
                              "columns <side>_<joint>.flexion|adduction|rotation = Vicon's "
-                             "<Side><Joint>Angles X|Y|Z (foot_progress: <Side>FootProgress"
-                             "Angles; see docs/plugingait-upper.md). Needs C7, T10, CLAV, "
+                             "<Side><Joint>Angles X|Y|Z (see docs/plugingait-upper.md). "
+                             "Needs C7, T10, CLAV, "
                              "STRN, the head, shoulder, elbow, wrist and finger markers and "
                              "the subject's shoulder offset, elbow and wrist widths and hand "
                              "thickness (the PROCESSING group of the walk or --static); what "

@@ -17,8 +17,9 @@ def register(subparsers: Subparsers) -> None:
     """Add ``plugingait`` to the ``mocap`` command line."""
     parser = subparsers.add_parser(
         "plugingait", help=summary("plugingait"),
-        description="Run Plug-in Gait on a walk: joint angles (lower body; the upper body "
-                    "and foot progression when its markers are there), joint moments, powers "
+        description="Run Plug-in Gait on a walk: joint angles (lower body with the foot "
+                    "progression; the upper body when its markers are there), joint "
+                    "moments, powers "
                     "and forces from the force plates, gait events and gait-cycle "
                     "parameters. OUT.c3d holds the markers, the joint centres (LHJC, LKJC, "
                     "LAJC …) and every output under Vicon's labels and units (LHipAngles "

@@ -109,8 +109,9 @@ def clinical_coordinates(angles) -> dict[str, np.ndarray]:
     Parameters
     ----------
     angles : JointAngles
-        :func:`mocap.pipeline.clinical_angles`' ``angles``: segments ``l_hip`` …
-        ``r_ankle``, axes flexion, adduction, rotation, values (frames, 8, 3) degrees.
+        :func:`mocap.pipeline.clinical_angles`' ``angles``: segments ``l_pelvis`` …
+        ``r_foot_progress`` (the hips, knees and ankles are read, by name), axes flexion,
+        adduction, rotation, values (frames, segments, 3) degrees.
 
     Returns
     -------

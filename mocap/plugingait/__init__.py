@@ -4,15 +4,15 @@ Modules
 -------
 model
     The model: subject measurements, joint centres, anatomical frames and the clinical
-    angle conventions, vectorised over frames.
+    angle conventions (the foot progression's too), vectorised over frames.
 calibration
     Static calibration: subject measurements, tibial torsion, foot offsets, KAD.
 clinical
     The clinical recipe for one walk: subject values, gap filling inside each rigid
     segment, the clinical angle table (:func:`~mocap.plugingait.clinical.plugingait_angles`).
 upper
-    The upper body (thorax, head, arms) and the foot progression, as Vicon's
-    ``<Side><Joint>Angles`` (``plugingait_angles(..., upper_body=True)``).
+    The upper body (thorax, head, arms), as Vicon's ``<Side><Joint>Angles``
+    (``plugingait_angles(..., upper_body=True)``).
 events
     Gait events (from the file or detected) and gait cycles at 0–100 %.
 curves, normative, scores

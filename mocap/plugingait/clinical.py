@@ -18,9 +18,10 @@ import numpy as np
 from mocap.errors import MocapError, MocapWarning
 from mocap.markersets.model import MissingMarkerWarning, _LabelIndex
 from mocap.plugingait.estimates import estimate_missing
-from mocap.plugingait.model import (JOINTS, MARKERS, PLANES, SIDES, AnatomicalOffsetWarning,
-                              Subject, clinical_angles, kinematics,
-                              markers_from_trial, progression_frame, subject_from_trial)
+from mocap.plugingait.model import (CLINICAL_SEGMENTS, JOINTS, MARKERS, PLANES, SIDES,
+                                    AnatomicalOffsetWarning, Subject, clinical_angles,
+                                    foot_progression_angles, kinematics, markers_from_trial,
+                                    progression_frame, subject_from_trial)
 from mocap.trial import Trial
 
 if TYPE_CHECKING:
@@ -133,8 +134,10 @@ def _warn_if_moving(static: Trial) -> None:
 
 
 def clinical_columns() -> list[str]:
-    """Segment names of the clinical output: l_pelvis … r_ankle."""
-    return [f"{side}_{joint}" for side in SIDES for joint in JOINTS]
+    """Segment names of the clinical output: l_pelvis, l_hip, l_knee, l_ankle,
+    l_foot_progress, r_pelvis … r_foot_progress (:data:`~mocap.plugingait.model.
+    CLINICAL_SEGMENTS` per side)."""
+    return [f"{side}_{segment}" for side in SIDES for segment in CLINICAL_SEGMENTS]
 
 
 def vicon_label(segment: str) -> str:
@@ -148,9 +151,10 @@ def vicon_label(segment: str) -> str:
     from mocap.plugingait.upper import VICON_NAMES
 
     side, _, joint = segment.partition("_")
-    if side not in SIDES or joint not in JOINTS + tuple(VICON_NAMES):
+    if side not in SIDES or joint not in CLINICAL_SEGMENTS + tuple(VICON_NAMES):
         raise KeyError(segment)
-    return side.upper() + VICON_NAMES.get(joint, f"{joint.capitalize()}Angles")
+    name = VICON_NAMES.get(joint) or "".join(w.capitalize() for w in joint.split("_")) + "Angles"
+    return side.upper() + name
 
 
 def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
@@ -177,12 +181,11 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
         Plug-in Gait run stored in the walk or the static (PROCESSING
         StaticPlantFlex), else off.
     upper_body : bool
-        Also the upper body and the foot progression
-        (:mod:`mocap.plugingait.upper`): segments ``l_thorax, l_spine, l_neck,
-        l_head, l_shoulder, l_elbow, l_wrist, l_foot_progress, r_…`` follow the
-        lower body's, each Vicon's ``<Side><Joint>Angles``
-        (``<Side>FootProgressAngles``).  Parts whose markers or measurements are
-        missing are NaN, with an :class:`~mocap.plugingait.upper.UpperBodyWarning`.
+        Also the upper body (:mod:`mocap.plugingait.upper`): segments ``l_thorax,
+        l_spine, l_neck, l_head, l_shoulder, l_elbow, l_wrist, r_…`` follow the
+        lower body's, each Vicon's ``<Side><Joint>Angles``.  Parts whose markers
+        or measurements are missing are NaN, with an
+        :class:`~mocap.plugingait.upper.UpperBodyWarning`.
     upper_subject : UpperSubject, optional
         Upper-body measurements to use instead of the walk's (then the static's)
         PROCESSING group (:func:`mocap.plugingait.upper.upper_subject_from_trial`).
@@ -190,9 +193,12 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
     Returns
     -------
     JointAngles
-        Segments ``l_pelvis, l_hip, l_knee, l_ankle, r_…`` (then the upper body's),
-        axes ``flexion, adduction, rotation`` (degrees, Vicon's X, Y, Z of
-        ``<Side><Joint>Angles``), sequence ``"YXZ"``; NaN where markers are
+        Segments ``l_pelvis, l_hip, l_knee, l_ankle, l_foot_progress, r_…``
+        (:func:`clinical_columns`; then the upper body's), axes ``flexion,
+        adduction, rotation`` (degrees, Vicon's X, Y, Z of ``<Side><Joint>Angles``;
+        ``<side>_foot_progress`` is ``<Side>FootProgressAngles``, the foot relative
+        to the progression frame, :func:`~mocap.plugingait.model.
+        foot_progression_angles`), sequence ``"YXZ"``; NaN where markers are
         missing; columns of joints whose markers are absent are all NaN (with a
         :class:`MissingMarkerWarning`).
     """
@@ -210,10 +216,11 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
     pelvis = kin.frames["pelvis"]
     progression = np.broadcast_to(progression_frame(kin.centres["pelvis"], pelvis),
                                   pelvis.shape)
-    values = np.full((frames, len(SIDES) * len(JOINTS), 3), np.nan)
+    values = np.full((frames, len(SIDES) * len(CLINICAL_SEGMENTS), 3), np.nan)
     chain = {"pelvis": ("progression", "pelvis"), "hip": ("pelvis", "thigh"),
              "knee": ("thigh", "tibia"), "ankle": ("shank", "foot")}
     for i, side in enumerate(SIDES):
+        column = i * len(CLINICAL_SEGMENTS)
         for j, joint in enumerate(JOINTS):
             proximal, distal = chain[joint]
             p = progression if proximal == "progression" else \
@@ -221,7 +228,11 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
             d = kin.frames.get(distal if distal == "pelvis" else f"{side}_{distal}")
             if p is None or d is None:
                 continue
-            values[:, i * len(JOINTS) + j] = clinical_angles(p, d, joint, side)
+            values[:, column + j] = clinical_angles(p, d, joint, side)
+        foot = kin.frames.get(f"{side}_foot")
+        if foot is not None:
+            values[:, column + CLINICAL_SEGMENTS.index("foot_progress")] = \
+                foot_progression_angles(progression, foot, side)
     segments = clinical_columns()
     if upper_body:
         from mocap.plugingait.upper import (UPPER_MARKERS, UpperBodyWarning, upper_angles,

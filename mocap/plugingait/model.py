@@ -34,7 +34,9 @@ distal frame relative to the proximal one (the pelvis relative to the
 progression frame), with Plug-in Gait's signs: flexion, adduction (knee varus)
 and internal rotation positive, ankle dorsiflexion and inversion positive,
 pelvic tilt anterior, obliquity and rotation positive when that side is up /
-forward.  See docs/plugingait.md for the column ↔ Vicon output table.
+forward.  The foot progression is the foot relative to the progression frame
+(:func:`foot_progression_angles`): it needs no marker above the pelvis.  See
+docs/plugingait.md for the column ↔ Vicon output table.
 """
 from __future__ import annotations
 
@@ -48,11 +50,15 @@ from mocap.markersets.model import _LabelIndex
 from mocap.markersets.virtual import DAVIS_BETA, DAVIS_THETA  # noqa: F401 (re-exported)
 from mocap.markersets.virtual import davis_asis_trochanter, hip_joint_centre_offset
 from mocap.markersets.virtual import pelvis_frame as pelvis_axes
+from mocap.rotations.angles import unwrap_columns
 from mocap.rotations.euler import euler_from_components
 from mocap.trial import Trial
 
 #: Joints of the clinical output, in column order.
 JOINTS = ("pelvis", "hip", "knee", "ankle")
+#: Segments of the clinical output of a side, in column order: the joints, then the foot
+#: progression (``<side>_foot_progress`` is Vicon's ``<Side>FootProgressAngles``).
+CLINICAL_SEGMENTS = JOINTS + ("foot_progress",)
 #: Planes of the clinical output (Vicon's X, Y, Z components of <Side><Joint>Angles).
 PLANES = ("flexion", "adduction", "rotation")
 SIDES = ("l", "r")
@@ -498,6 +504,55 @@ def clinical_angles(proximal: np.ndarray, distal: np.ndarray, joint: str, side: 
         raw[..., 0] = (raw[..., 0] + 180.0) % 360.0 - 180.0
     signs, order = _CLINICAL[(joint, side)]
     return raw[..., list(order)] * np.asarray(signs, dtype=float)
+
+
+def cardan_outputs(proximal: np.ndarray, distal: np.ndarray, sequence: str,
+                   order: tuple, signs: tuple, offsets: tuple) -> np.ndarray:
+    """Vicon's X, Y, Z of a Cardan sequence of ``proximalᵀ distal``, degrees (frames, 3).
+
+    Component k is ``signs[k] * a[order[k]] + offsets[k]``, wrapped to (-180, 180], of
+    the ``sequence`` angles ``a`` (:func:`mocap.rotations.euler.euler_from_components`);
+    ``proximal`` and ``distal`` are rotations (frames, 3, 3); NaN where either is NaN.
+    The foot progression's convention (:data:`FOOT_PROGRESSION`) and the upper body's
+    (:data:`mocap.plugingait.upper.ANGLES`) are written this way.
+    """
+    r = np.einsum("...ji,...jk->...ik", proximal, distal)
+    raw = euler_from_components(np.moveaxis(r, (-2, -1), (0, 1)), sequence)
+    out = raw[..., list(order)] * np.asarray(signs, dtype=float) + np.asarray(offsets, float)
+    return 180.0 - (180.0 - out) % 360.0
+
+
+#: Vicon's ``<Side>FootProgressAngles`` per side: (order, signs, offsets) of the ``YXZ``
+#: angles of ``progressionᵀ foot`` (:func:`cardan_outputs`): X is -90 with the foot level
+#: (the foot's z runs backwards), lower with the toes up; Y inversion; Z internal (the
+#: toes towards the midline).  Found on the angles Vicon stored beside its own segment
+#: outputs (tests/mocap/plugingait/test_upper.py, < 0.001°).
+FOOT_PROGRESSION = {"l": ((0, 2, 1), (1, 1, -1), (0, 0, 0)),
+                    "r": ((0, 2, 1), (1, -1, 1), (0, 0, 0))}
+
+
+def foot_progression_angles(progression: np.ndarray, foot: np.ndarray, side: str
+                            ) -> np.ndarray:
+    """Vicon's ``<Side>FootProgressAngles`` (X, Y, Z), degrees (frames, 3).
+
+    Parameters
+    ----------
+    progression : ndarray, shape (3, 3) or (frames, 3, 3)
+        The progression frame (:func:`progression_frame`).
+    foot : ndarray, shape (frames, 3, 3)
+        The anatomical foot (``kinematics(...).frames["l_foot"]``).
+    side : str
+        ``"l"`` or ``"r"``.
+
+    Returns
+    -------
+    ndarray, shape (frames, 3)
+        :data:`FOOT_PROGRESSION`'s components, each continuous over the frames as Vicon
+        writes it: whole turns removed (:func:`mocap.rotations.angles.unwrap_columns`;
+        the first valid frame keeps its value in (-180, 180]); NaN where the foot is.
+    """
+    progression = np.broadcast_to(progression, foot.shape)
+    return unwrap_columns(cardan_outputs(progression, foot, "YXZ", *FOOT_PROGRESSION[side]))
 
 
 def progression_frame(origin: np.ndarray, pelvis: np.ndarray, min_travel: float = 0.2

@@ -1,4 +1,4 @@
-"""Plug-in Gait upper body and foot progression: frames, joint centres and angles.
+"""Plug-in Gait upper body: frames, joint centres and angles.
 
 The upper-body half of Vicon's Plug-in Gait (the Plug-in Gait reference guide; the
 same construction as pyCGM's ``thoraxJC``, ``headJC``, ``findshoulderJC``,
@@ -36,11 +36,11 @@ Segments, in Vicon's orientation (the frames its ``TRXO/TRXA/TRXL/TRXP``, ``HEDO
 
 Angles: for each output, a Cardan sequence of the distal frame relative to the
 proximal one, its components reordered, signed and shifted (:data:`ANGLES`), as
-Vicon writes ``<Side><Joint>Angles``; the thorax, head and foot progression are
-relative to the progression frame
-(:func:`mocap.plugingait.model.progression_frame`), like the pelvis.  The foot
-progression uses the lower body's anatomical foot
-(:func:`mocap.plugingait.model.kinematics`).  Checked against the angles Vicon
+Vicon writes ``<Side><Joint>Angles`` (:func:`mocap.plugingait.model.cardan_outputs`);
+the thorax and head are relative to the progression frame
+(:func:`mocap.plugingait.model.progression_frame`), like the pelvis.  (The foot
+progression needs only the lower body: it is one of its clinical angles,
+:func:`mocap.plugingait.model.foot_progression_angles`.)  Checked against the angles Vicon
 computed from its own segment outputs in the real files (tests/mocap/plugingait/
 test_upper.py), and against Vicon's stored angles on held-out subjects (docs/
 plugingait-upper.md).
@@ -52,10 +52,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mocap.markersets.chord import _unit, chord, processing_number
-from mocap.plugingait.model import (PROCESSING_LENGTH_M, SIDES, Kinematics, frame_from_axes,
-                                    rotate_about)
+from mocap.plugingait.model import (PROCESSING_LENGTH_M, SIDES, Kinematics, cardan_outputs,
+                                    frame_from_axes, rotate_about)
 from mocap.rotations.angles import unwrap_columns
-from mocap.rotations.euler import euler_from_components
 from mocap.trial import Trial
 
 #: Markers the upper-body model reads.
@@ -64,15 +63,13 @@ UPPER_MARKERS = ("C7", "T10", "CLAV", "STRN", "LFHD", "RFHD", "LBHD", "RBHD",
                  "LFIN", "RFIN")
 
 #: Joints of the upper-body output in column order, each ``<side>_<joint>`` being
-#: Vicon's ``<Side><Joint>Angles`` (``foot_progress``: ``<Side>FootProgressAngles``).
-UPPER_JOINTS = ("thorax", "spine", "neck", "head", "shoulder", "elbow", "wrist",
-                "foot_progress")
+#: Vicon's ``<Side><Joint>Angles``.
+UPPER_JOINTS = ("thorax", "spine", "neck", "head", "shoulder", "elbow", "wrist")
 
 #: Vicon's name of each joint's output (after the side letter).
 VICON_NAMES = {"thorax": "ThoraxAngles", "spine": "SpineAngles", "neck": "NeckAngles",
                "head": "HeadAngles", "shoulder": "ShoulderAngles",
-               "elbow": "ElbowAngles", "wrist": "WristAngles",
-               "foot_progress": "FootProgressAngles"}
+               "elbow": "ElbowAngles", "wrist": "WristAngles"}
 
 #: Marker radius of the upper-body joint centres, metres: Vicon's upper body puts
 #: its centres as for a 14 mm marker whatever the subject's MarkerDiameter (chosen
@@ -341,8 +338,9 @@ def upper_kinematics(markers: dict, subject: UpperSubject,
 #: Each output: (proximal frame, distal frame, Cardan sequence, per side (order,
 #: signs, offsets in degrees)): Vicon's component k is ``signs[k] * a[order[k]] +
 #: offsets[k]`` (wrapped to (-180, 180]) of the sequence's angles ``a`` of
-#: ``proximalᵀ distal``.  "progression" is the walk's progression frame, "pelvis"
-#: and "foot" the lower body's frames; the others are this module's.  Found on the
+#: ``proximalᵀ distal`` (:func:`mocap.plugingait.model.cardan_outputs`).
+#: "progression" is the walk's progression frame, "pelvis" the lower body's frame;
+#: the others are this module's.  Found on the
 #: angles Vicon stored beside its own segment outputs (every real file, < 0.001°).
 ANGLES = {
     "thorax": ("progression", "thorax", "YXZ",
@@ -366,9 +364,6 @@ ANGLES = {
     "wrist": ("radius", "hand", "YXZ",
               {"l": ((0, 1, 2), (1, -1, -1), (0, 0, 0)),
                "r": ((0, 1, 2), (1, 1, 1), (0, 0, 0))}),
-    "foot_progress": ("progression", "foot", "YXZ",
-                      {"l": ((0, 2, 1), (1, 1, -1), (0, 0, 0)),
-                       "r": ((0, 2, 1), (1, -1, 1), (0, 0, 0))}),
 }
 
 
@@ -380,27 +375,23 @@ def vicon_angles(proximal: np.ndarray, distal: np.ndarray, joint: str, side: str
     names them; NaN where either is NaN.
     """
     _, _, sequence, per_side = ANGLES[joint]
-    order, signs, offsets = per_side[side]
-    r = np.einsum("...ji,...jk->...ik", proximal, distal)
-    raw = euler_from_components(np.moveaxis(r, (-2, -1), (0, 1)), sequence)
-    out = raw[..., list(order)] * np.asarray(signs, dtype=float) + np.asarray(offsets, float)
-    return 180.0 - (180.0 - out) % 360.0
+    return cardan_outputs(proximal, distal, sequence, *per_side[side])
 
 
 def upper_columns() -> list[str]:
-    """Segment names of the upper-body output: l_thorax … r_foot_progress."""
+    """Segment names of the upper-body output: l_thorax … r_wrist."""
     return [f"{side}_{joint}" for side in SIDES for joint in UPPER_JOINTS]
 
 
 def upper_angles(lower: Kinematics, upper: Kinematics, progression: np.ndarray
                  ) -> np.ndarray:
-    """The upper-body and foot progression angles, degrees (frames, 16, 3).
+    """The upper-body angles, degrees (frames, 14, 3).
 
     Parameters
     ----------
     lower : Kinematics
         The lower body's (:func:`mocap.plugingait.model.kinematics`): its
-        ``"pelvis"`` and ``"l_foot"``/``"r_foot"`` frames.
+        ``"pelvis"`` frame.
     upper : Kinematics
         :func:`upper_kinematics`.
     progression : ndarray, shape (3, 3) or (frames, 3, 3)
@@ -408,7 +399,7 @@ def upper_angles(lower: Kinematics, upper: Kinematics, progression: np.ndarray
 
     Returns
     -------
-    ndarray, shape (frames, 16, 3)
+    ndarray, shape (frames, 14, 3)
         Columns in :func:`upper_columns` order, components Vicon's X, Y, Z; a
         column whose frames are absent is NaN.  Each component is continuous
         over the frames, as Vicon writes it: whole turns are removed
@@ -421,9 +412,8 @@ def upper_angles(lower: Kinematics, upper: Kinematics, progression: np.ndarray
     shared = {"progression": np.broadcast_to(progression, pelvis.shape), "pelvis": pelvis,
               "thorax": upper.frames.get("thorax"), "head": upper.frames.get("head")}
     for i, side in enumerate(SIDES):
-        own = {"foot": lower.frames.get(f"{side}_foot"),
-               **{name: upper.frames.get(f"{side}_{name}")
-                  for name in ("humerus", "radius", "hand")}}
+        own = {name: upper.frames.get(f"{side}_{name}")
+               for name in ("humerus", "radius", "hand")}
         for j, joint in enumerate(UPPER_JOINTS):
             proximal, distal = (shared.get(k, own.get(k)) for k in ANGLES[joint][:2])
             if proximal is None or distal is None:

@@ -1,7 +1,8 @@
 """One walk through Plug-in Gait for a report: cycle curves, gait parameters, subject, notes.
 
-:func:`analyse_walk` runs the model on a walk (with its static) as ``mocap angles
---upper-body`` does, or takes the outputs a previous Vicon run stored in the file
+:func:`analyse_walk` runs the model on a walk (with its static) as ``mocap angles``
+does (``--upper-body`` too when the walk has those markers; the lower body's angles, foot
+progression included, need none), or takes the outputs a previous Vicon run stored in the file
 (``stored=True``), cuts them into gait cycles (:mod:`mocap.plugingait.curves`), computes
 the gait-cycle parameters (:mod:`mocap.plugingait.parameters`) from the same events, and
 keeps what the reader of a report must know: the subject's measurements and where each
@@ -231,8 +232,7 @@ def _computed_series(walk: Trial, static: Trial | None, flat_foot, body_mass, fi
 
     upper = _has_upper_markers(walk)
     if not upper:
-        notes.append(f"{walk.path}: no upper-body markers: no upper-body or foot "
-                     f"progression angles (the GPS lacks the foot progression)")
+        notes.append(f"{walk.path}: no upper-body markers: no trunk, head or arm angles")
     result = clinical_angles(walk, static, cleaning=Cleaning(max_gap_seconds=fill_gaps_s),
                              flat_foot=flat_foot, upper_body=upper)
     if result.gaps is not None and result.gaps.unfilled:

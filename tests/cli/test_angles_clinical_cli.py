@@ -35,7 +35,7 @@ def test_clinical_angles_with_static_and_cycles(tmp_path, capsys):
     assert "uncorrected" not in err
     angles = read_angles_csv(out)
     assert angles.segments == [f"{s}_{j}" for s in "lr" for j in ("pelvis", "hip", "knee",
-                                                                 "ankle")]
+                                                                 "ankle", "foot_progress")]
     assert angles.axes == ["flexion", "adduction", "rotation"]
     # the CSV's knee flexion is Vicon's LKneeAngles X within the lab's 2 degrees
     trial = read(realdata_path(*WALK))
@@ -44,10 +44,16 @@ def test_clinical_angles_with_static_and_cycles(tmp_path, capsys):
     ours = angles.segment("l_knee")[:, 0]
     ok = np.isfinite(vicon) & np.isfinite(ours)
     assert np.sqrt(np.mean((ours[ok] - vicon[ok]) ** 2)) < 2.0
+    # and its foot progression (no --upper-body) Vicon's LFootProgressAngles, likewise
+    vicon = modelled["values"][:, modelled["labels"].index("LFootProgressAngles")]
+    ours = angles.segment("l_foot_progress")
+    ok = np.isfinite(vicon).all(axis=1) & np.isfinite(ours).all(axis=1)
+    assert ok.mean() > 0.9
+    assert (np.sqrt(np.mean((ours[ok] - vicon[ok]) ** 2, axis=0)) < 2.0).all()
     # tidy cycles: side, cycle, percent, then each joint's three planes; 101 rows a cycle
     lines = cycles.read_text().splitlines()
     assert lines[0] == "side,cycle,percent," + ",".join(
-        f"{j}.{p}" for j in ("pelvis", "hip", "knee", "ankle")
+        f"{j}.{p}" for j in ("pelvis", "hip", "knee", "ankle", "foot_progress")
         for p in ("flexion", "adduction", "rotation"))
     rows = [line.split(",") for line in lines[1:]]
     assert len(rows) % 101 == 0 and {r[0] for r in rows} == {"l", "r"}

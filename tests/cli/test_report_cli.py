@@ -76,6 +76,29 @@ def test_the_report_holds_provenance_subject_scores_and_the_angle_figures(comput
     assert not re.search(r"(src|href)=\"(https?:)?//", text)
 
 
+def test_a_lower_body_walk_scores_all_nine_gps_variables(tmp_path):
+    """HC030A's walk without its upper-body markers (a gait lab's lower-body set): the page's
+    scores table has Baker's nine variables, each with a left and a right GVS (foot
+    progression included, no 'No data for'), and no upper-body figure."""
+    from tests.mocap.plugingait.test_foot_progression import lower_body_only
+
+    walk, static = walk_of("HC030A")
+    lower = tmp_path / "lower.c3d"
+    write(lower_body_only(read(walk)), lower)
+    out = tmp_path / "report.html"
+    assert main(["report", str(lower), "--static", str(static), "-o", str(out)]) == 0
+    text = out.read_text(encoding="utf-8")
+    table = re.search(r'<table id="scores-table">.*?</table>', text, re.S)[0]
+    rows = re.findall(r"<tr><td>([^<]+)</td><td>([^<]*)</td><td>([^<]*)</td>", table)
+    assert [title for title, _, _ in rows] == [
+        "Pelvic tilt", "Pelvic obliquity", "Pelvic rotation", "Hip flexion", "Hip adduction",
+        "Hip rotation", "Knee flexion", "Ankle dorsiflexion", "Foot progression"]
+    for title, left, right in rows:
+        assert re.fullmatch(r"\d+\.\d", left) and re.fullmatch(r"\d+\.\d", right), title
+    assert "No data for" not in text
+    assert "figure-angles-upper" not in figure_ids(text)
+
+
 def test_normative_then_report_against_the_lab_reference(tmp_path):
     """A reference built from three subjects' walks (Vicon's stored outputs: the
     computed ones go the same way, tested above) holds their pooled cycles; a fourth

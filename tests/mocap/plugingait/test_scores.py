@@ -205,7 +205,7 @@ def real_walks():
         events = gait_events(walk)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            ours = clinical_angles(walk, static, upper_body=True).angles
+            ours = clinical_angles(walk, static).angles
         out[subject] = (cycle_curves(angle_series(ours), events, walk.frames, walk.path),
                         cycle_curves(stored_series(walk), events, walk.frames, walk.path))
     return out

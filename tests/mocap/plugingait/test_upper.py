@@ -1,4 +1,5 @@
-"""Plug-in Gait upper body and foot progression (mocap.plugingait.upper).
+"""Plug-in Gait upper body (mocap.plugingait.upper; the foot progression, a lower-body
+angle, is test_foot_progression.py).
 
 Known answers: an exact synthetic posture (upper_posture.py places the markers by
 inverting the model's chords) gives back its joint centres and frames to rounding, zero
@@ -23,7 +24,6 @@ from mocap.plugingait.upper import (ANGLES, UPPER_JOINTS, VICON_NAMES, UpperBody
                                     UpperSubject, upper_angles, upper_columns,
                                     upper_kinematics, upper_subject_from_trial,
                                     vicon_angles)
-from mocap.rotations.euler import euler_from_components
 from tests.conftest import realdata_path
 from tests.mocap.plugingait.upper_posture import RADIUS, SUBJECT, posture, rot
 
@@ -32,17 +32,14 @@ ZOO = "biomechzoo_sample_study"
 #: half of benchmarks/upper_body.py, HC038A on the design half).
 WALKS = [(("HC030A", "Straight", "HC030A05.c3d"), ("HC030A", "Static", "HC030A01.c3d")),
          (("HC038A", "Turn", "HC038A27.c3d"), ("HC038A", "Static", "HC038A01.c3d"))]
-UPPER = [j for j in UPPER_JOINTS if j != "foot_progress"]
 
 
 # ------------------------------------------------------------------ known answers
 
-def _angles(markers: dict, feet: dict | None = None) -> dict:
+def _angles(markers: dict) -> dict:
     """Upper-body angles of a one-frame posture (pelvis and progression: the lab)."""
     upper = upper_kinematics(markers, SUBJECT, RADIUS)
-    nan = np.full((1, 3, 3), np.nan)
-    lower = Kinematics({}, {"pelvis": np.eye(3)[None], "l_foot": (feet or {}).get("l", nan),
-                            "r_foot": (feet or {}).get("r", nan)})
+    lower = Kinematics({}, {"pelvis": np.eye(3)[None]})
     return dict(zip(upper_columns(), upper_angles(lower, upper, np.eye(3))[0]))
 
 
@@ -67,7 +64,7 @@ def test_the_posture_gives_back_its_joint_centres_and_frames():
 def test_neutral_posture_is_zero_but_the_elbow():
     angles = _angles(posture()[0])
     for side in "lr":
-        for joint in UPPER:
+        for joint in UPPER_JOINTS:
             expected = [90.0, 0.0, 0.0] if joint == "elbow" else [0.0, 0.0, 0.0]
             np.testing.assert_allclose(angles[f"{side}_{joint}"], expected, atol=1e-9,
                                        err_msg=f"{side}_{joint}")
@@ -122,21 +119,9 @@ def test_a_single_plane_movement_gives_its_one_angle(name):
                "shoulder": {"shoulder"}, "elbow_deg": {"elbow"},
                "wrist": {"wrist"}}[next(iter(pose))]
     for column in angles:
-        if column.split("_", 1)[1] not in crossed and "foot" not in column:
+        if column.split("_", 1)[1] not in crossed:
             np.testing.assert_allclose(angles[column], neutral[column], atol=1e-9,
                                        err_msg=column)
-
-
-def test_foot_progression_of_a_turned_and_tilted_foot():
-    foot = np.array([[0.0, 0.0, -1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]])   # x up, z back
-    for turn, tilt, pitch in ((0, 0, 0), (-15, 0, 0), (15, 0, 0), (0, 10, 0), (0, 0, -10)):
-        lab = rot("z", turn) @ rot("x", tilt) @ rot("y", pitch) @ foot
-        angles = _angles(posture()[0], feet={"l": lab[None], "r": lab[None]})
-        # toes towards the body's midline (internal) and inversion positive, X -90 level
-        np.testing.assert_allclose(angles["l_foot_progress"], [-90 + pitch, -tilt, -turn],
-                                   atol=1e-9)
-        np.testing.assert_allclose(angles["r_foot_progress"], [-90 + pitch, tilt, turn],
-                                   atol=1e-9)
 
 
 def test_missing_markers_and_measurements_leave_only_their_segments_out():
@@ -190,7 +175,7 @@ def walks():
 def test_the_table_turns_vicons_segment_outputs_into_vicons_angles(walks):
     """Vicon's own frames through ANGLES give the angles Vicon stored (< 0.001°)."""
     segments = {"pelvis": "PEL", "thorax": "TRX", "head": "HED", "humerus": "HU",
-                "radius": "RA", "hand": "HN", "foot": "FO"}
+                "radius": "RA", "hand": "HN"}
     for name, trial, _ in walks:
         pelvis = _vicon_frame(trial, "PEL")
         origin = trial.points[:, [k for k, label in enumerate(trial.labels)
@@ -209,10 +194,7 @@ def test_the_table_turns_vicons_segment_outputs_into_vicons_angles(walks):
 
 
 def test_upper_body_equals_vicons_stored_angles(walks):
-    """Every upper-body component within 0.01° RMS of Vicon's (measured: < 0.001°); foot
-    progression within 2°, median 1° (issue 22's target): it inherits the lower body's
-    knee and ankle centres, 2 mm from Vicon's (docs/plugingait-upper.md)."""
-    feet = []
+    """Every upper-body component within 0.01° RMS of Vicon's (measured: < 0.001°)."""
     for name, trial, angles in walks:
         assert angles.segments == clinical_columns() + upper_columns()
         stored = _vicon(trial)
@@ -224,34 +206,7 @@ def test_upper_body_equals_vicons_stored_angles(walks):
                 both = np.isfinite(ours).all(axis=1) & np.isfinite(vicon).all(axis=1)
                 assert both.sum() > 0.9 * len(both), (name, side, joint)
                 rms = np.sqrt(np.mean((ours[both] - vicon[both]) ** 2, axis=0))
-                limit = 2.0 if joint == "foot_progress" else 0.01
-                assert (rms < limit).all(), (name, side, joint, rms)
-                if joint == "foot_progress":
-                    feet += list(rms)
-    assert np.median(feet) <= 1.0, feet
-
-
-def test_vicons_left_foot_progression_of_hc036a23_is_the_other_euler_triple():
-    """The one foot-progression curve we do not reproduce (issue 22): in HC036A23 (a turn)
-    Vicon's left foot starts 101° from the progression axis, beyond the YXZ sequence's
-    gimbal lock, and Vicon's values there are, on every frame, the second Euler triple of
-    its own foot frame with the inversion's sign reversed: (a1 + 180, 180 - a3, 180 - a2),
-    where ours is (a1, a3, -a2) -- the right foot's signs (a1, -a3, a2) on the second
-    triple (a1 + 180, 180 - a2, a3 + 180).  No other progression axis or wrap gives them."""
-    trial = read(realdata_path(ZOO, "HC036A", "Turn", "HC036A23.c3d"))
-    pelvis, foot = _vicon_frame(trial, "PEL"), _vicon_frame(trial, "LFO")
-    origin = trial.points[:, trial.labels.index("PELO")]
-    progression = progression_frame(origin, pelvis)
-    r = np.einsum("ji,fjk->fik", progression, foot)
-    a = euler_from_components(np.moveaxis(r, (1, 2), (0, 1)), "YXZ")
-    stored = _vicon(trial)["LFootProgressAngles"]
-    other = np.stack([a[:, 0] + 180, 180 - a[:, 2], 180 - a[:, 1]], axis=1)
-    difference = (other - stored + 180) % 360 - 180
-    # Vicon's segment outputs are single precision: ~0.001° per axis, amplified near
-    # gimbal lock (1 / cos of the middle angle)
-    assert np.nanmax(np.abs(difference)) < 0.01
-    ours = vicon_angles(progression[None], foot, "foot_progress", "l")
-    assert np.nanmin(np.abs((ours - stored + 180) % 360 - 180)[:, 0]) > 170
+                assert (rms < 0.01).all(), (name, side, joint, rms)
 
 
 def test_measurements_come_from_the_walk_then_the_static():

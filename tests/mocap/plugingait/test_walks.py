@@ -63,6 +63,36 @@ def test_where_each_measurement_came_from(computed_and_stored):
     assert ours.subject_name == "HC030A" and ours.origin == "computed"
 
 
+def test_a_lower_body_walk_has_the_nine_variables_of_the_gps(files, computed_and_stored):
+    """The walk without its upper-body markers (a gait lab's lower-body set): the report's
+    Gait Profile Score has all nine of Baker's variables, foot progression included, and
+    every GVS equals the one of the walk with its upper-body markers."""
+    from mocap.plugingait.normative import read_normative
+    from mocap.plugingait.scores import GPS_VARIABLES, gait_scores
+    from tests.mocap.plugingait.test_foot_progression import lower_body_only
+
+    walk, static = files
+    lower = lower_body_only(read(walk))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        analysis = analyse_walk(lower, static)
+    assert "FootProgressAngles" in analysis.curves.values
+    assert "ThoraxAngles" not in analysis.curves.values
+    assert any("no upper-body markers" in note for note in analysis.notes)
+    assert not [note for note in analysis.notes if "GPS" in note]
+    normative = read_normative()
+    scores = gait_scores(analysis.curves, normative)
+    assert len(scores.titles) == len(GPS_VARIABLES) == 9 and "Foot progression" in scores.titles
+    assert scores.missing == []
+    for side in "lr":
+        assert np.isfinite(scores.gvs[side]).all(), (side, scores.gvs[side])
+    full = gait_scores(computed_and_stored[0].curves, normative)
+    assert "ThoraxAngles" in computed_and_stored[0].curves.values
+    for side in "lr":
+        np.testing.assert_array_equal(scores.gvs[side], full.gvs[side])
+    assert scores.overall == full.overall
+
+
 def test_a_walk_without_force_plates_has_angles_and_a_note(files, tmp_path):
     walk, static = files
     trc = tmp_path / "walk.trc"                 # TRC: markers only, no plates, no events
