@@ -76,10 +76,9 @@ def _marker_diameter(subject: Subject, path: str | None, warn: bool) -> Subject:
     if subject.marker_diameter is not None:
         return subject
     if warn:
-        warnings.warn(f"{path or 'trial'}: marker diameter not recorded (no PROCESSING:"
-                      f"MarkerDiameter in the walk or the static): assumed "
-                      f"{DEFAULT_MARKER_DIAMETER_M * 1000:.0f} mm", EstimatedMeasurementWarning,
-                      stacklevel=4)
+        warnings.warn(f"{path or 'trial'}: marker diameter not measured: assumed "
+                      f"{DEFAULT_MARKER_DIAMETER_M * 1000:.0f} mm (no PROCESSING:MarkerDiameter "
+                      f"in the walk or the static)", EstimatedMeasurementWarning, stacklevel=4)
     out = replace(subject, marker_diameter=DEFAULT_MARKER_DIAMETER_M,
                   sources=dict(subject.sources))
     out.sources[("marker_diameter", None)] = "assumed (not recorded)"
