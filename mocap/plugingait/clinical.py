@@ -70,15 +70,15 @@ def _given(subject: Subject) -> Subject:
     return out
 
 
-def _marker_diameter(subject: Subject, path: str | None, warn: bool) -> Subject:
+def _marker_diameter(subject: Subject, path: str | None, warn: bool, why: str) -> Subject:
     """The subject with its marker diameter: :data:`DEFAULT_MARKER_DIAMETER_M` (with an
-    :class:`EstimatedMeasurementWarning`) when no PROCESSING group recorded one."""
+    :class:`EstimatedMeasurementWarning` ending with ``why``) when it has none."""
     if subject.marker_diameter is not None:
         return subject
     if warn:
         warnings.warn(f"{path or 'trial'}: marker diameter not measured: assumed "
-                      f"{DEFAULT_MARKER_DIAMETER_M * 1000:.0f} mm (no PROCESSING:MarkerDiameter "
-                      f"in the walk or the static)", EstimatedMeasurementWarning, stacklevel=4)
+                      f"{DEFAULT_MARKER_DIAMETER_M * 1000:.0f} mm ({why})", EstimatedMeasurementWarning,
+                      stacklevel=4)
     out = replace(subject, marker_diameter=DEFAULT_MARKER_DIAMETER_M,
                   sources=dict(subject.sources))
     out.sources[("marker_diameter", None)] = "assumed (not recorded)"
@@ -112,6 +112,7 @@ def prepare_subject(trial: Trial, subject: Subject | None = None, *,
                       f"midpoint as the sacrum", MissingMarkerWarning, stacklevel=3)
     from_static = None if static is None else \
         subject_from_trial(static, source="static PROCESSING")
+    given = subject is not None
     if subject is None:
         subject = subject_from_trial(trial, source="walk PROCESSING")
         if from_static is not None:
@@ -120,7 +121,11 @@ def prepare_subject(trial: Trial, subject: Subject | None = None, *,
         subject = _given(subject)
         if from_static is not None:
             subject = _merge(subject, from_static)
-    subject = _marker_diameter(subject, path, warn)
+    why = {(False, False): "no PROCESSING:MarkerDiameter in the walk",
+           (False, True): "no PROCESSING:MarkerDiameter in the static or the walk",
+           (True, False): "none in the Subject given",
+           (True, True): "none in the Subject given or the static's PROCESSING"}
+    subject = _marker_diameter(subject, path, warn, why[(given, static is not None)])
     keep = None
     if trial.filled:
         from mocap.clean.gapfill import recorded_frames
