@@ -185,7 +185,7 @@ def clinical_angles(source: str | os.PathLike | Trial, static: str | os.PathLike
     if upper_body:
         from mocap.plugingait.upper import upper_subject_from_trial
 
-        upper_subject = upper_subject_from_trial(trial, static)
+        upper_subject = upper_subject_from_trial(static, trial)
     trial = trial.select(plugingait_labels(trial, upper_body))
     subject = prepare_subject(trial, subject, static=static, flat_foot=flat_foot)
     report = None

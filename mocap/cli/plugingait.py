@@ -33,11 +33,12 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument("trial", metavar="TRIAL.c3d", help="the walk (C3D, Plug-in Gait markers)")
     parser.add_argument("--static", metavar="STATIC.c3d",
                         help="static (standing) trial of the same subject: calibrates the "
-                             "offsets and gives the segment lengths; without it, the "
-                             "trial's PROCESSING group, else estimates (with a warning)")
+                             "offsets and gives the segment lengths; measurements from its "
+                             "PROCESSING group, then the trial's, else estimates (with a "
+                             "warning)")
     parser.add_argument("--body-mass", type=options.real(maximum=500, above=0), metavar="KG",
-                        help="body mass in kg (default PROCESSING Bodymass of the trial, "
-                             "then the static)")
+                        help="body mass in kg (default PROCESSING Bodymass of the static, "
+                             "then the trial)")
     parser.add_argument("-o", "--output", required=True, metavar="OUT.c3d",
                         help="the C3D to write")
     parser.add_argument("--csv", metavar="OUT.csv",

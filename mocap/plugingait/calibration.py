@@ -274,8 +274,9 @@ def calibrate(static: Trial, subject: Subject | None = None, *, flat_foot: bool 
         without its heel marker keeps offsets of 0 (with a warning).
     """
     path = static.path
-    base = subject_from_trial(static) if subject is None else subject
-    sub = replace(base, leg_length=dict(base.leg_length),
+    base = subject_from_trial(static, source="static PROCESSING") if subject is None \
+        else subject
+    sub = replace(base, sources=dict(base.sources), leg_length=dict(base.leg_length),
                   knee_width=dict(base.knee_width), ankle_width=dict(base.ankle_width),
                   tibial_torsion=dict(base.tibial_torsion),
                   thigh_rotation=dict(base.thigh_rotation),
@@ -305,11 +306,13 @@ def calibrate(static: Trial, subject: Subject | None = None, *, flat_foot: bool 
         raise MocapError("static trial has neither SACR nor LPSI and RPSI with data", path)
     if sub.inter_asis is None:
         sub.inter_asis = _median_distance(m["LASI"], m["RASI"])
+        sub.sources[("inter_asis", None)] = "static markers"
     for side in SIDES:
         S = side.upper()
         if sub.leg_length[side] is None:
             leg = _median_distance(m[f"{S}ASI"], m[f"{S}ANK"])
             sub.leg_length[side] = None if leg is None else leg + sub.radius
+            sub.sources[("leg_length", side)] = "static markers"
     if devices:
         pelvis, origin, _ = pelvis_frame(m, path)
         hips = hip_joint_centres(pelvis, origin, sub)
@@ -328,7 +331,8 @@ def calibrate(static: Trial, subject: Subject | None = None, *, flat_foot: bool 
                         f"metres) or record medial markers in the static", path)
                 # marker centre to centre, less one diameter = skin to skin
                 getattr(sub, key)[side] = _median_distance(
-                    m[f"{S}{lateral}"], medial) - sub.marker_diameter
+                    m[f"{S}{lateral}"], medial) - 2.0 * sub.radius
+                sub.sources[(key, side)] = "static medial markers"
     for side, (kax, _, _) in devices.items():
         S = side.upper()
         _, rotation = kad_thigh_rotation(m[f"{S}THI"], hips[side], m[f"{S}KNE"], kax,
@@ -337,6 +341,7 @@ def calibrate(static: Trial, subject: Subject | None = None, *, flat_foot: bool 
             raise MocapError(f"static trial: no frame with {S}THI, {S}KAX, {S}KD1 and "
                              f"{S}KD2 together", path)
         sub.thigh_rotation[side] = rotation
+        sub.sources[("thigh_rotation", side)] = "static KAD"
     sub.static_plantar_flexion = {"l": 0.0, "r": 0.0}
     sub.static_rotation_offset = {"l": 0.0, "r": 0.0}
     sub.calibrated = False
@@ -346,6 +351,7 @@ def calibrate(static: Trial, subject: Subject | None = None, *, flat_foot: bool 
         medial = _first_present(m, MEDIAL_ANKLE, side)
         if medial is not None and not base.tibial_torsion[side]:
             sub.tibial_torsion[side] = _tibial_torsion(kin, m, medial, side)
+            sub.sources[("tibial_torsion", side)] = "static medial markers"
     for side in SIDES:
         S = side.upper()
         if side in devices or (sub.tibial_torsion[side] and not base.shank_rotation[side]):
@@ -355,6 +361,7 @@ def calibrate(static: Trial, subject: Subject | None = None, *, flat_foot: bool 
                 sub.ankle_width[side] / 2.0 + sub.radius, sub.tibial_torsion[side], side)
             if np.isfinite(rotation):
                 sub.shank_rotation[side] = rotation
+                sub.sources[("shank_rotation", side)] = "static calibration"
     if any(getattr(sub, key)[s] != getattr(base, key)[s] for s in SIDES
            for key in ("tibial_torsion", "thigh_rotation", "shank_rotation")):
         kin = kinematics(m, sub, path)

@@ -17,11 +17,11 @@ import numpy as np
 
 from mocap.errors import MocapError, MocapWarning
 from mocap.markersets.model import MissingMarkerWarning, _LabelIndex
-from mocap.plugingait.estimates import estimate_missing
-from mocap.plugingait.model import (CLINICAL_SEGMENTS, JOINTS, MARKERS, PLANES, SIDES,
-                                    AnatomicalOffsetWarning, Subject, clinical_angles,
-                                    foot_progression_angles, kinematics, markers_from_trial,
-                                    progression_frame, subject_from_trial)
+from mocap.plugingait.estimates import EstimatedMeasurementWarning, estimate_missing
+from mocap.plugingait.model import (CLINICAL_SEGMENTS, DEFAULT_MARKER_DIAMETER_M, JOINTS,
+                                    MARKERS, PLANES, SIDES, AnatomicalOffsetWarning, Subject,
+                                    clinical_angles, foot_progression_angles, kinematics,
+                                    markers_from_trial, progression_frame, subject_from_trial)
 from mocap.trial import Trial
 
 if TYPE_CHECKING:
@@ -30,16 +30,59 @@ if TYPE_CHECKING:
 
 
 def _merge(primary: Subject, secondary: Subject) -> Subject:
-    """``primary``'s values, ``secondary``'s where primary has none."""
-    out = replace(primary)
-    for key in ("leg_length", "asis_trochanter", "knee_width", "ankle_width"):
+    """``primary``'s values, ``secondary``'s where primary has none (None, or a rotation
+    of 0: Vicon's "not measured"), with their ``sources``."""
+    out = replace(primary, sources=dict(primary.sources))
+
+    def take(key: str, side: str | None) -> None:
+        if (key, side) in secondary.sources:
+            out.sources[(key, side)] = secondary.sources[(key, side)]
+
+    for key in ("leg_length", "asis_trochanter", "knee_width", "ankle_width",
+                "tibial_torsion", "thigh_rotation", "shank_rotation"):
         mine, other = getattr(primary, key), getattr(secondary, key)
-        setattr(out, key, {s: mine[s] if mine[s] is not None else other[s] for s in SIDES})
-    for key in ("tibial_torsion", "thigh_rotation", "shank_rotation"):
-        mine, other = getattr(primary, key), getattr(secondary, key)
-        setattr(out, key, {s: mine[s] or other[s] for s in SIDES})
-    if out.inter_asis is None:
-        out.inter_asis = secondary.inter_asis
+        merged = dict(mine)
+        for side in SIDES:
+            missing = not mine[side] if key in _ROTATIONS else mine[side] is None
+            if missing and other[side] is not None:
+                merged[side] = other[side]
+                take(key, side)
+        setattr(out, key, merged)
+    for key in ("inter_asis", "marker_diameter"):
+        if getattr(out, key) is None and getattr(secondary, key) is not None:
+            setattr(out, key, getattr(secondary, key))
+            take(key, None)
+    return out
+
+
+_ROTATIONS = ("tibial_torsion", "thigh_rotation", "shank_rotation")
+
+
+def _given(subject: Subject) -> Subject:
+    """A caller's subject with every value it holds labelled "given" (unless labelled)."""
+    out = replace(subject, sources=dict(subject.sources))
+    for key in ("inter_asis", "marker_diameter"):
+        if getattr(subject, key) is not None:
+            out.sources.setdefault((key, None), "given")
+    for key in ("leg_length", "asis_trochanter", "knee_width", "ankle_width") + _ROTATIONS:
+        for side in SIDES:
+            if getattr(subject, key)[side]:
+                out.sources.setdefault((key, side), "given")
+    return out
+
+
+def _marker_diameter(subject: Subject, path: str | None, warn: bool, why: str) -> Subject:
+    """The subject with its marker diameter: :data:`DEFAULT_MARKER_DIAMETER_M` (with an
+    :class:`EstimatedMeasurementWarning` ending with ``why``) when it has none."""
+    if subject.marker_diameter is not None:
+        return subject
+    if warn:
+        warnings.warn(f"{path or 'trial'}: marker diameter not measured: assumed "
+                      f"{DEFAULT_MARKER_DIAMETER_M * 1000:.0f} mm ({why})", EstimatedMeasurementWarning,
+                      stacklevel=4)
+    out = replace(subject, marker_diameter=DEFAULT_MARKER_DIAMETER_M,
+                  sources=dict(subject.sources))
+    out.sources[("marker_diameter", None)] = "assumed (not recorded)"
     return out
 
 
@@ -48,12 +91,17 @@ def prepare_subject(trial: Trial, subject: Subject | None = None, *,
                     warn: bool = True) -> Subject:
     """The subject a walk is processed with: measurements, calibration, estimates.
 
-    Measurements come from ``subject``, else the walk's PROCESSING group, then
-    the static's; a ``static`` calibrates the offsets
+    Measurements come from ``subject``, else the static's PROCESSING group, then the
+    walk's (a given ``subject``'s missing values are taken from the static's
+    PROCESSING only: without a static it is used as given, the rest estimated); a
+    static's medial markers measure the knee and ankle widths still unknown; a
+    ``static`` calibrates the offsets
     (:func:`mocap.plugingait.calibration.calibrate`); without one (and an uncalibrated
     ``subject``) an :class:`AnatomicalOffsetWarning` says the offsets are
     uncorrected.  What is still unknown is estimated from the walk's recorded
-    (never gap-filled) frames (:func:`estimate_missing`).  An empty SACR with
+    (never gap-filled) frames (:func:`estimate_missing`), with one
+    :class:`EstimatedMeasurementWarning` each, the marker diameter too (14 mm assumed).
+    ``Subject.sources`` says where each value came from.  An empty SACR with
     both PSIS markers gives a :class:`MissingMarkerWarning` (the PSIS midpoint
     stands in).  ``warn=False`` says nothing (a caller that prepared the
     subject already did).
@@ -63,10 +111,22 @@ def prepare_subject(trial: Trial, subject: Subject | None = None, *,
     if warn and "SACR" in empty and "LPSI" in markers and "RPSI" in markers:
         warnings.warn(f"{path or 'trial'}: SACR has no data; using the LPSI-RPSI "
                       f"midpoint as the sacrum", MissingMarkerWarning, stacklevel=3)
+    from_static = None if static is None else \
+        subject_from_trial(static, source="static PROCESSING")
+    given = subject is not None
     if subject is None:
-        subject = subject_from_trial(trial)
-        if static is not None:
-            subject = _merge(subject, subject_from_trial(static))
+        subject = subject_from_trial(trial, source="walk PROCESSING")
+        if from_static is not None:
+            subject = _merge(from_static, subject)
+    else:
+        subject = _given(subject)
+        if from_static is not None:
+            subject = _merge(subject, from_static)
+    why = {(False, False): "no PROCESSING:MarkerDiameter in the walk",
+           (False, True): "no PROCESSING:MarkerDiameter in the static or the walk",
+           (True, False): "none in the Subject given",
+           (True, True): "none in the Subject given or the static's PROCESSING"}
+    subject = _marker_diameter(subject, path, warn, why[(given, static is not None)])
     keep = None
     if trial.filled:
         from mocap.clean.gapfill import recorded_frames
@@ -240,7 +300,7 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
                                             upper_subject_from_trial)
 
         if upper_subject is None:
-            upper_subject = upper_subject_from_trial(trial, static)
+            upper_subject = upper_subject_from_trial(static, trial)
         upper_markers = markers_from_trial(trial, UPPER_MARKERS)[0]
         if not upper_markers:
             raise MocapError(f"no Plug-in Gait upper-body markers with data "

@@ -42,6 +42,8 @@ KNEE_WIDTH_PER_ASIS = 0.445
 ANKLE_WIDTH_PER_FOOT = 0.368
 #: Ankle width per metre of leg length, when the foot's markers are missing.
 ANKLE_WIDTH_PER_LEG = 0.079
+#: The provenance (``Subject.sources``) of a value estimated here.
+ESTIMATED = "estimated from the walk"
 
 
 class EstimatedMeasurementWarning(MocapWarning):
@@ -88,7 +90,8 @@ def estimate_missing(subject: Subject, markers: dict, path: str | None = None,
     MocapError
         The markers an estimate needs (LASI, RASI, an ankle marker) are missing.
     """
-    sub = replace(subject, leg_length=dict(subject.leg_length),
+    sub = replace(subject, sources=dict(subject.sources),
+                  leg_length=dict(subject.leg_length),
                   knee_width=dict(subject.knee_width), ankle_width=dict(subject.ankle_width))
     keep = keep or {}
 
@@ -111,6 +114,7 @@ def estimate_missing(subject: Subject, markers: dict, path: str | None = None,
         asis = float(np.nanmedian(distance("LASI", "RASI")))
     if lengths and sub.inter_asis is None:
         sub.inter_asis = asis
+        sub.sources[("inter_asis", None)] = ESTIMATED
         if warn:
             _say(path, "inter-ASIS distance", asis, "median LASI-RASI marker distance")
     legs = dict(sub.leg_length)
@@ -132,6 +136,7 @@ def estimate_missing(subject: Subject, markers: dict, path: str | None = None,
         for side in SIDES:
             if sub.leg_length[side] is None:
                 sub.leg_length[side] = legs[side]
+                sub.sources[("leg_length", side)] = ESTIMATED
                 if warn:
                     _say(path, f"{side.upper()} leg length", legs[side],
                          "95th percentile ASIS-ankle marker distance plus the marker radius")
@@ -139,6 +144,7 @@ def estimate_missing(subject: Subject, markers: dict, path: str | None = None,
         S = side.upper()
         if ("knee_width", side) in wanted:
             sub.knee_width[side] = KNEE_WIDTH_PER_ASIS * asis
+            sub.sources[("knee_width", side)] = ESTIMATED
             if warn:
                 _say(path, f"{S} knee width", sub.knee_width[side],
                      f"{KNEE_WIDTH_PER_ASIS} x LASI-RASI marker distance {asis * 1000:.0f} mm")
@@ -157,6 +163,7 @@ def estimate_missing(subject: Subject, markers: dict, path: str | None = None,
                 sub.ankle_width[side] = ANKLE_WIDTH_PER_LEG * legs[side]
                 how = (f"{ANKLE_WIDTH_PER_LEG} x leg length "
                        f"{legs[side] * 1000:.0f} mm; no {S}HEE/{S}TOE")
+            sub.sources[("ankle_width", side)] = ESTIMATED
             if warn:
                 _say(path, f"{S} ankle width", sub.ankle_width[side], how)
     return sub

@@ -297,8 +297,10 @@ EDGE_FRAMES = 2
 
 
 def body_mass_of(trial: Trial, static: Trial | None = None) -> float | None:
-    """Body mass (kg) from the walk's, else the static's PROCESSING Bodymass; None if absent."""
-    for source in (trial, static):
+    """Body mass (kg) from the static's, else the walk's PROCESSING Bodymass (as the other
+    subject measurements, :func:`~mocap.plugingait.clinical.prepare_subject`); None if
+    absent."""
+    for source in (static, trial):
         if source is None:
             continue
         group = {str(k).upper(): v for k, v in (source.parameters.get("PROCESSING") or {}).items()}
@@ -392,7 +394,7 @@ def plugingait_kinetics(trial: Trial, subject: Subject | None = None, *,
     static : Trial, optional
         Calibrates the feet and gives the segment lengths (:func:`segment_lengths`).
     body_mass : float, optional
-        kg; default PROCESSING Bodymass of the walk, then the static.
+        kg; default PROCESSING Bodymass of the static, then the walk.
     flat_foot : bool or "auto"
         As :func:`mocap.plugingait.clinical.plugingait_angles`.
 

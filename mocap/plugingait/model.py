@@ -87,8 +87,10 @@ class Subject:
 
     Attributes
     ----------
-    marker_diameter : float
-        Metres (0.014 by default).
+    marker_diameter : float or None
+        Metres; None when not recorded (:attr:`radius` then assumes
+        :data:`DEFAULT_MARKER_DIAMETER_M`, and
+        :func:`~mocap.plugingait.clinical.prepare_subject` says so).
     leg_length, asis_trochanter, knee_width, ankle_width : dict side -> float or None
         Metres.
     inter_asis : float or None
@@ -99,9 +101,14 @@ class Subject:
         Radians, Plug-in Gait's signs; None when no static calibrated the foot.
     calibrated : bool
         True once a static trial set the offsets.
+    sources : dict of (str, str or None) to str
+        Where each value came from, keyed ``(field, side)`` (side None for
+        ``inter_asis`` and ``marker_diameter``): ``"static PROCESSING"``, ``"walk
+        PROCESSING"``, ``"static medial markers"``, ``"estimated from the walk"`` …
+        (what the report's subject table shows); not compared by ``==``.
     """
 
-    marker_diameter: float = 0.014
+    marker_diameter: float | None = None
     leg_length: dict = field(default_factory=lambda: {"l": None, "r": None})
     asis_trochanter: dict = field(default_factory=lambda: {"l": None, "r": None})
     knee_width: dict = field(default_factory=lambda: {"l": None, "r": None})
@@ -113,6 +120,7 @@ class Subject:
     static_plantar_flexion: dict = field(default_factory=lambda: {"l": None, "r": None})
     static_rotation_offset: dict = field(default_factory=lambda: {"l": None, "r": None})
     calibrated: bool = False
+    sources: dict = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         lengths = [("marker_diameter", None, self.marker_diameter),
@@ -127,8 +135,15 @@ class Subject:
 
     @property
     def radius(self) -> float:
-        """Marker radius, metres."""
-        return self.marker_diameter / 2.0
+        """Marker radius, metres (:data:`DEFAULT_MARKER_DIAMETER_M` / 2 when the
+        diameter is not recorded)."""
+        diameter = self.marker_diameter
+        return (DEFAULT_MARKER_DIAMETER_M if diameter is None else diameter) / 2.0
+
+
+#: Marker diameter assumed when no PROCESSING group records one, metres (Vicon's
+#: 14 mm markers; biomechzoo's files record 10 mm).
+DEFAULT_MARKER_DIAMETER_M = 0.014
 
 
 #: Largest plausible value of each Subject length, metres: a marker of 10 cm, a leg
@@ -150,7 +165,8 @@ _PROCESSING = {  # Subject field -> PROCESSING name pattern ({S} = L or R), mm o
 }
 
 
-def subject_from_trial(trial: Trial, *, offsets: bool = False) -> Subject:
+def subject_from_trial(trial: Trial, *, offsets: bool = False,
+                       source: str = "PROCESSING") -> Subject:
     """Subject measurements from a C3D's PROCESSING group (Vicon's subject values).
 
     Parameters
@@ -162,6 +178,9 @@ def subject_from_trial(trial: Trial, *, offsets: bool = False) -> Subject:
         Also take the static offsets (plant-flexion, rotation) stored there by
         a previous Plug-in Gait run; off by default, as those are outputs of a
         static calibration, not measurements.
+    source : str
+        The provenance recorded in ``Subject.sources`` for every value found
+        ("walk PROCESSING", "static PROCESSING" …).
 
     Returns
     -------
@@ -184,8 +203,11 @@ def subject_from_trial(trial: Trial, *, offsets: bool = False) -> Subject:
     diameter = number("MarkerDiameter")
     if diameter and diameter > 0:
         subject.marker_diameter = diameter * PROCESSING_LENGTH_M
+        subject.sources[("marker_diameter", None)] = source
     iad = number("InterAsisDistance")
     subject.inter_asis = iad * PROCESSING_LENGTH_M if iad else None
+    if subject.inter_asis is not None:
+        subject.sources[("inter_asis", None)] = source
     for key, pattern in _PROCESSING.items():
         if key.startswith("static_") and not offsets:
             continue
@@ -198,6 +220,8 @@ def subject_from_trial(trial: Trial, *, offsets: bool = False) -> Subject:
                 values[side] = value
             else:
                 values[side] = value * PROCESSING_LENGTH_M if value else None
+            if value:
+                subject.sources[(key, side)] = source
     if offsets and all(subject.static_plantar_flexion[s] is not None for s in SIDES):
         subject.calibrated = True
     return subject
@@ -305,7 +329,7 @@ def hip_joint_centres(rotation: np.ndarray, origin: np.ndarray, subject: Subject
             at = davis_asis_trochanter(subject.leg_length[side])
         local = hip_joint_centre_offset(
             "davis", name, subject.inter_asis, leg_length=mean_leg,
-            marker_diameter=subject.marker_diameter, asis_trochanter=at)
+            marker_diameter=2.0 * subject.radius, asis_trochanter=at)
         out[side] = origin + rotation @ local
     return out
 

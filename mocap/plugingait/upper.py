@@ -124,7 +124,8 @@ def upper_subject_from_trial(*trials: Trial | None) -> UpperSubject:
     Parameters
     ----------
     *trials : Trial or None
-        Searched in order (the walk, then its static); None entries are skipped.
+        Searched in order (the static, then its walk, as the lower body's
+        measurements); None entries are skipped.
 
     Returns
     -------

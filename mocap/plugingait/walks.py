@@ -91,47 +91,50 @@ def subject_rows(walk: Trial, static: Trial | None, used,
                  offsets_from: str = "static calibration") -> list[tuple[str, str, str]]:
     """The measurements a walk was processed with and their origin.
 
-    ``used`` is the :class:`~mocap.plugingait.model.Subject` of the model; a value the
-    walk's and the static's PROCESSING groups lack was estimated from the walk;
-    ``offsets_from`` says where calibrated offsets came from.
+    ``used`` is the :class:`~mocap.plugingait.model.Subject` of the model: each value's
+    origin is its ``sources`` entry ("static PROCESSING", "walk PROCESSING", "static
+    medial markers", "estimated from the walk" …; a value without one is the walk's
+    PROCESSING).  Body mass and height come from the static's PROCESSING group, else the
+    walk's (as the kinetics take the body mass); ``offsets_from`` says where calibrated
+    offsets came from.
     """
-    from mocap.plugingait.model import subject_from_trial
-
-    given = [subject_from_trial(t) for t in (walk, static) if t is not None]
     rows = []
     for label, name, unit, scale in (("Body mass", "Bodymass", "kg", 1.0),
                                      ("Height", "Height", "m", 1e-3)):
-        value = _processing(walk, name) or _processing(static, name)
-        if value is not None:
-            rows.append((label, f"{value * scale:.3g} {unit}", "PROCESSING"))
+        for trial, origin in ((static, "static PROCESSING"), (walk, "walk PROCESSING")):
+            value = _processing(trial, name)
+            if value is not None:
+                rows.append((label, f"{value * scale:.3g} {unit}", origin))
+                break
     if used is None:
         return rows
 
-    def origin(value_of) -> str:
-        return "PROCESSING" if any(value_of(g) is not None for g in given) else \
-            "estimated from the walk"
+    def origin(key: str, side: str | None = None) -> str:
+        return used.sources.get((key, side), "walk PROCESSING")
 
+    if used.marker_diameter is not None:
+        rows.append(("Marker diameter", f"{used.marker_diameter * 1000:.0f} mm",
+                     origin("marker_diameter")))
     if used.inter_asis is not None:
         rows.append(("Inter-ASIS distance", f"{used.inter_asis * 1000:.0f} mm",
-                     origin(lambda s: s.inter_asis)))
+                     origin("inter_asis")))
     for label, key in (("Leg length", "leg_length"), ("Knee width", "knee_width"),
                        ("Ankle width", "ankle_width")):
         for side, side_name in (("l", "left"), ("r", "right")):
             value = getattr(used, key)[side]
             if value is not None:
                 rows.append((f"{label}, {side_name}", f"{value * 1000:.0f} mm",
-                             origin(lambda s, k=key, d=side: getattr(s, k)[d])))
+                             origin(key, side)))
     if used.calibrated:
         for label, key in (("Static plantar flexion offset", "static_plantar_flexion"),
                            ("Static rotation offset", "static_rotation_offset"),
                            ("Tibial torsion", "tibial_torsion")):
             for side, side_name in (("l", "left"), ("r", "right")):
                 value = getattr(used, key)[side]
-                measured = key == "tibial_torsion" and any(g.tibial_torsion[side]
-                                                           for g in given)
+                measured = key == "tibial_torsion" and (key, side) in used.sources
                 if value is not None:
                     rows.append((f"{label}, {side_name}", f"{np.degrees(value):.1f} deg",
-                                 "PROCESSING" if measured else offsets_from))
+                                 origin(key, side) if measured else offsets_from))
     elif offsets_from == "static calibration":      # computed without a static
         rows.append(("Foot offsets", "0 (uncorrected)", "no static trial"))
     return rows
@@ -215,7 +218,7 @@ def analyse_walk(source, static=None, *, stored: bool = False, flat_foot: bool |
     if stored:
         from mocap.plugingait.model import subject_from_trial
 
-        used = subject_from_trial(walk, offsets=True)
+        used = subject_from_trial(walk, offsets=True, source="walk PROCESSING")
         offsets_from = "PROCESSING (Vicon's calibration)"
     rows = subject_rows(walk, static_trial, used, offsets_from)
     return WalkAnalysis(path, curves, parameters, rows, notes, origin, subject_name(walk),

@@ -39,6 +39,9 @@ def _one_line_each(err: str) -> None:
     for name in ESTIMATED:
         assert sum(f": {name} not measured: estimated " in line for line in lines) == 1, err
     assert all(line.endswith(")") and " mm (" in line for line in lines)
+    # the marker diameter, not in the file either, is said once like the estimates
+    said = [line for line in err.splitlines() if "marker diameter not measured" in line]
+    assert len(said) == 1 and "assumed 14 mm" in said[0], err
 
 
 def test_angles_gives_clinical_angles_and_says_each_estimate(stripped, tmp_path, capsys):

@@ -55,9 +55,9 @@ def test_computed_kinetics_cycles_are_vicons(computed_and_stored):
 def test_where_each_measurement_came_from(computed_and_stored):
     ours, vicon = computed_and_stored
     rows = {name: origin for name, _, origin in ours.subject}
-    assert rows["Knee width, left"] == "PROCESSING"
+    assert rows["Knee width, left"] == "static PROCESSING"      # read before the walk's
     assert rows["Static plantar flexion offset, left"] == "static calibration"
-    assert rows["Tibial torsion, left"] == "PROCESSING"          # measured, not calibrated
+    assert rows["Tibial torsion, left"] == "static PROCESSING"   # measured, not calibrated
     stored = {name: origin for name, _, origin in vicon.subject}
     assert stored["Static plantar flexion offset, left"].startswith("PROCESSING")
     assert ours.subject_name == "HC030A" and ours.origin == "computed"
@@ -105,7 +105,7 @@ def test_a_walk_without_force_plates_has_angles_and_a_note(files, tmp_path):
     assert any("no joint moments or powers" in n and "force plates" in n
                for n in analysis.notes), analysis.notes
     # the measurements the TRC lacks come from the static's PROCESSING group
-    assert dict((n, o) for n, _, o in analysis.subject)["Leg length, left"] == "PROCESSING"
+    assert dict((n, o) for n, _, o in analysis.subject)["Leg length, left"] == "static PROCESSING"
 
 
 def test_a_walk_without_a_complete_cycle_is_one_clear_error(files):
