@@ -12,6 +12,11 @@ leg-signal cycles (``representation="rotvec"``); ``representation="euler"`` keep
 Euler angles on the body model.
 
 * **Several trials of one (person, action) cell** are averaged the same way as cycles.
+* **Heading.** Euler corpora are heading-free too: each trial is turned about the lab
+  vertical by its mean pelvis heading (:func:`synthesis.rotations.remove_mean_heading`), so a
+  walk through the lab in −X gives the angles of the same walk in +X. An angle CSV read
+  without a marker set has no hierarchy (no root to turn) and keeps its angles, and so does
+  every trial of its corpus (``MotionCorpus.heading_removed`` says which).
 
 The result, :class:`MotionCorpus`, holds ``angles`` (people, actions, samples, columns) in
 degrees and ``durations`` (people, actions) in seconds, NaN where a cell is missing.
@@ -36,6 +41,7 @@ from mocap.io.motion import MARKER_SUFFIXES, MOTION_SUFFIXES, read_motion
 from mocap.markersets import load_markerset
 from mocap.pipeline import Cleaning, marker_file_angles
 from synthesis.cycles import DEFAULT_SAMPLES, centre_branch, normalise_cycles
+from synthesis.rotations import hierarchy_known, remove_mean_heading
 from synthesis.skeletons import is_skeleton_trial, read_skeleton_corpus
 
 #: File suffixes a corpus folder may hold: marker trials (and angle CSVs), BVH and ASF/AMC
@@ -144,7 +150,7 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
         15-segment body model (``mocap.body.retarget.reduce_to_segments``).
     markerset : MarkerSet, str or None
         Marker set (object, preset name or TOML path) for marker trials; not needed for angle
-        CSVs.
+        CSVs (whose segments, when they are the set's, get its hierarchy).
     sequence : str
         Euler sequence (scipy convention) for marker trials.
     lowpass_hz : float, optional
@@ -158,15 +164,19 @@ def read_trial_angles(path: str | Path, markerset=None, sequence: str = "ZXY",
     Returns
     -------
     mocap.rotations.angles.JointAngles
-        ``values`` (frames, segments, 3) degrees, ``times`` (frames,) seconds.
+        ``values`` (frames, segments, 3) degrees, ``times`` (frames,) seconds; an angle CSV
+        with the marker set's segments gets its ``parents``.
     """
     path = Path(path)
     if not path.exists():
         raise MocapError("trial file not found", path)
-    if isinstance(markerset, (str, Path)) and not is_angle_csv(path):
+    if isinstance(markerset, (str, Path)):
         markerset = load_markerset(markerset)
     if is_angle_csv(path) and not _named_like_markers(path, markerset):
-        return read_angles_csv(path)
+        angles = read_angles_csv(path)
+        if markerset is not None and list(angles.segments) == list(markerset.segment_names):
+            angles.parents = list(markerset.parent_index)     # the CSV does not store them
+        return angles
     if file_kind(path) == "motion":
         return _skeleton_angles(path, sequence, joint_map)
     if markerset is None:
@@ -236,6 +246,10 @@ class MotionCorpus:
     trial_cycles : dict of str to int
         Skeleton corpora read with cycles: trial path → complete cycles found (0: none, the
         trial was time-normalised whole).
+    heading_removed : bool
+        Whether the heading about the vertical is out of the features: every skeleton corpus
+        (per frame, the body root's tilt); an Euler corpus whose trials all have a known
+        hierarchy (per trial, :func:`synthesis.rotations.remove_mean_heading`).
     """
 
     people: list[str]
@@ -259,6 +273,7 @@ class MotionCorpus:
     takes: dict = field(default_factory=dict)
     rig: dict | None = None
     trial_cycles: dict = field(default_factory=dict)
+    heading_removed: bool = False
 
     #: Per-cell arrays (first two axes people × actions) and their "missing" value.
     _CELL_ARRAYS = (("angles", np.nan), ("durations", np.nan), ("cycle_counts", 0),
@@ -366,7 +381,8 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
                 max_gap_seconds: float | None = None,
                 progress: Callable[[Iterable, str], Iterable] | None = None,
                 representation: str = "auto", body: bool = False,
-                joint_map: str | Path | dict | None = None) -> MotionCorpus:
+                joint_map: str | Path | dict | None = None,
+                remove_heading: bool = True) -> MotionCorpus:
     """Read, time-normalise and stack the trials of a corpus.
 
     Parameters
@@ -398,6 +414,10 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
     joint_map : path or dict, optional
         Body segment → joint name for the BVH/ASF-AMC trials' rig, where its joint names do
         not say it (:func:`mocap.body.segments.read_joint_map`).
+    remove_heading : bool
+        Euler corpora: turn each trial by its mean heading (see :func:`corpus_from_angles`);
+        False keeps the direction of travel in the lab as a feature. Skeleton corpora
+        always remove it.
 
     Returns
     -------
@@ -414,11 +434,11 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
         raise MocapError("rotation-vector features need skeleton trials (BVH, ASF/AMC) only")
     if representation != "euler" and skeletal:
         return MotionCorpus(**read_skeleton_corpus(entries, samples, cycles, body, progress,
-                                                   joint_map=joint_map))
+                                                   joint_map=joint_map), heading_removed=True)
     if joint_map is not None and not isinstance(joint_map, dict):
         joint_map = read_joint_map(joint_map)
     markerset_name = None if markerset is None else str(getattr(markerset, "name", markerset))
-    if isinstance(markerset, (str, Path)) and any(not is_angle_csv(e.path) for e in entries):
+    if isinstance(markerset, (str, Path)):
         markerset = load_markerset(markerset)
     wrap = progress or (lambda items, description: items)
     read = []
@@ -426,14 +446,16 @@ def read_corpus(entries: Iterable[CorpusEntry], markerset=None, sequence: str = 
         angles = read_trial_angles(entry.path, markerset, sequence, lowpass_hz, max_gap_seconds,
                                    joint_map=joint_map)
         read.append((entry, angles))
-    return corpus_from_angles(read, samples, cycles, cycle_column, markerset=markerset_name,
+    return corpus_from_angles(read, samples, cycles, cycle_column, remove_heading,
+                              markerset=markerset_name,
                               cleaning={"lowpass_hz": lowpass_hz,
                                         "max_gap_seconds": max_gap_seconds})
 
 
 def corpus_from_angles(trials: Sequence[tuple[CorpusEntry, JointAngles]],
                        samples: int = DEFAULT_SAMPLES, cycles: bool = False,
-                       cycle_column: str | None = None, **metadata) -> MotionCorpus:
+                       cycle_column: str | None = None, remove_heading: bool = True,
+                       **metadata) -> MotionCorpus:
     """Time-normalise and stack joint angles already computed, one per trial.
 
     :func:`read_corpus` reads the files and calls this; a program that has the angles in
@@ -447,6 +469,11 @@ def corpus_from_angles(trials: Sequence[tuple[CorpusEntry, JointAngles]],
         Euler sequence.
     samples, cycles, cycle_column
         As :func:`read_corpus`.
+    remove_heading : bool
+        Turn each trial about the lab vertical (Z) by its mean heading
+        (:func:`synthesis.rotations.remove_mean_heading`), when every trial's hierarchy is
+        known (:func:`synthesis.rotations.hierarchy_known`); otherwise the angles are kept
+        as they are.
     **metadata
         ``markerset``, ``cleaning`` … recorded in the corpus.
 
@@ -466,6 +493,9 @@ def corpus_from_angles(trials: Sequence[tuple[CorpusEntry, JointAngles]],
         if angles.sequence != reference_sequence:
             raise MocapError(f"Euler sequence {angles.sequence} differs from {reference_sequence} "
                              f"of {read[0][0].path.name}", entry.path)
+    heading_removed = remove_heading and all(hierarchy_known(a) for _, a in read)
+    if heading_removed:
+        read = [(entry, remove_mean_heading(angles)) for entry, angles in read]
     columns = angle_columns(reference_segments, reference_sequence)
     reference = None
     if cycles:
@@ -487,7 +517,7 @@ def corpus_from_angles(trials: Sequence[tuple[CorpusEntry, JointAngles]],
     return stack_corpus(cells, reference_segments, read[0][1].parents, reference_sequence,
                         cycles=cycles,
                         cycle_column=None if reference is None else columns[reference],
-                        sources=sources, **metadata)
+                        sources=sources, heading_removed=heading_removed, **metadata)
 
 
 def _flat(angles) -> np.ndarray:

@@ -28,6 +28,7 @@ from synthesis.methods import CellMethod, make_method, method_name
 from synthesis.nmode import Rank
 from synthesis.recognition import Recognition, distances, recognize
 from synthesis.regression import SignatureModel
+from synthesis.rotations import hierarchy_known, remove_mean_heading
 from synthesis.signature import interpolate_signatures
 from synthesis.skeletons import cycle_motion
 from synthesis.transfer import TransferModel
@@ -91,6 +92,7 @@ class MotionModel:
     representation: str = field(default="euler", init=False)
     rotation_means: np.ndarray | None = field(default=None, init=False, repr=False)
     rig: dict | None = field(default=None, init=False, repr=False)
+    heading_removed: bool = field(default=False, init=False)
 
     # ------------------------------------------------------------------ fitting
 
@@ -124,6 +126,7 @@ class MotionModel:
         angles[~observed] = np.nan
         self.representation, self.rig = corpus.representation, corpus.rig
         self.rotation_means = corpus.rotation_means
+        self.heading_removed = corpus.heading_removed
         with np.errstate(invalid="ignore", divide="ignore"):
             timing = np.log(np.where(corpus.durations > 0, corpus.durations, np.nan))[..., None]
         if corpus.phases is not None:
@@ -333,6 +336,8 @@ class MotionModel:
         Parameters
         ----------
         angles : mocap.rotations.angles.JointAngles
+            Turned by its mean heading first when the corpus' trials were
+            (:attr:`heading_removed`; a trial of unknown hierarchy is refused then).
 
         Returns
         -------
@@ -346,6 +351,12 @@ class MotionModel:
         if angles.sequence != self.sequence:
             raise MocapError(f"trial angles use the Euler sequence {angles.sequence}, the model "
                              f"{self.sequence}")
+        if self.heading_removed and self.representation == "euler":
+            if not hierarchy_known(angles):
+                raise MocapError("the model's corpus had its heading removed, and this "
+                                 "trial's segment hierarchy is unknown (an angle CSV: give "
+                                 "the model's marker set)")
+            angles = remove_mean_heading(angles)
         values = np.asarray(angles.values, dtype=float)
         reference = self.columns.index(self.cycle_column) if self.cycle_column else None
         curve, duration, _ = normalise_cycles(np.asarray(angles.times, dtype=float),
@@ -389,6 +400,7 @@ class MotionModel:
             "ridge_alpha": angle.ridge_alpha_, "loo_rms_deg": angle.loo_rms_,
             "spread_rms_deg": self.spread_rms_,
             "method": self.method_, "representation": self.representation,
+            "heading_removed": self.heading_removed,
             "interaction": self._interaction_summary(),
             "timing_rank": timing.rank, "timing_ridge_alpha": timing.ridge_alpha_,
             "timing_loo_rms_log": timing.loo_rms_,

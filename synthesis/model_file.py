@@ -37,6 +37,7 @@ def save_model(model: MotionModel, path: str | os.PathLike) -> None:
         "spread_rms": model.spread_rms_, "angles": angle_meta, "timing": timing_meta,
         "method": model.method, "method_": model.method_,
         "representation": model.representation, "rig": model.rig,
+        "heading_removed": model.heading_removed,
     }
     # The methods' state is their data: stored once, refitted on loading.
     extra = {"transfer_angles": model.cells_.data_,
@@ -83,6 +84,7 @@ def load_model(path: str | os.PathLike) -> MotionModel:
         model.method_ = meta.get("method_", "signature")
         model.representation = meta.get("representation", "euler")
         model.rig = meta.get("rig")
+        model.heading_removed = bool(meta.get("heading_removed", False))
         model.rotation_means = arrays.get("rotation_means")
         if "transfer_angles" not in arrays:
             # Format 1 models held signatures only: they predict missing cells by them.

@@ -19,6 +19,11 @@ A skeleton trial (BVH, ASF/AMC; :class:`mocap.skeleton.Motion`, Y up) becomes, p
   geodesic ``|log(exp(−x̂) exp(x))|``, independent of any Euler sequence.
 
 Synthesised features go back with :func:`features_to_rotations` and :func:`root_path`.
+
+Euler-angle corpora (marker trials, angle CSVs read with a marker set) have no root-motion
+features to carry the turning, so :func:`remove_mean_heading` takes away one rotation about
+the lab vertical per trial — the trial's mean heading, by the same swing–twist split — and a
+trial captured walking the other way through the lab gives the same angles.
 """
 from __future__ import annotations
 
@@ -27,8 +32,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from mocap.rotations.angles import JointAngles, angles_to_matrices, matrices_to_angles
+
 #: Index of the vertical axis of :class:`mocap.skeleton.Motion` (Y up).
 UP = 1
+#: Index of the vertical axis of marker labs and of the angles computed in them (Z up).
+LAB_UP = 2
 #: Names of the root-motion features, in order.
 ROOT_FEATURES = ("forward_m_s", "sideways_m_s", "turn_deg_s", "height_m")
 
@@ -61,28 +70,107 @@ def feature_joints(parents: list[int]) -> list[int]:
     return sorted(inside)
 
 
-def heading_split(world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def heading_split(world: np.ndarray, up: int = UP) -> tuple[np.ndarray, np.ndarray]:
     """Heading (rotation about the vertical) and tilt of world rotations.
+
+    The heading is the twist about the vertical of the swing–twist decomposition.
 
     Parameters
     ----------
     world : ndarray, shape (frames, 3, 3)
+        Finite rotations.
+    up : int
+        Index of the vertical axis: :data:`UP` (skeletons, Y) or :data:`LAB_UP` (marker
+        labs, Z).
 
     Returns
     -------
     heading : ndarray, shape (frames,), radians, unwrapped over frames
     tilt : ndarray, shape (frames, 3, 3)
-        ``R_y(heading)ᵀ world``.
+        ``R_up(heading)ᵀ world``.
     """
     quat = Rotation.from_matrix(world).as_quat()                  # x, y, z, w
-    heading = np.unwrap(2.0 * np.arctan2(quat[:, UP], quat[:, 3]))
-    tilt = np.einsum("fji,fjk->fik", yaw_matrices(heading), world)
+    heading = np.unwrap(2.0 * np.arctan2(quat[:, up], quat[:, 3]))
+    tilt = np.einsum("fji,fjk->fik", yaw_matrices(heading, up), world)
     return heading, tilt
 
 
-def yaw_matrices(heading: np.ndarray) -> np.ndarray:
-    """Rotations by ``heading`` (radians) about the vertical, shape (frames, 3, 3)."""
-    return Rotation.from_rotvec(np.outer(heading, np.eye(3)[UP])).as_matrix()
+def yaw_matrices(heading: np.ndarray, up: int = UP) -> np.ndarray:
+    """Rotations by ``heading`` (radians) about the vertical axis ``up``, shape (frames, 3, 3)."""
+    return Rotation.from_rotvec(np.outer(heading, np.eye(3)[up])).as_matrix()
+
+
+def hierarchy_known(angles: JointAngles) -> bool:
+    """Whether the segments' parents are known: some segment has a parent (an angle CSV read
+    without a marker set gives every segment ``-1``, and then a root cannot be told from a
+    joint).
+
+    Examples
+    --------
+    >>> hierarchy_known(JointAngles(np.zeros(1), np.zeros((1, 2, 3)), ["a", "b"], "ZXY", [-1, 0]))
+    True
+    >>> hierarchy_known(JointAngles(np.zeros(1), np.zeros((1, 2, 3)), ["a", "b"], "ZXY", [-1, -1]))
+    False
+    """
+    return any(parent >= 0 for parent in angles.parents)
+
+
+def mean_heading(world: np.ndarray, up: int = LAB_UP) -> float:
+    """Circular mean of the heading (:func:`heading_split`) of world rotations, radians.
+
+    Parameters
+    ----------
+    world : ndarray, shape (frames, 3, 3)
+        NaN frames (missing markers) are left out.
+    up : int
+        Index of the vertical axis.
+
+    Returns
+    -------
+    float
+        In (−π, π]; 0 when no frame is finite.
+    """
+    world = np.asarray(world, dtype=float)
+    finite = np.isfinite(world).all(axis=(1, 2))
+    if not finite.any():
+        return 0.0
+    heading, _ = heading_split(world[finite], up)
+    return float(np.arctan2(np.sin(heading).mean(), np.cos(heading).mean()))
+
+
+def remove_mean_heading(angles: JointAngles, up: int = LAB_UP) -> JointAngles:
+    """Euler angles of a trial turned about the lab vertical so its mean heading is zero.
+
+    The heading ``ψ̄`` is the circular mean over the trial of the heading of the first root
+    segment (parent −1, the pelvis); every root segment's rotation in the lab becomes
+    ``R_up(ψ̄)ᵀ R``, the joints (relative to a parent) are unchanged. The swing and the
+    heading's change within the trial (pelvic rotation, a turn) stay; a constant rotation of
+    the whole trial about the vertical (walking the other way through the lab) leaves the
+    angles unchanged.
+
+    Parameters
+    ----------
+    angles : mocap.rotations.angles.JointAngles
+        ``values`` (frames, segments, 3) degrees in the lab's axes; ``parents`` known
+        (:func:`hierarchy_known`).
+    up : int
+        Index of the lab's vertical axis (:data:`LAB_UP`, Z).
+
+    Returns
+    -------
+    mocap.rotations.angles.JointAngles
+        A copy; the roots' angles are principal values (NaN where they were NaN).
+    """
+    roots = [s for s, parent in enumerate(angles.parents) if parent < 0]
+    if not roots:
+        return angles
+    world = angles_to_matrices(np.asarray(angles.values, float)[:, roots], angles.sequence)
+    turn = yaw_matrices(np.array([mean_heading(world[:, 0], up)]), up)[0]
+    values = np.array(angles.values, dtype=float)
+    values[:, roots] = matrices_to_angles(np.einsum("ji,fsjk->fsik", turn, world),
+                                          angles.sequence)
+    return JointAngles(times=angles.times, values=values, segments=list(angles.segments),
+                       sequence=angles.sequence, parents=list(angles.parents), axes=angles.axes)
 
 
 def chordal_mean(matrices: np.ndarray) -> np.ndarray:
