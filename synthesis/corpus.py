@@ -40,7 +40,7 @@ from mocap.io.discovery import find_files, is_angle_csv, parse_trial_name
 from mocap.io.motion import MARKER_SUFFIXES, MOTION_SUFFIXES, read_motion
 from mocap.markersets import load_markerset
 from mocap.pipeline import Cleaning, marker_file_angles
-from synthesis.cycles import DEFAULT_SAMPLES, centre_branch, normalise_cycles
+from synthesis.cycles import DEFAULT_SAMPLES, centre_branch, mean_cycle
 from synthesis.rotations import hierarchy_known, remove_mean_heading
 from synthesis.skeletons import is_skeleton_trial, read_skeleton_corpus
 
@@ -510,8 +510,8 @@ def corpus_from_angles(trials: Sequence[tuple[CorpusEntry, JointAngles]],
     cells: dict[tuple[str, str], list] = {}
     sources: dict[tuple[str, str], list[str]] = {}
     for entry, angles in read:
-        curve, duration, count = normalise_cycles(np.asarray(angles.times), _flat(angles),
-                                                  samples, cycles, reference, entry.path)
+        curve, duration, count = mean_cycle(np.asarray(angles.times), _flat(angles),
+                                            samples, cycles, reference, entry.path)
         cells.setdefault((entry.person, entry.action), []).append((curve, duration, count))
         sources.setdefault((entry.person, entry.action), []).append(str(entry.path))
     return stack_corpus(cells, reference_segments, read[0][1].parents, reference_sequence,

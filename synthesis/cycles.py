@@ -1,7 +1,7 @@
 """Time normalisation of joint-angle curves: unwrap, bridge gaps, resample, detect cycles.
 
 One trial's angle curves (frames, columns) become one gait cycle of ``samples`` frames
-(:func:`normalise_cycles`):
+(:func:`mean_cycle`):
 
 * **Unwrapping** (:func:`mocap.rotations.angles.unwrap_columns`). Every angle is unwrapped (no ±180° jumps) before
   interpolation, over the samples where it is defined (NaN where markers were missing); gaps
@@ -166,10 +166,15 @@ def detect_cycles(times: np.ndarray, signal: np.ndarray, with_events: bool = Fal
     return np.column_stack([event[:-1][keep], event[1:][keep]])
 
 
-def normalise_cycles(times: np.ndarray, values: np.ndarray, samples: int = DEFAULT_SAMPLES,
-                     cycles: bool = False, reference: int | None = None,
-                     source: str | Path | None = None) -> tuple[np.ndarray, float, int]:
-    """Time-normalise a trial to one cycle of ``samples`` frames.
+def mean_cycle(times: np.ndarray, values: np.ndarray, samples: int = DEFAULT_SAMPLES,
+               cycles: bool = False, reference: int | None = None,
+               source: str | Path | None = None) -> tuple[np.ndarray, float, int]:
+    """One time-normalised cycle of ``samples`` frames: the whole trial, or the mean of
+    its detected cycles.
+
+    Gait cycles between the file's foot strikes, one per cycle, are
+    :func:`mocap.plugingait.events.normalise_cycles`; both resample with
+    :func:`mocap.clean.resample.resample`.
 
     Parameters
     ----------

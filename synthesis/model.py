@@ -23,7 +23,7 @@ from mocap.rotations.angles import JointAngles
 from mocap.errors import MocapError
 from synthesis.corpus import MotionCorpus, check_corpus_size
 from mocap.clean.resample import resample
-from synthesis.cycles import normalise_cycles
+from synthesis.cycles import mean_cycle
 from synthesis.methods import CellMethod, make_method, method_name
 from synthesis.nmode import Rank
 from synthesis.recognition import Recognition, distances, recognize
@@ -359,9 +359,9 @@ class MotionModel:
             angles = remove_mean_heading(angles)
         values = np.asarray(angles.values, dtype=float)
         reference = self.columns.index(self.cycle_column) if self.cycle_column else None
-        curve, duration, _ = normalise_cycles(np.asarray(angles.times, dtype=float),
-                                              values.reshape(values.shape[0], -1), self.samples,
-                                              self.cycles, reference)
+        curve, duration, _ = mean_cycle(np.asarray(angles.times, dtype=float),
+                                        values.reshape(values.shape[0], -1), self.samples,
+                                        self.cycles, reference)
         return curve, duration
 
     def distances(self, curve: np.ndarray, actions: Sequence[int] | None = None) -> np.ndarray:

@@ -6,7 +6,7 @@ import pytest
 
 from mocap.errors import MocapError
 from mocap.clean.resample import resample
-from synthesis.cycles import detect_cycles, normalise_cycles
+from synthesis.cycles import detect_cycles, mean_cycle
 
 
 def test_resample_is_exact_for_linear_signals():
@@ -22,7 +22,7 @@ def test_one_cycle_normalisation_keeps_duration_fills_gaps_and_picks_the_branch(
     angle = 200.0 + 10 * np.sin(2 * np.pi * times / 0.9)       # stored wrapped to (-180, 180]
     values = np.column_stack([(angle + 180) % 360 - 180, 5 * times])
     values[30:40, 1] = np.nan                                  # a gap in a linear angle
-    curve, duration, count = normalise_cycles(times, values, samples=10)
+    curve, duration, count = mean_cycle(times, values, samples=10)
     assert duration == pytest.approx(0.9) and count == 1
     phase = np.linspace(0, 0.9, 10)
     assert np.allclose(curve[:, 1], 5 * phase, atol=1e-9)
@@ -40,7 +40,7 @@ def test_cycle_detection_finds_the_period_and_averages_cycles():
     assert len(bounds) == 3
     assert np.allclose(bounds[:, 0], 0.25 + period * np.arange(3), atol=2e-3)
     assert np.allclose(bounds[:, 1] - bounds[:, 0], period, atol=2e-3)
-    curve, duration, count = normalise_cycles(times, np.column_stack([hip, knee]), 50,
+    curve, duration, count = mean_cycle(times, np.column_stack([hip, knee]), 50,
                                               cycles=True)
     assert count == 3 and duration == pytest.approx(period, abs=2e-3)
     u = np.linspace(0, 1, 50)
@@ -50,7 +50,7 @@ def test_cycle_detection_finds_the_period_and_averages_cycles():
 def test_cycle_detection_without_repetition_is_a_clear_error():
     times = np.arange(100) / 100.0
     with pytest.raises(MocapError, match="no complete cycle"):
-        normalise_cycles(times, np.column_stack([times ** 2]), cycles=True)
+        mean_cycle(times, np.column_stack([times ** 2]), cycles=True)
 
 
 def _separations(period, seconds=4.0, rate=30.0, across=False, backwards=False):
