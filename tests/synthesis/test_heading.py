@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+from mocap.errors import MocapError
 from mocap.io import read
 from mocap.io.angles_csv import write_angles_csv
 from mocap.markersets import load_markerset
@@ -88,6 +89,10 @@ def test_a_model_turns_a_new_trial_as_its_corpus_and_keeps_that_in_its_file(
     curve, _ = loaded.normalise(marker_file_angles(turned(generated[0], 90.0),
                                                    synthetic15).angles)
     np.testing.assert_allclose(curve, corpus.angles[ana, walk], atol=1e-9)
+    # a trial whose root cannot be told (every parent -1) cannot be turned: refused
+    angles = marker_file_angles(generated[0], synthetic15).angles
+    with pytest.raises(MocapError, match="hierarchy is unknown"):
+        loaded.normalise(replace(angles, parents=[-1] * len(angles.segments)))
 
 
 def test_an_angle_csv_takes_the_hierarchy_of_its_marker_set(generated, synthetic15, tmp_path):
