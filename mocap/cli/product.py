@@ -52,7 +52,8 @@ def register(subparsers: Subparsers) -> None:
         "batch", help=summary("batch"),
         description="Read every marker file of CORPUS (a folder, or files), summarise it "
                     "(rate, frames, missing data), extract joint-angle ranges of motion with "
-                    "--markerset and run the dynamics check with --check, in parallel worker "
+                    "--markerset, Plug-in Gait angles with --clinical (and gait parameters and "
+                    "scores with --gait), and run the dynamics check with --check, in parallel worker "
                     "processes or on a Dask cluster. Failed trials are listed with their "
                     "errors; the others still finish. Exit status 1 when any trial failed; "
                     "a single trial that fails is an error (status 2).")

@@ -18,6 +18,7 @@ from mocap.plugingait.normative import lab_reference, read_normative, write_norm
 from mocap.plugingait.parameters import VICON_NAMES
 from mocap.plugingait.scores import gait_scores
 from mocap.plugingait.walks import analyse_walk
+from mocap.trial import Trial
 from tests.conftest import realdata_path, require_module
 
 SUBJECTS = ("HC002D", "HC030A")
@@ -33,7 +34,8 @@ def table(text: str) -> list[dict]:
 @pytest.fixture(scope="module")
 def archive(tmp_path_factory):
     """Two subjects of the biomechzoo study as symlinks, plus a walk cut short of a cycle
-    (beside HC030A's walks, so it takes HC030A's static)."""
+    (beside HC030A's walks, so it takes HC030A's static) and a walk's markers alone, without
+    its force plates (beside HC002D's)."""
     study = realdata_path("biomechzoo_sample_study")
     root = tmp_path_factory.mktemp("archive")
     for subject in SUBJECTS:
@@ -45,6 +47,10 @@ def archive(tmp_path_factory):
     short.parent.mkdir()
     mocap_io.write(mocap_io.read(study / "HC030A" / "Straight" / "HC030A05.c3d")
                    .slice(0, SHORT_FRAMES), short)
+    walk = mocap_io.read(study / "HC002D" / "Straight" / "HC002D06.c3d")
+    bare = root / "HC002D" / "NoPlates" / "HC002D98.c3d"
+    bare.parent.mkdir()
+    mocap_io.write(Trial(walk.labels, walk.points, walk.rate), bare)
     return root
 
 
@@ -100,6 +106,16 @@ def test_a_walk_without_a_cycle_keeps_its_angles_and_says_why(on_processes):
     assert row["Left Cycles"] == row["Right Cycles"] == "0"
     assert row["Left Cadence (steps/min)"] == "" and row["GPS (deg)"] == ""
     assert "no complete gait cycle" in row["notes"]
+
+
+def test_a_walk_without_plates_gets_the_same_gait_numbers_and_a_note(on_processes):
+    rows = {r["action"]: r for r in table(on_processes) if r["person"] == "HC002D"}
+    bare, plated = rows["NoPlates"], rows["Straight"]
+    assert "no force plates" in bare["notes"] and "no force plates" not in plated["notes"]
+    gait = [key for key in plated if key.startswith(("Left ", "Right ", "GPS"))]
+    assert len(gait) == 2 * (1 + len(VICON_NAMES)) + 3 + 18
+    assert [bare[key] for key in gait] == [plated[key] for key in gait]
+    assert bare["GPS (deg)"] != ""
 
 
 def test_the_score_is_the_one_mocap_report_prints(archive, on_processes, tmp_path, capsys):
