@@ -11,10 +11,12 @@ stances are refused, toes over the tread edges, so only its swing counts); repor
 beside ``plugingait_angles`` on one walk, and of the whole ``mocap plugingait`` process
 beside ``mocap angles -m plugingait-lower`` on the same file (the reference run),
 medians of 5 runs, and the heavy packages that process imported. Issue 22's target is
-<= 1 s CPU; on 2026-12-05 (HC030A05, 1.97 s walk) it went from 1.24 s (0.35 s for
-``mocap angles``) to 0.41 s (0.29 s) when event detection stopped importing
-scipy.signal for ``find_peaks`` (now :func:`mocap.plugingait.events.find_peaks`, the
-same peaks in numpy).
+<= 1 s CPU; on 2026-12-05 (HC030A05, 1.97 s walk, bytecode compiled) it went from
+1.13-1.18 s (0.27 s for ``mocap angles``) to 0.33-0.34 s (0.24-0.25 s) when event
+detection stopped importing scipy.signal for ``find_peaks`` (now
+:func:`mocap.plugingait.events.find_peaks`, the same peaks in numpy). Without ``.pyc``
+files (a fresh checkout under ``PYTHONDONTWRITEBYTECODE=1``) both commands take
+0.05-0.1 s more: run ``python -m compileall mocap`` first to compare like with like.
 
 Run: ``python benchmarks/plugingait.py``
 """
