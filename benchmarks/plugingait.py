@@ -9,7 +9,14 @@ on them): HC002D, HC031A, HC033A, HC038A and pyCGM's trial (a staircase: its fou
 stances are refused, toes over the tread edges, so only its swing counts); report
 (held-out): HC030A, HC032A, HC036A, HC039A. Then CPU seconds of ``plugingait_kinetics``
 beside ``plugingait_angles`` on one walk, and of the whole ``mocap plugingait`` process
-beside ``mocap angles -m plugingait-lower`` on the same file (the reference run).
+beside ``mocap angles -m plugingait-lower`` on the same file (the reference run),
+medians of 5 runs, and the heavy packages that process imported. Issue 22's target is
+<= 1 s CPU; on 2026-12-05 (HC030A05, 1.97 s walk, bytecode compiled) it went from
+1.13-1.18 s (0.27 s for ``mocap angles``) to 0.33-0.34 s (0.24-0.25 s) when event
+detection stopped importing scipy.signal for ``find_peaks`` (now
+:func:`mocap.plugingait.events.find_peaks`, the same peaks in numpy). Without ``.pyc``
+files (a fresh checkout under ``PYTHONDONTWRITEBYTECODE=1``) both commands take
+0.05-0.1 s more: run ``python -m compileall mocap`` first to compare like with like.
 
 Run: ``python benchmarks/plugingait.py``
 """
@@ -109,9 +116,21 @@ def cpu(walk: Path, static: Path, repeat: int = 5):
           f"kinetics {runs['kinetics'] * 1e3:.1f} ms ({runs['kinetics'] / runs['angles']:.1f}x)")
 
 
-def whole_process(walk: Path, static: Path, repeat: int = 3):
-    """Children's CPU seconds of each command, median over ``repeat`` runs."""
+def _children_cpu(argv: list[str]) -> float:
+    """CPU seconds (user + system) of one child process running ``argv``."""
     import resource
+    import subprocess
+
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run(argv, check=True, capture_output=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+
+
+def whole_process(walk: Path, static: Path, repeat: int = 5):
+    """Children's CPU seconds of each command, median over ``repeat`` runs; then which
+    heavy packages the ``mocap plugingait`` process imported, and what importing
+    scipy.signal alone (as event detection did before 2026-12-05) would add."""
     import statistics
     import subprocess
     import sys
@@ -129,16 +148,28 @@ def whole_process(walk: Path, static: Path, repeat: int = 3):
             for k in range(repeat):
                 for old in Path(folder).iterdir():
                     old.unlink()
-                before = resource.getrusage(resource.RUSAGE_CHILDREN)
-                subprocess.run([sys.executable, "-m", "mocap", *argv], check=True,
-                               capture_output=True)
-                after = resource.getrusage(resource.RUSAGE_CHILDREN)
-                runs.append(after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime)
+                runs.append(_children_cpu([sys.executable, "-m", "mocap", *argv]))
             seconds[name] = statistics.median(runs)
+        for old in Path(folder).iterdir():
+            old.unlink()
+        traced = subprocess.run([sys.executable, "-X", "importtime", "-m", "mocap",
+                                 *commands["mocap plugingait"]], check=True,
+                                capture_output=True, text=True).stderr
+    imported = {line.rpartition("|")[2].strip().split(".")[0]
+                for line in traced.splitlines() if line.startswith("import time:")}
+    heavy = sorted(imported & {"scipy", "pandas", "matplotlib", "pinocchio", "numba"})
+    scipy_signal = statistics.median(
+        _children_cpu([sys.executable, "-c", "import numpy, scipy.signal"])
+        - _children_cpu([sys.executable, "-c", "import numpy"]) for _ in range(repeat))
     trial = read(walk)
-    print(f"whole process on {walk.name} ({trial.frames / trial.rate:.2f} s walk), CPU s: "
+    print(f"whole process on {walk.name} ({trial.frames / trial.rate:.2f} s walk), CPU s, "
+          f"median of {repeat}: "
           + ", ".join(f"{name} {s:.2f}" for name, s in seconds.items())
-          + f" ({seconds['mocap plugingait'] / seconds['mocap angles']:.2f}x)")
+          + f" ({seconds['mocap plugingait'] / seconds['mocap angles']:.2f}x; issue 22's "
+          f"target <= 1 s: {'met' if seconds['mocap plugingait'] <= 1 else 'NOT met'})")
+    print(f"  heavy packages imported by mocap plugingait: {', '.join(heavy) or 'none'}; "
+          f"importing scipy.signal (find_peaks, before 2026-12-05) would add "
+          f"{scipy_signal:.2f} s")
 
 
 if __name__ == "__main__":

@@ -58,12 +58,9 @@ def _check_suffixes(args: argparse.Namespace) -> None:
         raise MocapError("--csv and -o name the same file", args.csv)
 
 
-def _joint_centres(trial, subject) -> tuple[list[str], np.ndarray]:
-    """Labels (LHJC …) and points (frames, n, 3), metres, of the model's joint centres."""
-    from mocap.plugingait.model import MARKERS, kinematics, markers_from_trial
-
-    markers, _ = markers_from_trial(trial, MARKERS)
-    kin = kinematics(markers, subject, trial.path)
+def _joint_centres(trial, kin) -> tuple[list[str], np.ndarray]:
+    """Labels (LHJC …) and points (frames, n, 3), metres, of the model's joint centres
+    (``kin``: the walk's :class:`~mocap.plugingait.model.Kinematics`)."""
     labels, points = [], []
     for side in ("l", "r"):
         for joint, short in (("hip", "HJC"), ("knee", "KJC"), ("ankle", "AJC")):
@@ -81,7 +78,7 @@ def run_plugingait(args: argparse.Namespace) -> int:
     from mocap.plugingait.clinical import plugingait_angles, plugingait_labels, prepare_subject
     from mocap.plugingait.events import events_from_file, gait_events
     from mocap.plugingait.kinetics import plugingait_kinetics
-    from mocap.plugingait.model import markers_from_trial
+    from mocap.plugingait.model import MARKERS, kinematics, markers_from_trial
     from mocap.plugingait.outputs import analysis_group, model_outputs, write_outputs_csv
     from mocap.plugingait.parameters import gait_parameters
     from mocap.plugingait.upper import UPPER_MARKERS
@@ -92,16 +89,18 @@ def run_plugingait(args: argparse.Namespace) -> int:
     static = read(args.static) if args.static else None
     subject = prepare_subject(trial, static=static)
     upper = bool(markers_from_trial(trial, UPPER_MARKERS)[0])
+    # one model of the walk for the angles, the kinetics and the joint centres
+    kin = kinematics(markers_from_trial(trial, MARKERS)[0], subject, trial.path)
     with warnings.catch_warnings():
         # prepare_subject above has said what it had to
         warnings.filterwarnings("ignore", message=".*anatomical offsets are uncorrected")
-        angles = plugingait_angles(trial, subject, upper_body=upper)
+        angles = plugingait_angles(trial, subject, upper_body=upper, walk_kinematics=kin)
     kinetics = None
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             kinetics = plugingait_kinetics(trial, subject, static=static,
-                                           body_mass=args.body_mass)
+                                           body_mass=args.body_mass, walk_kinematics=kin)
         for warning in caught:
             warnings.warn_explicit(warning.message, warning.category, warning.filename,
                                    warning.lineno)
@@ -111,7 +110,7 @@ def run_plugingait(args: argparse.Namespace) -> int:
         warnings.warn(str(error), MocapWarning, stacklevel=1)
     events = gait_events(trial)
     parameters = gait_parameters(trial, events)
-    labels, centres = _joint_centres(trial, subject)
+    labels, centres = _joint_centres(trial, kin)
     taken = {label.rpartition(":")[2] for label in trial.labels}
     keep = [k for k, label in enumerate(labels) if label not in taken]
     out = trial.with_markers(list(trial.labels) + [labels[k] for k in keep],

@@ -19,9 +19,10 @@ from mocap.errors import MocapError, MocapWarning
 from mocap.markersets.model import MissingMarkerWarning, _LabelIndex
 from mocap.plugingait.estimates import EstimatedMeasurementWarning, estimate_missing
 from mocap.plugingait.model import (CLINICAL_SEGMENTS, DEFAULT_MARKER_DIAMETER_M, JOINTS,
-                                    MARKERS, PLANES, SIDES, AnatomicalOffsetWarning, Subject,
-                                    clinical_angles, foot_progression_angles, kinematics,
-                                    markers_from_trial, progression_frame, subject_from_trial)
+                                    MARKERS, PLANES, SIDES, AnatomicalOffsetWarning,
+                                    Kinematics, Subject, clinical_angles,
+                                    foot_progression_angles, kinematics, markers_from_trial,
+                                    progression_frame, subject_from_trial)
 from mocap.trial import Trial
 
 if TYPE_CHECKING:
@@ -219,7 +220,8 @@ def vicon_label(segment: str) -> str:
 
 def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
                       static: Trial | None = None, flat_foot: bool | str = "auto",
-                      upper_body: bool = False, upper_subject: UpperSubject | None = None):
+                      upper_body: bool = False, upper_subject: UpperSubject | None = None,
+                      walk_kinematics: Kinematics | None = None):
     """Plug-in Gait joint angles (clinical convention) of a walk.
 
     Parameters
@@ -249,6 +251,10 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
     upper_subject : UpperSubject, optional
         Upper-body measurements to use instead of the walk's (then the static's)
         PROCESSING group (:func:`mocap.plugingait.upper.upper_subject_from_trial`).
+    walk_kinematics : Kinematics, optional
+        The walk's :func:`~mocap.plugingait.model.kinematics` with ``subject``, when the
+        caller has it already (``mocap plugingait`` computes it once for the angles, the
+        kinetics and the joint centres); default computed here.
 
     Returns
     -------
@@ -265,11 +271,12 @@ def plugingait_angles(trial: Trial, subject: Subject | None = None, *,
     from mocap.rotations.angles import JointAngles
 
     path = trial.path
-    markers, _ = markers_from_trial(trial, MARKERS)
     given = subject is not None and static is None
     subject = prepare_subject(trial, subject, static=static, flat_foot=flat_foot,
                               warn=not given)
-    kin = kinematics(markers, subject, path)
+    kin = walk_kinematics
+    if kin is None:
+        kin = kinematics(markers_from_trial(trial, MARKERS)[0], subject, path)
     for note in kin.notes:
         warnings.warn(f"{path or 'trial'}: {note}", MissingMarkerWarning, stacklevel=2)
     frames = trial.frames

@@ -73,6 +73,98 @@ def _pelvis_centre(trial: Trial) -> np.ndarray | None:
     return None
 
 
+def _local_maxima(x: np.ndarray) -> np.ndarray:
+    """Indices of the local maxima of ``x``, shape (n,), as ``scipy.signal.find_peaks``
+    finds them: a sample (or the middle, rounded down, of a flat run) higher than both
+    neighbours; never the first or the last sample."""
+    change = np.flatnonzero(np.diff(x) != 0)
+    starts = np.concatenate(([0], change + 1))
+    ends = np.concatenate((change, [len(x) - 1]))
+    inner = (starts >= 1) & (ends <= len(x) - 2)
+    starts, ends = starts[inner], ends[inner]
+    peak = (x[starts - 1] < x[starts]) & (x[ends + 1] < x[ends])
+    return (starts[peak] + ends[peak]) // 2
+
+
+def _spaced(peaks: np.ndarray, heights: np.ndarray, distance: int) -> np.ndarray:
+    """Which ``peaks`` (shape (n,)) stay when, highest first, each removes the peaks
+    less than ``distance`` samples from it (``find_peaks``'s ``distance``)."""
+    keep = np.ones(len(peaks), dtype=bool)
+    for j in np.argsort(heights)[::-1]:          # over peaks, not frames
+        if keep[j]:
+            near = np.abs(peaks - peaks[j]) < distance
+            near[j] = False
+            keep &= ~near
+    return keep
+
+
+def _prominences(x: np.ndarray, peaks: np.ndarray) -> np.ndarray:
+    """Each peak's height above the higher of its two bases, shape (n,): the lowest
+    sample on each side before a sample higher than the peak (or the end), as
+    ``scipy.signal.peak_prominences`` with no window."""
+    out = np.empty(len(peaks))
+    for k, p in enumerate(peaks):                # over peaks, not frames
+        higher = np.flatnonzero(x > x[p])
+        left = higher[higher < p]
+        right = higher[higher > p]
+        lo = left[-1] + 1 if len(left) else 0
+        hi = right[0] if len(right) else len(x)
+        out[k] = x[p] - max(x[lo:p + 1].min(), x[p:hi].min())
+    return out
+
+
+def find_peaks(x: np.ndarray, distance: int, prominence: float) -> np.ndarray:
+    """``scipy.signal.find_peaks(x, distance=distance, prominence=prominence)[0]``
+    in numpy: the same peaks (indices, shape (n,)) without importing scipy.signal,
+    which costs ~0.5-1 s of CPU at start-up. ``x`` has no NaN; ``distance`` >= 1
+    samples; ``prominence`` in the units of ``x``."""
+    x = np.ascontiguousarray(x, dtype=float)
+    peaks = _local_maxima(x)
+    peaks = peaks[_spaced(peaks, x[peaks], int(np.ceil(distance)))]
+    return peaks[prominence <= _prominences(x, peaks)]
+
+
+def progression_signals(trial: Trial, min_cycle_seconds: float = 0.5,
+                        min_travel: float = 0.5):
+    """The signals :func:`detect_events` looks for peaks in.
+
+    Yields
+    ------
+    (side, kind, filled, finite, distance, prominence) :
+        side "l"/"r"; kind FOOT_STRIKE (heel) or FOOT_OFF (toe); ``filled`` shape
+        (frames,), the marker's forward position relative to the pelvis, in metres,
+        negated for the toe, gaps linearly filled; ``finite`` shape (frames,), where
+        it was measured; ``distance`` in frames and ``prominence`` in metres, the
+        peak conditions.
+    """
+    pelvis = _pelvis_centre(trial)
+    if pelvis is None:
+        return
+    valid = np.isfinite(pelvis).all(axis=1)
+    if valid.sum() < 2:
+        return
+    idx = np.flatnonzero(valid)
+    travel = pelvis[idx[-1], :2] - pelvis[idx[0], :2]
+    if np.hypot(*travel) < min_travel:
+        return
+    forward = np.zeros(3)
+    forward[:2] = travel / np.hypot(*travel)
+    distance = max(1, int(0.6 * min_cycle_seconds * trial.rate))
+    for side in ("l", "r"):
+        S = side.upper()
+        for name, kind, sign in (("HEE", FOOT_STRIKE, 1.0), ("TOE", FOOT_OFF, -1.0)):
+            marker = _marker(trial, S + name)
+            if marker is None:
+                continue
+            signal = sign * ((marker - pelvis) @ forward)
+            finite = np.isfinite(signal)
+            if finite.sum() < 3:
+                continue
+            filled = np.interp(np.arange(len(signal)), np.flatnonzero(finite), signal[finite])
+            spread = float(np.ptp(filled[finite]))
+            yield side, kind, filled, finite, distance, 0.2 * spread
+
+
 def detect_events(trial: Trial, min_cycle_seconds: float = 0.5, min_travel: float = 0.5
                   ) -> list[GaitEvent]:
     """Foot strikes and foot offs from heel and toe markers (Zeni et al. 2008).
@@ -92,38 +184,13 @@ def detect_events(trial: Trial, min_cycle_seconds: float = 0.5, min_travel: floa
     list of GaitEvent, by frame (``source="detected"``); a side without its
     heel or toe marker gives none.
     """
-    from scipy.signal import find_peaks   # deferred: scipy.signal takes ~0.5 s to import
-
-    pelvis = _pelvis_centre(trial)
-    if pelvis is None:
-        return []
-    valid = np.isfinite(pelvis).all(axis=1)
-    if valid.sum() < 2:
-        return []
-    idx = np.flatnonzero(valid)
-    travel = pelvis[idx[-1], :2] - pelvis[idx[0], :2]
-    if np.hypot(*travel) < min_travel:
-        return []
-    forward = np.zeros(3)
-    forward[:2] = travel / np.hypot(*travel)
-    distance = max(1, int(0.6 * min_cycle_seconds * trial.rate))
     out: list[GaitEvent] = []
-    for side in ("l", "r"):
-        S = side.upper()
-        for name, kind, sign in (("HEE", FOOT_STRIKE, 1.0), ("TOE", FOOT_OFF, -1.0)):
-            marker = _marker(trial, S + name)
-            if marker is None:
-                continue
-            signal = sign * ((marker - pelvis) @ forward)
-            finite = np.isfinite(signal)
-            if finite.sum() < 3:
-                continue
-            filled = np.interp(np.arange(len(signal)), np.flatnonzero(finite), signal[finite])
-            spread = float(np.ptp(filled[finite]))
-            peaks, _ = find_peaks(filled, distance=distance, prominence=0.2 * spread)
-            # an extremum at a gap or at the trial's ends is not an event
-            peaks = peaks[finite[peaks] & (peaks > 0) & (peaks < len(signal) - 1)]
-            out += [GaitEvent(side, kind, float(p), "detected") for p in peaks]
+    for side, kind, filled, finite, distance, prominence in progression_signals(
+            trial, min_cycle_seconds, min_travel):
+        peaks = find_peaks(filled, distance, prominence)
+        # an extremum at a gap or at the trial's ends is not an event
+        peaks = peaks[finite[peaks] & (peaks > 0) & (peaks < len(filled) - 1)]
+        out += [GaitEvent(side, kind, float(p), "detected") for p in peaks]
     return sorted(out, key=lambda e: e.frame)
 
 

@@ -381,7 +381,8 @@ def ground_reactions(trial: Trial, kin: Kinematics) -> tuple[dict, list[str]]:
 
 def plugingait_kinetics(trial: Trial, subject: Subject | None = None, *,
                         static: Trial | None = None, body_mass: float | None = None,
-                        flat_foot: bool | str = "auto") -> JointKinetics:
+                        flat_foot: bool | str = "auto",
+                        walk_kinematics: Kinematics | None = None) -> JointKinetics:
     """Plug-in Gait joint moments, powers and forces of a walk on force plates.
 
     Parameters
@@ -397,6 +398,9 @@ def plugingait_kinetics(trial: Trial, subject: Subject | None = None, *,
         kg; default PROCESSING Bodymass of the static, then the walk.
     flat_foot : bool or "auto"
         As :func:`mocap.plugingait.clinical.plugingait_angles`.
+    walk_kinematics : Kinematics, optional
+        The walk's :func:`~mocap.plugingait.model.kinematics` with ``subject``, when the
+        caller has it already; default computed here.
 
     Returns
     -------
@@ -421,8 +425,9 @@ def plugingait_kinetics(trial: Trial, subject: Subject | None = None, *,
         raise MocapError(f"body mass {mass:g} kg is not a body's (0-500 kg)", path)
     if subject is None:
         subject = prepare_subject(trial, static=static, flat_foot=flat_foot)
-    markers, _ = markers_from_trial(trial, MARKERS)
-    kin = kinematics(markers, subject, path)
+    kin = walk_kinematics
+    if kin is None:
+        kin = kinematics(markers_from_trial(trial, MARKERS)[0], subject, path)
     static_kin = static_markers = None
     if static is not None:
         static_markers, _ = markers_from_trial(static, MARKERS)

@@ -123,6 +123,7 @@ def write_outputs_csv(path, times: np.ndarray, outputs: list[tuple[str, str, np.
                       ) -> None:
     """:func:`outputs_table` written as CSV (all-or-nothing), without pandas."""
     import csv
+    from itertools import repeat
 
     from mocap.atomic import atomic_path
 
@@ -134,9 +135,11 @@ def write_outputs_csv(path, times: np.ndarray, outputs: list[tuple[str, str, np.
             unit = UNITS[kind][1]
             for component in (("Z",) if kind == "POWERS" else ("X", "Y", "Z")):
                 column = values[:, "XYZ".index(component)]
-                for frame in np.flatnonzero(np.isfinite(column)):
-                    writer.writerow([int(frame), repr(float(times[frame])), label, kind,
-                                     component, repr(float(column[frame])), unit])
+                frames = np.flatnonzero(np.isfinite(column))
+                # rows built in C (zip, map): no per-frame Python loop
+                writer.writerows(zip(frames.tolist(), map(repr, times[frames].tolist()),
+                                     repeat(label), repeat(kind), repeat(component),
+                                     map(repr, column[frames].tolist()), repeat(unit)))
 
 
 __all__ = ["UNITS", "analysis_group", "model_outputs", "outputs_table", "kinetic_label",
