@@ -137,9 +137,10 @@ class InteractionMethod(CellMethod):
 
     name = "interaction"
     mode = "both"
+    shrink = False
 
     def _fit(self, data: np.ndarray) -> None:
-        self.model_ = InteractionModel(self.mode).fit(data)
+        self.model_ = InteractionModel(self.mode, shrink=self.shrink).fit(data)
         self._additive_model = self.model_
 
     def _missing(self, person: int, action: int) -> np.ndarray:
@@ -179,6 +180,7 @@ class SignatureMethod(InteractionMethod):
 
     name = "signature"
     mode = "people"
+    shrink = True
 
 
 class TransferMethod(CellMethod):
