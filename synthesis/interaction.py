@@ -34,7 +34,10 @@ far as held-out donors reward it. ``mode="both"`` lets the same leave-one-donor-
 mode as well. Choosing the best of many configurations on a few donors is optimistic, so the
 choice is itself held out (:data:`NESTED`): each donor is predicted with the configuration the
 other donors alone would have chosen, and the additive model stays unless that nested error
-is :data:`MARGIN` below the additive one. The leave-one-donor-out residuals of the chosen configuration also give each
+is :data:`MARGIN` below the additive one. With ``shrink=True`` (the signature method) the
+correction is moreover scaled by the fraction κ of it that the donors' nested held-out
+residuals favour (:func:`shrinkage`), each donor scored with the κ of the others. The
+leave-one-donor-out residuals of the chosen configuration also give each
 feature's prediction variance (used to weight recognition distances).
 """
 from __future__ import annotations
