@@ -34,7 +34,10 @@ far as held-out donors reward it. ``mode="both"`` lets the same leave-one-donor-
 mode as well. Choosing the best of many configurations on a few donors is optimistic, so the
 choice is itself held out (:data:`NESTED`): each donor is predicted with the configuration the
 other donors alone would have chosen, and the additive model stays unless that nested error
-is :data:`MARGIN` below the additive one. The leave-one-donor-out residuals of the chosen configuration also give each
+is :data:`MARGIN` below the additive one. With ``shrink=True`` (the signature method) the
+correction is moreover scaled by the fraction κ of it that the donors' nested held-out
+residuals favour (:func:`shrinkage`), each donor scored with the κ of the others. The
+leave-one-donor-out residuals of the chosen configuration also give each
 feature's prediction variance (used to weight recognition distances).
 """
 from __future__ import annotations
@@ -86,6 +89,9 @@ class Interaction:
         additive model.
     variance : ndarray, shape (features,)
         Leave-one-donor-out mean squared error of each feature, chosen configuration.
+    shrinkage : float
+        Fraction κ ∈ [0, 1] of the interaction's correction kept: the prediction is the
+        additive one plus κ × (configuration − additive) (1 unless the model shrinks).
     """
 
     mode: str
@@ -94,6 +100,7 @@ class Interaction:
     loo_rms: float
     additive_loo_rms: float
     variance: np.ndarray
+    shrinkage: float = 1.0
 
 
 def action_weights(vectors: np.ndarray, alpha: float) -> np.ndarray:
@@ -168,6 +175,11 @@ class InteractionModel:
         show to be chosen (0: the lowest error wins).
     max_rank : int, optional
         0 forces the additive model (rank 0); None lets leave-one-donor-out choose.
+    shrink : bool
+        Shrink the chosen correction toward the additive prediction by the fraction κ that
+        the donors' held-out residuals favour (:func:`shrinkage`), and keep it only when each
+        donor, predicted with the κ of the *other* donors, is :attr:`margin` better predicted
+        on average than by the additive model.
 
     Attributes
     ----------
@@ -186,6 +198,7 @@ class InteractionModel:
     mode: str = "actions"
     margin: float = MARGIN
     max_rank: int | None = None
+    shrink: bool = False
     data_: np.ndarray | None = field(default=None, repr=False)
     observed_: np.ndarray | None = field(default=None, repr=False)
     basis_: np.ndarray | None = field(default=None, repr=False)
@@ -309,18 +322,30 @@ class InteractionModel:
             return result
         labels, folds, residuals = self._folds(cells, sums, counts, len(observed), features)
         best = self._choose(folds)
+        picks = np.full(donors, best)
         if NESTED and best and donors > MIN_DONORS:
             # The selection itself held out: each donor predicted with the configuration the
             # other donors would have chosen.
-            nested = self._nested(cells, sums, counts, len(observed), features, folds, labels)
-            if nested.mean() > (1.0 - self.margin) * folds[:, 0].mean():
+            picks = self._nested(cells, sums, counts, len(observed), features, labels)
+            nested = folds[np.arange(donors), picks]
+            if not self.shrink and nested.mean() > (1.0 - self.margin) * folds[:, 0].mean():
                 best = 0
+        kappa = 1.0
+        if self.shrink and best:
+            # Held-out residuals of the additive model and of the (nested) choice, per donor.
+            additive = np.stack([r[0] for r in residuals])                       # (Q, r)
+            chosen = np.stack([r[i] for r, i in zip(residuals, picks)])
+            kappa, held_out = shrinkage(additive, chosen - additive)
+            if held_out.mean() / features > (1.0 - self.margin) * folds[:, 0].mean() \
+                    or kappa == 0:
+                best, kappa = 0, 1.0
         errors = folds.mean(axis=0)
         mode, rank, alpha = labels[best]
-        variance = np.mean([(self.basis_ @ residual[best]) ** 2 for residual in residuals],
-                           axis=0)
-        result = Interaction(mode, rank, alpha, float(np.sqrt(errors[best])),
-                             float(np.sqrt(errors[0])), variance)
+        kept = [r[0] + kappa * (r[best] - r[0]) for r in residuals]
+        variance = np.mean([(self.basis_ @ residual) ** 2 for residual in kept], axis=0)
+        loo = np.mean([residual @ residual for residual in kept]) / features
+        result = Interaction(mode, rank, alpha, float(np.sqrt(loo)),
+                             float(np.sqrt(errors[0])), variance, kappa)
         self._cache[key] = result
         return result
 
@@ -343,8 +368,9 @@ class InteractionModel:
         return labels, np.asarray(folds), residuals
 
     def _nested(self, cells: np.ndarray, sums: np.ndarray, counts: np.ndarray, m: int,
-                features: int, folds: np.ndarray, labels: list) -> np.ndarray:
-        """Each donor's error (Q,) with the configuration the other donors would choose.
+                features: int, labels: list) -> np.ndarray:
+        """Index in ``labels`` of the configuration the other donors would choose, per donor
+        (Q,); its error is that donor's fold of the selection.
 
         The selection without donor ``k`` is a leave-one-donor-out over the others; its fold
         ``j`` trains on every donor but ``j`` and ``k`` — the same training as the fold ``k``
@@ -363,11 +389,11 @@ class InteractionModel:
                 residual = predictions - pair[:, None, m]                        # (2, C, F)
                 error = np.einsum("ncf,ncf->nc", residual, residual) / features
                 errors[k, j], errors[j, k] = error          # (k out, j predicted), and back
-        nested = []
+        picks = []
         for k in range(donors):
             table = np.stack([errors[k, j] for j in range(donors) if j != k])
-            nested.append(folds[k, labels.index(inner_labels[self._choose(table)])])
-        return np.asarray(nested)
+            picks.append(labels.index(inner_labels[self._choose(table)]))
+        return np.asarray(picks)
 
     def _choose(self, folds: np.ndarray) -> int:
         """Index of the configuration kept: the lowest mean error, unless it is not
@@ -412,7 +438,7 @@ class InteractionModel:
         x = np.stack([self.coords_[person, a] - reduced[a] for a in observed])   # (m, r)
         # The additive part as it is, the interaction's correction mapped back.
         correction = self._correction(chosen, target, observed, person, x) - x.mean(axis=0)
-        return means[target] + offset + self.basis_ @ correction, chosen
+        return means[target] + offset + chosen.shrinkage * (self.basis_ @ correction), chosen
 
     def _correction(self, chosen: Interaction, target: int, observed: tuple, person: int,
                     x: np.ndarray) -> np.ndarray:
@@ -427,6 +453,48 @@ class InteractionModel:
                    if mode == chosen.mode and alpha == chosen.alpha and rank <= chosen.rank]
         return predictions[max(reached, key=lambda i: labels[i][1])] if reached \
             else x.mean(axis=0)             # the rank is not reached with every donor: additive
+
+
+def shrinkage(additive: np.ndarray, correction: np.ndarray) -> tuple[float, np.ndarray]:
+    """Fraction κ of a correction to keep, and each donor's error with the κ of the others.
+
+    κ minimises ``Σ_k ‖r_k + κ c_k‖²`` over [0, 1] (``r_k``: donor k's held-out residual of
+    the additive model, ``c_k``: the correction of the configuration chosen without k), so
+    κ = 0 is the additive model and κ = 1 the configuration as it is. The κ of each donor's
+    own error is fitted to the other donors alone, which holds the shrinkage itself out.
+
+    Parameters
+    ----------
+    additive, correction : ndarray, shape (donors, r)
+
+    Returns
+    -------
+    kappa : float
+        From all donors.
+    held_out : ndarray, shape (donors,)
+        Squared error (summed over the r coordinates) of each donor with the κ of the others.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> r = np.array([[1.0], [1.0], [1.0]])
+    >>> kappa, held_out = shrinkage(r, -0.5 * r)            # half the residual removed: κ = 1
+    >>> round(kappa, 6), held_out.round(6).tolist()
+    (1.0, [0.25, 0.25, 0.25])
+    >>> shrinkage(r, r)[0]                                  # a correction that only hurts
+    0.0
+    """
+    products = np.einsum("kf,kf->k", additive, correction)
+    norms = np.einsum("kf,kf->k", correction, correction)
+
+    def best(numerator: np.ndarray, denominator: np.ndarray) -> np.ndarray:
+        ratio = -numerator / np.where(denominator > 0, denominator, 1.0)
+        return np.clip(np.where(denominator > 0, ratio, 0.0), 0.0, 1.0)
+
+    kappa = float(best(products.sum(), norms.sum()))
+    others = best(products.sum() - products, norms.sum() - norms)              # (donors,)
+    residual = additive + others[:, None] * correction
+    return kappa, np.einsum("kf,kf->k", residual, residual)
 
 
 def span_basis(cells: np.ndarray) -> np.ndarray:

@@ -112,3 +112,18 @@ def test_models_and_methods_never_read_files():
         calls = {getattr(node.func, "id", getattr(node.func, "attr", None))
                  for node in ast.walk(tree) if isinstance(node, ast.Call)}
         assert not calls & {"open", "load", "read_text", "read_motion", "read_npz"}, module
+
+
+def test_the_signature_method_recognises_by_the_persons_main_effects(fitted):
+    """Signature recognition templates are the person's additive prediction from their other
+    actions (mean of the others + the person's mean offset), computed here by hand; its
+    synthesis of a missing cell keeps the interaction's correction."""
+    _, data, methods = fitted
+    method = methods["signature"]
+    for person, action in [(0, 1), (6, 3)]:
+        others = [q for q in range(data.shape[0]) if q != person]
+        means = np.nanmean(data[others], axis=0)
+        offset = np.mean([data[person, a] - means[a] for a in range(data.shape[1])
+                          if a != action and np.isfinite(data[person, a]).all()], axis=0)
+        assert np.allclose(method.template(person, action), means[action] + offset)
+    assert not np.allclose(method.cell(1, 2), method.additive(1, 2))
