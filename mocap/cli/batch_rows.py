@@ -32,13 +32,6 @@ def find_trials(corpus: str | os.PathLike, recursive: bool = False) -> list[Path
     return find_files([corpus], TRIAL_SUFFIXES, recursive=recursive)
 
 
-def is_static(path: str | os.PathLike) -> bool:
-    """Whether a trial is a standing (static) trial by its name: ``static`` in the file's
-    name or its folder's (``HC002D/Static/HC002D02.c3d``, ``ana_static.c3d``)."""
-    path = Path(path)
-    return "static" in path.stem.lower() or "static" in path.parent.name.lower()
-
-
 def pair_statics(walks: list[Path], statics: list[Path]) -> dict[str, str]:
     """Each walk's static trial: the first (sorted) static in the walk's own folder, else in
     a sibling folder of it (``Subject/Static/`` beside ``Subject/Straight/``). Walks without

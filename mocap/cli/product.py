@@ -11,12 +11,13 @@ from mocap.rotations.angles import check_sequence
 from mocap.atomic import atomic_path
 from mocap.batch import rows_to_csv, run_batch
 from mocap.cli.batch_rows import (BASE_COLUMNS, CHECK_COLUMNS, analyse_trial, find_trials,
-                                  is_static, lost_trial, pair_statics)
+                                  lost_trial, pair_statics)
 from mocap.cli import options
 from mocap.cli.commands import Subparsers, summary
 from mocap.cli.demo import run_demo as demo
 from mocap.cli.paths import output_format, refuse_overwrite
 from mocap.errors import MocapError, MocapWarning, one_line
+from mocap.io.discovery import is_static
 from mocap.markersets import load_markerset
 
 

@@ -14,7 +14,7 @@ from mocap.cli import options
 from mocap.cli.commands import Subparsers, summary
 from mocap.cli.paths import refuse_overwrite
 from mocap.errors import MocapError
-from mocap.io.discovery import find_files
+from mocap.io.discovery import find_files, is_static
 from mocap.progress import progress
 
 #: What a walk may be: a C3D (Vicon's stored outputs, events and subject parameters live
@@ -122,8 +122,7 @@ def _walks(args: argparse.Namespace) -> list[Path]:
     for given in args.trials:
         found = [Path(f) for f in find_files([given], WALK_SUFFIXES)]
         if Path(given).is_dir():          # a session folder: its static is not a walk
-            found = [f for f in found if "static" not in f.name.lower()
-                     and "static" not in f.parent.name.lower()]
+            found = [f for f in found if not is_static(f)]
         files += found
     static = args.static
     if static not in (None, "auto"):

@@ -89,6 +89,13 @@ def find_files(inputs: Iterable[str | os.PathLike], suffixes: Iterable[str],
     return files
 
 
+def is_static(path: str | os.PathLike) -> bool:
+    """Whether a trial is a standing (static) trial by its name: ``static`` in the file's
+    name or its folder's (``HC002D/Static/HC002D02.c3d``, ``ana_static.c3d``)."""
+    path = Path(path)
+    return "static" in path.stem.lower() or "static" in path.parent.name.lower()
+
+
 def find_asf(amc: str | Path) -> Path:
     """The ASF skeleton of an AMC motion, found beside it.
 
