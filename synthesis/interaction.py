@@ -39,6 +39,13 @@ correction is moreover scaled by the fraction κ of it that the donors' nested h
 residuals favour (:func:`shrinkage`), each donor scored with the κ of the others. The
 leave-one-donor-out residuals of the chosen configuration also give each
 feature's prediction variance (used to weight recognition distances).
+
+With one observed action the correction acts on the person's offset itself (a fixed
+shrink in the action mode, the offset's projection on the donors' in the people mode), and
+nothing in the person's own cells can check it: it is applied only to a person inside the
+donors' range (:data:`RANGE_GUARD`, :meth:`InteractionModel.outside_donors`); a person whose
+offset reaches further outside the donors' span than any donor's reaches outside the others'
+gets the additive prediction. The candidates' predictions themselves are in :mod:`synthesis.candidates`.
 """
 from __future__ import annotations
 
@@ -47,15 +54,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mocap.errors import MocapError
+from synthesis.candidates import (ALPHAS, MAX_PEOPLE_RANK, action_weight_grid,  # noqa: F401
+                                 action_weights, people_candidates)
 
-#: Ridge strengths tried by leave-one-donor-out (``λ = α · unit``; see each mode).
-ALPHAS = (0.0, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0)
 #: Donors needed before the interaction is decomposed (fewer: the additive model); 3 rather
 #: than 4 on the design split (four-style bandai2 corpora: 0.68 against 1.00 of the additive
 #: error; docs/synthesis.md).
 MIN_DONORS = 3
-#: Largest people rank tried (every leave-one-out fold must reach it).
-MAX_PEOPLE_RANK = 12
 #: Relative leave-one-donor-out gain over the additive model a non-zero rank must show to be
 #: chosen (taken on the design split: bandai2 styles active/elderly/exhausted/feminine; see
 #: docs/synthesis.md).
@@ -70,6 +75,10 @@ MAJORITY = True
 NESTED = True
 #: Modes of the interaction tensor a model may use.
 MODES = ("actions", "people", "both")
+#: With one observed action, keep the additive prediction for a person who lies outside the
+#: donors' range (:meth:`InteractionModel.outside_donors`): a correction learnt on the donors
+#: is an extrapolation there. The limit is the donors' own: no constant is fitted.
+RANGE_GUARD = True
 
 
 @dataclass
@@ -101,65 +110,6 @@ class Interaction:
     additive_loo_rms: float
     variance: np.ndarray
     shrinkage: float = 1.0
-
-
-def action_weights(vectors: np.ndarray, alpha: float) -> np.ndarray:
-    """Weights ``w`` of the observed offsets in the action-mode prediction ``Σ_a w_a x_a``.
-
-    Parameters
-    ----------
-    vectors : ndarray, shape (..., m + 1, r)
-        Action-mode singular vectors; rows 0..m−1 the observed actions, row m the target.
-    alpha : float
-        Ridge on the person basis ``C`` (dimensionless: ``V`` is orthonormal).
-
-    Returns
-    -------
-    ndarray, shape (..., m)
-        With r = 0, ``1/m`` each (the additive model).
-
-    Examples
-    --------
-    >>> import numpy as np
-    >>> action_weights(np.zeros((3, 0)), 0.0).tolist()
-    [0.5, 0.5]
-    """
-    m = vectors.shape[-2] - 1
-    rank = vectors.shape[-1]
-    ones = np.ones(vectors.shape[:-2] + (m, 1))
-    design = np.concatenate([ones, vectors[..., :m, :]], axis=-1)            # (..., m, 1+r)
-    row = np.concatenate([np.ones(vectors.shape[:-2] + (1,)), vectors[..., m, :]], axis=-1)
-    penalty = np.diag(np.r_[0.0, np.full(rank, alpha)])
-    system = np.einsum("...ki,...kj->...ij", design, design) + penalty      # (..., 1+r, 1+r)
-    inverse = np.linalg.pinv(system, rcond=1e-10, hermitian=True)
-    return np.einsum("...ki,...ij,...j->...k", design, inverse, row)
-
-
-def action_weight_grid(vectors: np.ndarray) -> np.ndarray:
-    """:func:`action_weights` for every rank 1..m and every ridge of :data:`ALPHAS` at once.
-
-    Parameters
-    ----------
-    vectors : ndarray, shape (m + 1, m)
-        The m leading action-mode singular vectors (rows: observed actions, then the target).
-
-    Returns
-    -------
-    ndarray, shape (m, len(ALPHAS), m)
-        Entry ``[r − 1, i]``: the weights of rank r and ridge ``ALPHAS[i]``.
-    """
-    m = vectors.shape[1]
-    used = np.arange(m)[None, :] < np.arange(1, m + 1)[:, None]              # (R, m)
-    columns = np.concatenate([np.ones((m, 1), bool), used], axis=1)           # (R, 1+m)
-    design = np.concatenate([np.ones((m, 1)), vectors[:m]], axis=1)[None] * columns[:, None]
-    row = np.r_[1.0, vectors[m]][None] * columns                              # (R, 1+m)
-    # Unused components get a unit penalty and no column: their coefficient is 0.
-    penalty = np.where(columns[:, None], np.asarray(ALPHAS)[None, :, None], 1.0)
-    penalty[..., 0] = 0.0                                                     # α is free
-    system = np.einsum("rki,rkj->rij", design, design)[:, None] + \
-        penalty[..., None] * np.eye(m + 1)                                    # (R, A, 1+m, 1+m)
-    inverse = np.linalg.pinv(system, rcond=1e-10, hermitian=True)
-    return np.einsum("rki,raij,rj->rak", design, inverse, row)
 
 
 @dataclass
@@ -297,7 +247,7 @@ class InteractionModel:
         if self.mode in ("people", "both"):
             # One observed action cannot tell an offset from a signature: there the people
             # mode decomposes the offsets themselves (Vasilescu's uncentred signature).
-            people_labels, predictions = _people_candidates(
+            people_labels, predictions = people_candidates(
                 centred if m >= 2 else training, x, people_rank, free_offset=m >= 2)
             labels += people_labels
             blocks.append(predictions)
@@ -436,9 +386,63 @@ class InteractionModel:
             return means[target] + offset, chosen
         reduced = self._means(person, coords=True)
         x = np.stack([self.coords_[person, a] - reduced[a] for a in observed])   # (m, r)
+        if RANGE_GUARD and len(observed) == 1 and \
+                self.outside_donors(target, observed, person, x):
+            return means[target] + offset, chosen
         # The additive part as it is, the interaction's correction mapped back.
         correction = self._correction(chosen, target, observed, person, x) - x.mean(axis=0)
         return means[target] + offset + chosen.shrinkage * (self.basis_ @ correction), chosen
+
+    def outside_donors(self, target: int, observed: tuple, person: int, x: np.ndarray
+                       ) -> bool:
+        """Whether the person's offset lies beyond the donors', by the donors' own rule.
+
+        The statistic is the size of the part of a person's mean offset over the observed
+        actions that the donors' offsets do not span, ``n = ‖P⊥ x̄_O‖`` (offsets formed
+        exactly as the person's: means without them). Each donor, compared in turn with the
+        others (means without it as well), gives ``n_k`` and the ratio ``n_k / max_{j≠k}
+        n_j``; the person is outside when ``n`` exceeds the largest ``n_k`` by more than every
+        donor's ratio. If the person were exchangeable with the donors, that would happen by
+        chance with probability at most 1 / (donors + 1); a person far beyond it (a tibia
+        marker on the other side of the shank turns its frame: biomechzoo HC036A) is one the
+        correction was never validated on. A person whose offset the donors span — any person
+        of an exactly multilinear corpus, however far from the mean — is never outside.
+
+        Parameters
+        ----------
+        target : int
+        observed : tuple of int
+            The person's observed actions used.
+        person : int
+        x : ndarray, shape (m, r)
+            The person's offsets of the observed actions, in :attr:`basis_` coordinates.
+
+        Returns
+        -------
+        bool
+        """
+        cells, sums, counts = self._donors(target, observed, person)
+        donors, m = cells.shape[0], len(observed)
+        if donors < 3:
+            return False
+        counts = counts[:, None]
+
+        def outside(offset: np.ndarray, others: np.ndarray) -> float:
+            basis, _ = np.linalg.qr(others.T)
+            return float(np.linalg.norm(offset - basis @ (basis.T @ offset)))
+
+        sizes = []
+        for k in range(donors):
+            rest = np.arange(donors) != k
+            own = (cells[k] - (sums - cells[k]) / (counts - 1))[:m].mean(axis=0)
+            others = (cells[rest] - (sums - cells[k] - cells[rest]) / (counts - 2))[:, :m]
+            sizes.append(outside(own, others.mean(axis=1)))
+        sizes = np.asarray(sizes)
+        offsets = (cells - (sums - cells) / (counts - 1))[:, :m].mean(axis=1)
+        mine = outside(x.mean(axis=0), offsets)
+        largest = np.array([np.delete(sizes, k).max() for k in range(donors)])
+        limit = float(np.max(sizes / np.maximum(largest, 1e-300)))
+        return mine > limit * sizes.max() and mine > 1e-9 * float(np.linalg.norm(x.mean(axis=0)))
 
     def _correction(self, chosen: Interaction, target: int, observed: tuple, person: int,
                     x: np.ndarray) -> np.ndarray:
@@ -526,52 +530,3 @@ def span_basis(cells: np.ndarray) -> np.ndarray:
     basis = np.einsum("if,ik->fk", cells, vectors[:, keep] / np.sqrt(values[keep]))
     values, vectors = np.linalg.eigh(np.einsum("fk,fl->kl", basis, basis))
     return np.einsum("fk,kl->fl", basis, vectors / np.sqrt(values) @ vectors.T)
-
-
-def _people_candidates(centred: np.ndarray, x: np.ndarray, largest: int,
-                       free_offset: bool = True) -> tuple[list, np.ndarray]:
-    """People-mode (signature) predictions of a person's target offset for every rank and ridge.
-
-    With ``U`` the leading people-mode singular vectors of the interaction ``E`` and
-    ``Ẽ_a = E_a − Ē_O`` (bases centred over the observed actions, since the offset α is
-    free), the signature solves ``(Uᵀ H U + λ I) s = Uᵀ h`` with ``H = Σ_{a∈O} Ẽ_a Ẽ_aᵀ`` and
-    ``h = Σ_{a∈O} Ẽ_a x_a``; the prediction is ``x̄_O + Ẽ_bᵀ U s`` — all in the donors' space.
-
-    Parameters
-    ----------
-    centred : ndarray, shape (Q, m + 1, F)
-        Interaction of the training donors (offsets minus each donor's mean offset).
-    x : ndarray, shape (n, m, F)
-        Offsets of n predicted people.
-    largest : int
-        Largest rank tried (capped at :data:`MAX_PEOPLE_RANK`).
-    free_offset : bool
-        Fit the person's offset α with the signature (else α = 0 and ``centred`` holds the
-        donors' offsets themselves).
-
-    Returns
-    -------
-    labels : list of ("people", rank, alpha)
-    predictions : ndarray, shape (n, len(labels), F)
-    """
-    n, m, features = x.shape
-    tilde = centred - centred[:, :m].mean(axis=1, keepdims=True) if free_offset else centred
-    start = x.mean(axis=1) if free_offset else np.zeros((n, features))      # (n, F)
-    values, vectors = np.linalg.eigh(np.einsum("qaf,raf->qr", centred, centred))
-    values, vectors = values[::-1], vectors[:, ::-1]
-    system = np.einsum("qaf,raf->qr", tilde[:, :m], tilde[:, :m])
-    side = np.einsum("qaf,naf->nq", tilde[:, :m], x)                          # (n, Q)
-    labels, blocks = [], [np.zeros((n, 0, features))]
-    alphas = np.asarray(ALPHAS)
-    for rank in range(1, min(largest, MAX_PEOPLE_RANK, len(values)) + 1):
-        u = vectors[:, :rank]
-        # Every ridge from one eigen-decomposition of the reduced system (pseudo-inverse at 0).
-        eigenvalues, eigenvectors = np.linalg.eigh(u.T @ system @ u)
-        projected = (side @ u) @ eigenvectors                                  # (n, r)
-        scale = eigenvalues[None] + alphas[:, None] * float(np.mean(values[:rank])) / m
-        tiny = 1e-10 * max(float(eigenvalues.max(initial=0.0)), 1e-300)
-        inverse = np.where(np.abs(scale) > tiny, 1.0 / np.where(scale == 0, 1.0, scale), 0.0)
-        signatures = (inverse[None] * projected[:, None]) @ eigenvectors.T     # (n, alphas, r)
-        blocks.append(start[:, None] + (signatures @ u.T) @ tilde[:, m])      # (n, alphas, F)
-        labels += [("people", rank, alpha) for alpha in ALPHAS]
-    return labels, np.concatenate(blocks, axis=1)

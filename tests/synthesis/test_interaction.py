@@ -111,6 +111,32 @@ def test_an_action_mode_interaction_is_found_and_used(mode):
     assert max(errors) < 0.2 * min(additive)
 
 
+def test_a_person_beyond_the_donors_range_keeps_the_additive_prediction():
+    """Two actions, people whose offsets in one say little about the other (the donors teach
+    a shrink toward the mean), and one person whose every cell carries a persistent offset
+    ten times a typical one (a marker on the other side of a limb does that). With one
+    observed action nothing in the person's own cells can check the shrink, so that person
+    gets the additive prediction exactly — right here, to the action-specific part — while a
+    person inside the donors' range keeps the correction."""
+    rng = np.random.default_rng(3)
+    data = rng.normal(0, 10, (1, 2, 60)) + rng.normal(0, 5, (12, 2, 60))
+    data[0] += 50.0 * rng.normal(0, 1, 60)
+    for person, outside in ((0, True), (3, False)):
+        # (the inside person among the others only: the outlier as a donor vetoes the shrink)
+        masked = data.copy() if outside else data[1:].copy()
+        person -= 0 if outside else 1
+        masked[person, 1] = np.nan
+        model = InteractionModel("both").fit(masked)
+        x = (model.coords_[person, 0] - model._means(person, coords=True)[0])[None]
+        assert model.outside_donors(1, (0,), person, x) == outside
+        prediction, chosen = model.predict(person, 1)
+        assert chosen.rank >= 1                                 # chosen on the donors
+        assert np.array_equal(prediction, model.additive(person, 1)) == outside
+        if outside:
+            error = np.sqrt(np.mean((prediction - data[0, 1]) ** 2))
+            assert error < 10 < 30 < np.sqrt(np.mean(data[0, 1] ** 2))
+
+
 def test_a_people_mode_interaction_is_found_by_the_signature_mode():
     """Cells ``μ_a + α_p + B_aᵀ s_p`` (rank-2 signatures): the people mode recovers them."""
     data, rng = main_effects(people=9)
