@@ -222,3 +222,29 @@ def test_synthesised_walk_travels_at_the_captured_speed(manifest):
         speed = np.linalg.norm(path[-1, [0, 2]] - path[0, [0, 2]]) / motion.duration
         captured = small.root[small.people.index(person), walk, :, 0].mean()
         assert abs(speed - captured) < 0.15 * captured
+
+
+@pytest.mark.parametrize("action", ["walk", "run"])
+def test_a_trial_played_backwards_is_cut_into_the_same_cycles(manifest, action):
+    """Walking backwards, on a real rig: a bandai2 walk (and a 30 Hz run, 4–7 flight frames)
+    played in reverse swings the feet along the same axis, so it must be cut into cycles of
+    the same durations, to a frame — never left whole or misaligned."""
+    from synthesis.skeletons import rig_signals, trial_events
+    path = next(e.path for e in read_manifest(manifest)
+                if e.action == action and e.person == "normal")
+    motion = read_motion(path)
+    backwards = Motion(motion.skeleton, motion.root_translation[::-1].copy(),
+                       motion.rotations[::-1].copy(), motion.rate)
+    frames = [skeleton_frames(m) for m in (motion, backwards)]
+    signals = rig_signals(frames, motion.skeleton.parents)
+    times = np.arange(motion.rotations.shape[0]) / motion.rate
+    forward, reverse = (trial_events(times, signals.signal(f), signals) for f in frames)
+    assert len(forward) >= 2 and abs(len(reverse) - len(forward)) <= 1
+    durations = lambda events: np.sort(events[:, 2] - events[:, 0])       # noqa: E731
+    assert abs(np.median(durations(reverse)) - np.median(durations(forward))) <= 1 / motion.rate
+    # the same instants, reflected: every reversed cycle bounds one forward cycle
+    end = times[-1]
+    mirrored = np.sort(end - reverse[:, [2, 0]], axis=0)
+    for start, stop in mirrored:
+        assert np.min(np.abs(forward[:, 0] - start) + np.abs(forward[:, 2] - stop)) \
+            <= 2 / motion.rate
