@@ -206,7 +206,8 @@ class Evaluation:
                        "additive_rms_deg": c.additive_rms,
                        "take_spread_rms_deg": c.take_spread_rms,
                        "duration_s": c.duration, "predicted_duration_s": c.predicted_duration,
-                       "recognised": c.recognised} for c in self.cells],
+                       "recognised": c.recognised,
+                       "recognised_rank": c.recognised_rank} for c in self.cells],
             "skipped": [{"person": p, "action": a, "reason": r} for p, a, r in self.skipped],
             "trials_without_cycle": [{"person": p, "action": a, "path": t}
                                      for p, a, t in self.whole_trials],

@@ -147,6 +147,9 @@ def test_evaluate_leave_one_out_with_plot(capsys, tmp_path, corpus):
         assert figures["versus_additive"]["median_difference_deg"] == \
             pytest.approx(float(np.median(mine)))
     assert result["recognition_top3"] == 1.0
+    # Each cell's rank agrees with its top-1 answer (0 exactly when recognised).
+    assert all((c["recognised_rank"] == 0) == (c["recognised"] == c["person"])
+               for c in result["cells"])
     status, out, _ = run(capsys, "evaluate", folder, "--samples", 40, "--leave-one-out")
     assert "overall RMS joint-rotation error" in out and "person recognition: 20/20" in out
     assert "against the additive model: 20 cells better, 0 worse" in out and "(top 3: 100 %)" in out
