@@ -12,7 +12,7 @@ from scipy.spatial.transform import Rotation
 
 from mocap.cli import main
 from mocap.skeleton import Motion
-from synthesis.corpus import load_corpus, read_manifest
+from synthesis.corpus import load_corpus, read_corpus, read_manifest
 from synthesis.cycles import CycleWarning
 from synthesis.model_file import load_model
 from synthesis.evaluate import leave_one_out
@@ -111,6 +111,22 @@ def test_locomotion_synthesis_beats_baseline_and_additive(evaluation):
     # Overall too, and never below the take-to-take spread of the captures.
     assert figures["baseline_rms_deg"] > figures["additive_rms_deg"] > figures["synthesis_rms_deg"]
     assert figures["synthesis_rms_deg"] > figures["take_spread_rms_deg"] > 0
+
+
+@pytest.mark.parametrize("method", ["interaction", "signature"])
+def test_whole_trials_of_one_take_hold_against_the_additive_model(manifest, method):
+    # Shaped like kept-back corpus B (single repetitions, whole trials time-normalised, no
+    # cycle cutting) and never used to choose anything: take 001 of every cell, read without
+    # --cycles. Neither method may lose to the additive model, and recognition stays at 90 %.
+    entries = [e for e in read_manifest(manifest) if e.path.name.endswith("_001.bvh")]
+    corpus = read_corpus(entries, samples=50, cycles=False)
+    assert corpus.angles.shape[:2] == (7, 6) and corpus.observed.all()
+    result = leave_one_out(corpus, method=method).to_json()
+    assert result["method"] == method and len(result["cells"]) == 42
+    assert result["baseline_rms_deg"] > result["additive_rms_deg"] > result["synthesis_rms_deg"]
+    paired = result["versus_additive"]
+    assert paired["wins"] > paired["losses"] and paired["median_difference_deg"] < 0
+    assert result["recognition_top3"] >= result["recognition_accuracy"] >= 0.9
 
 
 def test_hold_out_take_scores_unseen_takes(corpus):
