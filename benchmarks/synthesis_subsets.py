@@ -46,6 +46,8 @@ def main() -> None:
     entries = read_manifest(args.manifest)
     if args.take != "all":
         entries = [e for e in entries if e.path.stem.endswith(f"_{args.take}")]
+        if not entries:
+            parser.error(f"--take {args.take}: no trial of {args.manifest} ends in _{args.take}")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         corpus = read_corpus(entries, samples=50, cycles=not args.no_cycles)
