@@ -365,8 +365,8 @@ class MotionModel:
         return curve, duration
 
     def distances(self, curve: np.ndarray, actions: Sequence[int] | None = None) -> np.ndarray:
-        """Weighted RMS distance (degrees) between a cycle (samples, columns) and every
-        person's motion of every action, shape (people, actions), NaN where unknown
+        """Weighted mean absolute difference (degrees) between a cycle (samples, columns) and
+        every person's motion of every action, shape (people, actions), NaN where unknown
         (:func:`synthesis.recognition.distances`)."""
         self._check_fitted()
         return distances(self.cells_, curve, actions)

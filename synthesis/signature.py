@@ -178,14 +178,14 @@ def interpolate_signatures(first: np.ndarray, second: np.ndarray, weight: float)
 
 
 def posterior_scores(distances: np.ndarray, scale: float) -> np.ndarray:
-    """Scores summing to 1 from RMS distances: softmax of ``−½ (distance / scale)²``.
+    """Scores summing to 1 from distances: softmax of ``−½ (distance / scale)²``.
 
     Parameters
     ----------
     distances : ndarray, shape (candidates,)
-        RMS distances, degrees.
+        Distances, degrees.
     scale : float
-        Typical synthesis error, degrees (the model's leave-one-out RMS).
+        Typical distance of the right candidate, degrees (same measure as ``distances``).
 
     Returns
     -------

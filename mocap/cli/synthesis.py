@@ -422,7 +422,8 @@ def recognize(args: argparse.Namespace) -> int:
     else:
         print(f"{args.trial}: {person} doing {result.action}"
               + (f", {margin:.2f}° nearer than {ranking[1]}" if len(ranking) > 1 else ""))
-    print("  RMS distance between the trial and each person's modelled motion:")
+    print("  weighted mean absolute difference between the trial and each person's modelled "
+          "motion:")
     for name in ranking:
         behind = result.distances[name] - result.distances[ranking[0]]
         print(f"  {name:<16} {result.distances[name]:6.2f}°"
@@ -439,8 +440,8 @@ UNKNOWN_FACTOR = 0.5
 
 
 def person_spacing(model, action: str) -> float:
-    """Median over the known people of the RMS distance (degrees) from the person's modelled
-    ``action`` to the nearest other person's (NaN with fewer than two people)."""
+    """Median over the known people of the recognition distance (degrees) from the person's
+    modelled ``action`` to the nearest other person's (NaN with fewer than two people)."""
     a = model.actions.index(action)
     nearest = []
     for person in model.people:
@@ -457,7 +458,7 @@ def person_spacing(model, action: str) -> float:
 
 def open_set_person(best: str, distances: dict, limit: float) -> tuple[str, str]:
     """``(answer, nearest)``: the nearest person, or :data:`UNKNOWN` when even the nearest
-    is farther than ``limit`` degrees RMS (a stranger is not named). A limit that is not
+    is farther than ``limit`` degrees (a stranger is not named). A limit that is not
     finite (a model too small for leave-one-out) accepts the nearest."""
     if math.isfinite(limit) and distances.get(best, math.inf) > limit:
         return UNKNOWN, best
@@ -546,7 +547,8 @@ def register(subparsers: Subparsers) -> None:
     parser = subparsers.add_parser(
         "recognize", help=summary("recognize"),
         description="Compare a trial with every person's model motion and print the people "
-                    "ranked by RMS distance in degrees (nearest first), and the margin by "
+                    "ranked by distance in degrees (the weighted mean absolute difference "
+                    "of the joint angles; nearest first), and the margin by "
                     "which the nearest beats the next.")
     parser.add_argument("model", metavar="MODEL.npz", help="model from 'mocap decompose'")
     parser.add_argument("trial", metavar="TRIAL",
@@ -557,7 +559,7 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument("--max-distance", type=options.real(above=0, maximum=360),
                         metavar="DEG",
                         help="answer 'unknown' when the nearest person's model motion is "
-                             "farther than this RMS distance in degrees (default: "
+                             "farther than this distance in degrees (default: "
                              f"{UNKNOWN_FACTOR:g} x the median distance between a known "
                              "person's modelled motion and the nearest other person's)")
     parser.add_argument("--json", action="store_true",

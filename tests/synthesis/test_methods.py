@@ -13,6 +13,7 @@ from mocap.errors import MocapError
 from synthesis.methods import METHODS, CellMethod, make_method, method_name
 from synthesis.model import MotionModel
 from synthesis.model_file import load_model, save_model
+from synthesis.recognition import distances, recognition_weights
 from tests.synthesis.test_model import multilinear_corpus
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -127,3 +128,32 @@ def test_the_signature_method_recognises_by_the_persons_main_effects(fitted):
                           if a != action and np.isfinite(data[person, a]).all()], axis=0)
         assert np.allclose(method.template(person, action), means[action] + offset)
     assert not np.allclose(method.cell(1, 2), method.additive(1, 2))
+
+
+def test_recognition_distance_is_the_weighted_mean_absolute_difference(fitted):
+    """A trial's distance to a person is ``mean_f |x_f − t_f| √(w_f / mean w)`` (t: that
+    person's template, w: the action's weights), computed here by hand; and one feature
+    missed by far does not outweigh a small miss everywhere, as it would in an RMS."""
+    _, data, methods = fitted
+    method = methods["interaction"]
+    action = 1
+    weights = recognition_weights(method, action)
+    assert weights is not None and weights.shape == (data.shape[2],)
+    trial = method.template(3, action) + np.linspace(-2.0, 2.0, data.shape[2])
+    table = distances(method, trial[None], [action])
+    for person in range(data.shape[0]):
+        difference = np.abs(method.template(person, action) - trial)
+        expected = np.mean(difference * np.sqrt(weights / weights.mean()))
+        assert table[person, action] == pytest.approx(expected, rel=1e-12)
+    assert np.isnan(table[:, [0, 2, 3]]).all()
+    # One feature missed by 20° is nearer than every feature missed by 2°; an RMS would
+    # have it the other way round.
+    scale = np.sqrt(weights / weights.mean())
+    near = method.template(0, action)
+    outlier = near.copy()
+    outlier[0] += 20.0 / scale[0]
+    spread = near + 2.0 / scale
+    assert distances(method, outlier[None], [action])[0, action] == \
+        pytest.approx(20.0 / data.shape[2])
+    assert distances(method, spread[None], [action])[0, action] == pytest.approx(2.0)
+    assert 20.0 / np.sqrt(data.shape[2]) > 2.0          # the outlier's RMS distance
