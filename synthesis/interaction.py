@@ -101,6 +101,8 @@ class Interaction:
     shrinkage : float
         Fraction κ ∈ [0, 1] of the interaction's correction kept: the prediction is the
         additive one plus κ × (configuration − additive) (1 unless the model shrinks).
+    donors : int
+        Donors whose held-out residuals give ``variance`` (its degrees of freedom).
     """
 
     mode: str
@@ -110,6 +112,7 @@ class Interaction:
     additive_loo_rms: float
     variance: np.ndarray
     shrinkage: float = 1.0
+    donors: int = 0
 
 
 @dataclass
@@ -295,7 +298,7 @@ class InteractionModel:
         variance = np.mean([(self.basis_ @ residual) ** 2 for residual in kept], axis=0)
         loo = np.mean([residual @ residual for residual in kept]) / features
         result = Interaction(mode, rank, alpha, float(np.sqrt(loo)),
-                             float(np.sqrt(errors[0])), variance, kappa)
+                             float(np.sqrt(errors[0])), variance, kappa, donors)
         self._cache[key] = result
         return result
 

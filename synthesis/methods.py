@@ -106,9 +106,10 @@ class CellMethod:
         means over the other people (shape (features,))."""
         return self._additive_model.additive(person, action)
 
-    def feature_variance(self, action: int) -> np.ndarray | None:
+    def feature_variance(self, action: int) -> tuple[np.ndarray, int] | None:
         """Leave-one-person-out mean squared error of each feature when ``action`` is
-        predicted from all the others (shape (features,)); None when too few people."""
+        predicted from all the others (shape (features,)), and the number of people it is
+        averaged over (its degrees of freedom); None when too few people."""
         raise NotImplementedError
 
     def describe(self) -> dict:
@@ -167,9 +168,9 @@ class InteractionMethod(CellMethod):
         chosen = self.model_.interaction(action, self._others(action))
         return self.model_.predict(person, action, chosen)[0]
 
-    def feature_variance(self, action: int) -> np.ndarray | None:
-        variance = self.model_.interaction(action, self._others(action)).variance
-        return variance if np.isfinite(variance).all() else None
+    def feature_variance(self, action: int) -> tuple[np.ndarray, int] | None:
+        chosen = self.model_.interaction(action, self._others(action))
+        return (chosen.variance, chosen.donors) if np.isfinite(chosen.variance).all() else None
 
     def describe(self) -> dict:
         result = {}
@@ -216,9 +217,9 @@ class TransferMethod(CellMethod):
 
     _held_out = _missing
 
-    def feature_variance(self, action: int) -> np.ndarray | None:
-        variance = self.model_.transfer(action, self._others(action)).variance
-        return variance if np.isfinite(variance).all() else None
+    def feature_variance(self, action: int) -> tuple[np.ndarray, int] | None:
+        chosen = self.model_.transfer(action, self._others(action))
+        return (chosen.variance, chosen.donors) if np.isfinite(chosen.variance).all() else None
 
 
 #: Synthesis methods by name (``--method``).

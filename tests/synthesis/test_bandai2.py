@@ -157,8 +157,9 @@ def test_hold_out_take_scores_unseen_takes(corpus):
     assert result["additive_rms_deg"] >= result["synthesis_rms_deg"]
     assert cell["additive_rms_deg"] >= cell["synthesis_rms_deg"]
     # Waves predicted from walks and runs miss a few joints by far: recognition by the mean
-    # absolute difference still names 18 of the 21 (16 with an RMS distance).
-    assert cell["recognition_accuracy"] >= 0.85
+    # absolute difference, features weighted by their moderated variances, still names 19 of
+    # the 21 (18 with variances shrunk by a fixed tenth of their mean, 16 with an RMS).
+    assert cell["recognition_accuracy"] >= 0.9
     # Action transfer learns how much walks and runs say about waves: it beats the baseline.
     result = leave_one_out(small, hold_out="take", method="transfer").to_json()
     cell = leave_one_out(small, method="transfer").to_json()

@@ -13,7 +13,7 @@ from mocap.errors import MocapError
 from synthesis.methods import METHODS, CellMethod, make_method, method_name
 from synthesis.model import MotionModel
 from synthesis.model_file import load_model, save_model
-from synthesis.recognition import distances, recognition_weights
+from synthesis.recognition import distances, moderated_variances, recognition_weights
 from tests.synthesis.test_model import multilinear_corpus
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -66,8 +66,10 @@ def test_every_method_answers_the_interface(fitted, name):
     assert np.allclose(method.additive(person, action), expected, atol=1e-12)
     # A recognition template of a captured cell never echoes the capture.
     assert not np.allclose(method.template(0, 1), data[0, 1])
-    variance = method.feature_variance(1)
+    variance, donors = method.feature_variance(1)
     assert variance.shape == (data.shape[2],) and (variance > 0).all()
+    # ... averaged over the people who have every action (the donors of action 1).
+    assert donors == int(keep.all(axis=1).sum())
 
 
 def test_the_interaction_methods_beat_the_additive_model_on_a_rank_one_interaction(fitted):
@@ -157,3 +159,17 @@ def test_recognition_distance_is_the_weighted_mean_absolute_difference(fitted):
         pytest.approx(20.0 / data.shape[2])
     assert distances(method, spread[None], [action])[0, action] == pytest.approx(2.0)
     assert 20.0 / np.sqrt(data.shape[2]) > 2.0          # the outlier's RMS distance
+
+
+@pytest.mark.parametrize("name", sorted(METHODS))
+def test_recognition_weights_are_the_inverse_moderated_variances(fitted, name):
+    """Each method's recognition weights: the inverse of its leave-one-person-out variances
+    moderated with as many degrees of freedom as it had donors."""
+    _, data, methods = fitted
+    method = methods[name]
+    variance, donors = method.feature_variance(0)
+    assert donors >= 3
+    weights = recognition_weights(method, 0)
+    assert np.allclose(weights, 1.0 / moderated_variances(variance, donors), rtol=1e-12)
+    # Moderation pulls the variances together: the weights spread less than the raw inverse.
+    assert np.ptp(np.log(weights)) < np.ptp(np.log(1.0 / variance))
