@@ -40,7 +40,7 @@ from mocap.io.discovery import find_files, is_angle_csv, parse_trial_name
 from mocap.io.motion import MARKER_SUFFIXES, MOTION_SUFFIXES, read_motion
 from mocap.markersets import load_markerset
 from mocap.pipeline import Cleaning, marker_file_angles
-from synthesis.cycles import DEFAULT_SAMPLES, centre_branch, mean_cycle
+from synthesis.cycles import DEFAULT_SAMPLES, centre_branch, mean_cycle, warn_misaligned_cycles
 from synthesis.rotations import hierarchy_known, remove_mean_heading
 from synthesis.skeletons import is_skeleton_trial, read_skeleton_corpus
 
@@ -509,11 +509,17 @@ def corpus_from_angles(trials: Sequence[tuple[CorpusEntry, JointAngles]],
             reference = int(np.argmax(np.nanmean(np.stack(spreads), axis=0)))
     cells: dict[tuple[str, str], list] = {}
     sources: dict[tuple[str, str], list[str]] = {}
+    cut: dict[str, list] = {}
     for entry, angles in read:
         curve, duration, count = mean_cycle(np.asarray(angles.times), _flat(angles),
                                             samples, cycles, reference, entry.path)
         cells.setdefault((entry.person, entry.action), []).append((curve, duration, count))
         sources.setdefault((entry.person, entry.action), []).append(str(entry.path))
+        cut.setdefault(entry.action, []).append((curve, str(entry.path)))
+    if cycles:
+        for action, trials in cut.items():
+            warn_misaligned_cycles(centre_branch(np.stack([curve for curve, _ in trials])),
+                                   [source for _, source in trials], action)
     return stack_corpus(cells, reference_segments, read[0][1].parents, reference_sequence,
                         cycles=cycles,
                         cycle_column=None if reference is None else columns[reference],

@@ -33,7 +33,7 @@ from mocap.io import file_kind
 from mocap.io.motion import read_motion
 from mocap.skeleton import Motion, Skeleton
 from synthesis.cycles import (CycleWarning, foot_joints, leg_cycles, leg_separation,
-                              register_cycle, walking_axis)
+                              register_cycle, walking_axis, warn_misaligned_cycles)
 from synthesis.rotations import (ROOT_FEATURES, chordal_mean, features_to_rotations,
                                  root_features, root_path, rotation_features, skeleton_frames,
                                  yaw_matrices)
@@ -258,9 +258,15 @@ def read_skeleton_corpus(entries: list, samples: int, cycles: bool, body: bool =
                if ev is not None and len(ev)]
     phase = float(np.mean(np.concatenate(middles))) if middles else 0.5
     per_cell: dict = {}
+    cut: dict = {}
     for k, entry in enumerate(entries):
         result = normalise_trial(times[k], features[k], roots[k], events[k], phase, samples)
         per_cell.setdefault((entry.person, entry.action), []).append((result, str(entry.path)))
+        if events[k] is not None and len(events[k]):
+            cut.setdefault(entry.action, []).append((result[0], str(entry.path)))
+    for action, trials in cut.items():
+        warn_misaligned_cycles(np.stack([curve for curve, _ in trials]),
+                               [source for _, source in trials], action)
     people = sorted({person for person, _ in per_cell})
     actions = sorted({action for _, action in per_cell})
     names = [skeleton.names[j] for j in joints]

@@ -6,7 +6,10 @@ import pytest
 
 from mocap.errors import MocapError
 from mocap.clean.resample import resample
-from synthesis.cycles import detect_cycles, mean_cycle
+from mocap.rotations.angles import JointAngles
+from synthesis.corpus import CorpusEntry, corpus_from_angles
+from synthesis.cycles import (CycleWarning, cycle_phase_lags, detect_cycles, mean_cycle,
+                              warn_misaligned_cycles)
 
 
 def test_resample_is_exact_for_linear_signals():
@@ -84,3 +87,63 @@ def test_a_run_at_30_hz_is_cut_into_its_short_cycles():
     events, own = cut_action([times], [run], np.array([0.0, 1.0]), 0.9)
     assert own is None and len(events[0]) >= 3
     assert np.allclose(events[0][:, 2] - events[0][:, 0], 0.7, atol=1 / 30)
+
+
+def _cycle(samples=50, columns=6, seed=0):
+    """A smooth periodic cycle of a few harmonics per column."""
+    rng = np.random.default_rng(seed)
+    phase = np.linspace(0.0, 1.0, samples, endpoint=False)[:, None]
+    harmonics = np.arange(1, 4)[None, :, None]
+    amplitude = rng.normal(size=(1, 3, columns)) / harmonics
+    offset = rng.uniform(0, 2 * np.pi, size=(1, 3, columns))
+    return np.sum(amplitude * np.sin(2 * np.pi * harmonics * phase[:, :, None] + offset), axis=1)
+
+
+@pytest.mark.parametrize("roll", [1, 7, -12, 25])
+def test_phase_lag_of_a_rolled_trial_is_its_roll(roll):
+    base = _cycle()
+    others = [base * (1 + 0.05 * k) + 0.01 * k for k in range(4)]       # same phase, other size
+    curves = np.stack(others + [np.roll(base, roll, axis=0)])
+    lags = cycle_phase_lags(curves)
+    assert lags[-1] == pytest.approx(roll / 50)
+    # The others' reference holds the rolled trial at a quarter weight: a sample at most.
+    assert np.abs(lags[:-1]).max() <= 1 / 50
+    with pytest.raises(MocapError, match="two trials"):
+        cycle_phase_lags(curves[:1])
+
+
+def test_only_a_trial_cut_half_a_cycle_off_is_named():
+    base = _cycle()
+    curves = np.stack([base, 1.1 * base, 0.9 * base, np.roll(base, 3, axis=0),
+                       np.roll(base, 25, axis=0)])
+    sources = [f"t{k}.bvh" for k in range(5)]
+    pattern = r"t4\.bvh: .* 'walk' best when shifted by 4[6-9] %"
+    with pytest.warns(CycleWarning, match=pattern) as caught:
+        lags = warn_misaligned_cycles(curves, sources, "walk")
+    assert len(caught) == 1 and abs(lags[3]) < 0.1
+    # Two trials are too few to say which one is off: nothing is checked.
+    assert np.isnan(warn_misaligned_cycles(curves[:2], sources[:2], "walk")).all()
+
+
+def test_an_euler_corpus_names_a_trial_whose_cut_falls_at_another_event():
+    """Cycles cut at the reference angle's maxima: in one trial every other angle runs half
+    a cycle behind the reference (its maxima mark another event of the movement), and the
+    corpus reader names that trial; the well-cut trials pass without a word."""
+    rate, period = 100.0, 1.0
+    times = np.arange(int(4.2 * period * rate)) / rate
+    def angles(scale, delay=0.0):
+        u = times / period
+        reference = 30 * np.cos(2 * np.pi * u)
+        rest = [scale * 20 * np.sin(2 * np.pi * (u - delay) + k) + 5 * np.sin(4 * np.pi * (u - delay))
+                for k in (0.3, 1.1, 2.0, 2.9, 4.1)]
+        values = np.column_stack([reference] + rest).reshape(len(times), 2, 3)
+        return JointAngles(times, values, ["thigh", "shank"], "ZXY", [-1, 0])
+    trials = [(CorpusEntry(f"{name}_walk.csv", name, "walk"), angles(scale))
+              for name, scale in (("ana", 1.0), ("ben", 1.2), ("cy", 0.8))]
+    trials.append((CorpusEntry("dan_walk.csv", "dan", "walk"), angles(1.0, delay=0.5)))
+    trials += [(CorpusEntry(f"{e.person}_run.csv", e.person, "run"), a) for e, a in trials]
+    with pytest.warns(CycleWarning) as caught:
+        corpus = corpus_from_angles(trials, samples=40, cycles=True, cycle_column="thigh.Z")
+    named = [str(w.message) for w in caught if "shifted by" in str(w.message)]
+    assert len(named) == 2 and all(m.startswith("dan_") for m in named)
+    assert corpus.cycle_counts.min() >= 3
