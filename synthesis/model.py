@@ -14,6 +14,7 @@ SVD, signatures by ridge least squares, rank and ridge chosen by leave-one-out).
 """
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import Sequence
 
@@ -23,7 +24,7 @@ from mocap.rotations.angles import JointAngles
 from mocap.errors import MocapError
 from synthesis.corpus import MotionCorpus, check_corpus_size
 from mocap.clean.resample import resample
-from synthesis.cycles import mean_cycle
+from synthesis.cycles import MISALIGNED_FRACTION, CycleWarning, cycle_phase_lags, mean_cycle
 from synthesis.methods import CellMethod, make_method, method_name
 from synthesis.nmode import Rank
 from synthesis.recognition import Recognition, distances, recognize
@@ -378,6 +379,37 @@ class MotionModel:
             else list(range(len(self.actions)))
         scale = self.loo_rms if np.isfinite(self.loo_rms) else self.spread_rms_
         return recognize(self.cells_, self.people, self.actions, curve, candidates, scale)
+
+    def check_cycle_phase(self, curve: np.ndarray, action: str, source: str | None = None
+                          ) -> float:
+        """Lag (fraction of a cycle) at which a new trial's cycle best matches the model's
+        captures of ``action`` (:func:`synthesis.cycles.cycle_phase_lags`); a
+        :class:`~synthesis.cycles.CycleWarning` names the trial beyond
+        :data:`~synthesis.cycles.MISALIGNED_FRACTION` (cut at another event of the
+        movement). NaN, and no check, for a model of whole trials or with fewer than two
+        captures of the action.
+
+        Parameters
+        ----------
+        curve : ndarray, shape (samples, columns)
+        action : str
+        source : str, optional
+            The trial's file, for the warning.
+        """
+        self._check_fitted()
+        a = self.action_index(action)
+        data, observed = self.cells_.data_, self.cells_.observed_
+        if not self.cycles or observed[:, a].sum() < 2:
+            return float("nan")
+        shape = np.asarray(curve).shape
+        captures = data[observed[:, a], a].reshape((-1,) + shape)
+        lag = float(cycle_phase_lags(np.concatenate([captures, np.asarray(curve)[None]]))[-1])
+        if abs(lag) > MISALIGNED_FRACTION:
+            warnings.warn(f"{source or 'trial'}: its cycle matches the model's {action!r} "
+                          f"best when shifted by {100 * abs(lag):.0f} % of a cycle — cut at "
+                          "another event of the movement? Its answer may be wrong",
+                          CycleWarning, stacklevel=2)
+        return lag
 
     # ------------------------------------------------------------------ persistence
 

@@ -319,6 +319,7 @@ def synthesize(args: argparse.Namespace) -> int:
             curve, duration = read_trial_curve(model, path)
             action = _trial_action(model, path, curve, duration,
                                    actions[k] if k < len(actions) else None)
+            model.check_cycle_phase(curve, action, path)
             observations.append((action, curve, duration))
         signature = model.signature_from(observations)
         who = "new person from " + ", ".join(Path(p).name for p in args.trials)
@@ -404,6 +405,7 @@ def recognize(args: argparse.Namespace) -> int:
     model = load_model(args.model)
     curve, duration = read_trial_curve(model, args.trial)
     result = model.recognize(curve, args.action)
+    model.check_cycle_phase(curve, result.action, args.trial)
     limit = args.max_distance if args.max_distance is not None else \
         UNKNOWN_FACTOR * person_spacing(model, result.action)
     person, nearest = open_set_person(result.person, result.distances, limit)

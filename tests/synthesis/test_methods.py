@@ -64,8 +64,12 @@ def test_every_method_answers_the_interface(fitted, name):
     observed = [a for a in range(data.shape[1]) if a != action and keep[person, a]]
     expected = means[action] + np.mean([data[person, a] - means[a] for a in observed], axis=0)
     assert np.allclose(method.additive(person, action), expected, atol=1e-12)
-    # A recognition template of a captured cell never echoes the capture.
-    assert not np.allclose(method.template(0, 1), data[0, 1])
+    # Recognition templates: where someone's cell of the action is missing, a captured cell
+    # is modelled from the person's other cells and never echoes the capture; where every
+    # person captured the action, the captures themselves.
+    assert not keep[:, 2].all() and keep[0, 2] and keep[:, 1].all()
+    assert not np.allclose(method.template(0, 2), data[0, 2])
+    assert np.array_equal(method.template(0, 1), data[0, 1])
     variance, donors = method.feature_variance(1)
     assert variance.shape == (data.shape[2],) and (variance > 0).all()
     # ... averaged over the people who have every action (the donors of action 1).
@@ -118,12 +122,15 @@ def test_models_and_methods_never_read_files():
 
 
 def test_the_signature_method_recognises_by_the_persons_main_effects(fitted):
-    """Signature recognition templates are the person's additive prediction from their other
-    actions (mean of the others + the person's mean offset), computed here by hand; its
-    synthesis of a missing cell keeps the interaction's correction."""
+    """Signature recognition templates of actions someone lacks are the person's additive
+    prediction from their other actions (mean of the others + the person's mean offset),
+    computed here by hand; its synthesis of a missing cell keeps the interaction's
+    correction."""
     _, data, methods = fitted
     method = methods["signature"]
-    for person, action in [(0, 1), (6, 3)]:
+    for person, action in [(0, 2), (6, 0)]:
+        assert np.isfinite(data[person, action]).all()
+        assert not np.isfinite(data[:, action]).all()
         others = [q for q in range(data.shape[0]) if q != person]
         means = np.nanmean(data[others], axis=0)
         offset = np.mean([data[person, a] - means[a] for a in range(data.shape[1])
