@@ -377,8 +377,7 @@ class MotionModel:
         (:func:`synthesis.recognition.recognize`; ``action``: the trial's when known)."""
         candidates = [self.action_index(action)] if action is not None \
             else list(range(len(self.actions)))
-        scale = self.loo_rms if np.isfinite(self.loo_rms) else self.spread_rms_
-        return recognize(self.cells_, self.people, self.actions, curve, candidates, scale)
+        return recognize(self.cells_, self.people, self.actions, curve, candidates)
 
     def check_cycle_phase(self, curve: np.ndarray, action: str, source: str | None = None
                           ) -> float:

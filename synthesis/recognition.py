@@ -33,10 +33,6 @@ from mocap.errors import MocapError
 from synthesis.methods import CellMethod
 from synthesis.signature import posterior_scores
 
-#: Mean absolute value of a normal error per unit of its RMS, √(2/π).
-MEAN_ABSOLUTE_PER_RMS = float(np.sqrt(2.0 / np.pi))
-
-
 @dataclass
 class Recognition:
     """Result of :func:`recognize`.
@@ -48,8 +44,8 @@ class Recognition:
     scores : dict of str to float
         Person → score in [0, 1] (summing to 1) for the recognised action: softmax of
         ``−½ (d / σ)²`` with ``d`` the distance (:func:`distances`, degrees) between the
-        trial and the model's motion of that person, ``σ`` the mean absolute difference
-        that the model's leave-one-out synthesis RMS gives for normal errors (× √(2/π)).
+        trial and the model's motion of that person and ``σ`` the action's
+        :func:`match_scale`, the typical distance of the right person in the same measure.
     distances : dict of str to float
         Person → weighted mean absolute difference, degrees, for the recognised action.
     action_scores : dict of str to float
@@ -203,21 +199,67 @@ def distances(method: CellMethod, curve: np.ndarray,
     people, count = method.data_.shape[:2]
     table = np.full((people, count), np.nan)
     for action in range(count) if actions is None else actions:
-        weights = recognition_weights(method, action)
+        scale = _feature_scale(method, action)
         for person in range(people):
             try:
-                motion = method.template(person, action)
+                table[person, action] = _distance(method.template(person, action), flat, scale)
             except MocapError:
                 continue
-            difference = np.abs(motion - flat)
-            if weights is not None:
-                difference = difference * np.sqrt(weights / weights.mean())
-            table[person, action] = difference.mean()
     return table
 
 
+def _feature_scale(method: CellMethod, action: int) -> np.ndarray | None:
+    """``√(w_f / mean w)`` of an action's :func:`recognition_weights` (None: unweighted)."""
+    weights = recognition_weights(method, action)
+    return None if weights is None else np.sqrt(weights / weights.mean())
+
+
+def _distance(motion: np.ndarray, flat: np.ndarray, scale: np.ndarray | None) -> float:
+    """Weighted mean absolute difference of two flattened motions, degrees."""
+    difference = np.abs(motion - flat)
+    return float((difference if scale is None else difference * scale).mean())
+
+
+def match_scale(method: CellMethod, action: int) -> float:
+    """Typical distance (degrees, the measure of :func:`distances`) between a trial of an
+    action and the right person's template of it: the scale of the recognition scores.
+
+    With every person's capture as the template (:meth:`CellMethod.template`), half the
+    median distance from a person's capture to the nearest other person's (a right match
+    lies within half-way to the next person); otherwise the median distance between a
+    known person's capture and their own template, modelled from their other actions (how
+    far the model's view of a person lies from what they did). NaN when neither can be
+    measured.
+
+    Returns
+    -------
+    float
+    """
+    observed = method.observed_[:, action]
+    scale = _feature_scale(method, action)
+    captured = np.flatnonzero(observed)
+    if observed.all():
+        nearest = []
+        for person in captured:
+            others = [_distance(method.data_[other, action], method.data_[person, action], scale)
+                      for other in captured if other != person]
+            if others:
+                nearest.append(min(others))
+        return 0.5 * float(np.median(nearest)) if nearest else float("nan")
+    own = []
+    for person in captured:
+        if method.observed_[person].sum() < 2:        # their template is their capture
+            continue
+        try:
+            own.append(_distance(method.template(person, action), method.data_[person, action],
+                                 scale))
+        except MocapError:
+            continue
+    return float(np.median(own)) if own else float("nan")
+
+
 def recognize(method: CellMethod, people: Sequence[str], actions: Sequence[str],
-              curve: np.ndarray, candidates: Sequence[int], scale: float) -> Recognition:
+              curve: np.ndarray, candidates: Sequence[int]) -> Recognition:
     """Most likely person and action of a captured cycle.
 
     Parameters
@@ -229,28 +271,30 @@ def recognize(method: CellMethod, people: Sequence[str], actions: Sequence[str],
     curve : ndarray, shape (samples, columns), degrees
     candidates : sequence of int
         Actions the trial may be (one when it is known).
-    scale : float
-        Typical synthesis error (RMS), degrees, for the scores (:func:`posterior_scores`,
-        which get the mean absolute difference it gives for normal errors, × √(2/π)).
 
     Returns
     -------
     Recognition
+        Scores against each action's :func:`match_scale` (where it cannot be measured, the
+        median of the action's distances).
     """
     table = distances(method, curve, candidates)
     nearest = np.full(len(actions), np.inf)
+    scales = np.full(len(actions), np.nan)
     for a in candidates:
         if np.isfinite(table[:, a]).any():
             nearest[a] = np.nanmin(table[:, a])
+            scales[a] = match_scale(method, a)
+            if not scales[a] > 0:
+                scales[a] = float(np.nanmedian(table[:, a]))
     best_action = min(candidates, key=lambda a: nearest[a])
     column = table[:, best_action]
     valid = np.isfinite(column)
     names = [people[i] for i in np.flatnonzero(valid)]
-    # The distances are mean absolute differences: compare them with the mean absolute
-    # difference of normal errors of RMS ``scale``.
-    scale = scale * MEAN_ABSOLUTE_PER_RMS
-    scores = posterior_scores(column[valid], scale)
-    action_scores = posterior_scores(nearest[list(candidates)], scale)
+    scores = posterior_scores(column[valid], scales[best_action])
+    chosen = list(candidates)
+    action_scores = posterior_scores(nearest[chosen] / np.where(scales[chosen] > 0,
+                                                                scales[chosen], 1.0), 1.0)
     return Recognition(
         person=names[int(np.argmin(column[valid]))], action=actions[best_action],
         scores={name: float(s) for name, s in zip(names, scores)},

@@ -13,7 +13,8 @@ from mocap.errors import MocapError
 from synthesis.methods import METHODS, CellMethod, make_method, method_name
 from synthesis.model import MotionModel
 from synthesis.model_file import load_model, save_model
-from synthesis.recognition import distances, moderated_variances, recognition_weights
+from synthesis.recognition import (distances, match_scale, moderated_variances,
+                                   recognition_weights)
 from tests.synthesis.test_model import multilinear_corpus
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -180,3 +181,24 @@ def test_recognition_weights_are_the_inverse_moderated_variances(fitted, name):
     assert np.allclose(weights, 1.0 / moderated_variances(variance, donors), rtol=1e-12)
     # Moderation pulls the variances together: the weights spread less than the raw inverse.
     assert np.ptp(np.log(weights)) < np.ptp(np.log(1.0 / variance))
+
+
+def test_score_scale_is_the_typical_distance_of_the_right_person(fitted):
+    """The recognition scores' scale, by hand: for an action everyone captured, half the
+    median distance from a capture to the nearest other person's; for one someone lacks,
+    the median distance between a person's capture and their template (modelled from their
+    other actions)."""
+    _, data, methods = fitted
+    method = methods["interaction"]
+    keep = np.isfinite(data).all(axis=2)
+    assert keep[:, 1].all() and not keep[:, 2].all()
+    nearest = []
+    for p in range(data.shape[0]):
+        row = distances(method, data[p, 1][None], [1])[:, 1]
+        row[p] = np.nan
+        nearest.append(np.nanmin(row))
+    assert match_scale(method, 1) == pytest.approx(0.5 * np.median(nearest), rel=1e-12)
+    own = [distances(method, data[p, 2][None], [2])[p, 2]
+           for p in np.flatnonzero(keep[:, 2]) if keep[p].sum() > 1]
+    assert match_scale(method, 2) == pytest.approx(np.median(own), rel=1e-12)
+    assert min(own) > 0
