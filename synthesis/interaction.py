@@ -103,6 +103,9 @@ class Interaction:
         additive one plus κ × (configuration − additive) (1 unless the model shrinks).
     donors : int
         Donors whose held-out residuals give ``variance`` (its degrees of freedom).
+    residuals : ndarray, shape (donors, r), optional
+        Those residuals (kept configuration), in the coordinates of
+        :attr:`InteractionModel.basis_`.
     """
 
     mode: str
@@ -113,6 +116,7 @@ class Interaction:
     variance: np.ndarray
     shrinkage: float = 1.0
     donors: int = 0
+    residuals: np.ndarray | None = field(default=None, repr=False)
 
 
 @dataclass
@@ -298,7 +302,7 @@ class InteractionModel:
         variance = np.mean([(self.basis_ @ residual) ** 2 for residual in kept], axis=0)
         loo = np.mean([residual @ residual for residual in kept]) / features
         result = Interaction(mode, rank, alpha, float(np.sqrt(loo)),
-                             float(np.sqrt(errors[0])), variance, kappa, donors)
+                             float(np.sqrt(errors[0])), variance, kappa, donors, np.stack(kept))
         self._cache[key] = result
         return result
 

@@ -121,6 +121,12 @@ class CellMethod:
         averaged over (its degrees of freedom); None when too few people."""
         raise NotImplementedError
 
+    def held_out_errors(self, action: int) -> np.ndarray | None:
+        """The leave-one-person-out errors behind :meth:`feature_variance`: each donor's
+        held-out prediction error of ``action`` (either sign), shape (donors, features);
+        None when too few people."""
+        raise NotImplementedError
+
     def describe(self) -> dict:
         """Action → what predicts it from all the other actions (empty when nothing to say)."""
         return {}
@@ -181,6 +187,12 @@ class InteractionMethod(CellMethod):
         chosen = self.model_.interaction(action, self._others(action))
         return (chosen.variance, chosen.donors) if np.isfinite(chosen.variance).all() else None
 
+    def held_out_errors(self, action: int) -> np.ndarray | None:
+        chosen = self.model_.interaction(action, self._others(action))
+        if chosen.residuals is None or not np.isfinite(chosen.variance).all():
+            return None
+        return chosen.residuals @ self.model_.basis_.T
+
     def describe(self) -> dict:
         result = {}
         for a in range(self.data_.shape[1]):
@@ -229,6 +241,10 @@ class TransferMethod(CellMethod):
     def feature_variance(self, action: int) -> tuple[np.ndarray, int] | None:
         chosen = self.model_.transfer(action, self._others(action))
         return (chosen.variance, chosen.donors) if np.isfinite(chosen.variance).all() else None
+
+    def held_out_errors(self, action: int) -> np.ndarray | None:
+        chosen = self.model_.transfer(action, self._others(action))
+        return chosen.residuals if np.isfinite(chosen.variance).all() else None
 
 
 #: Synthesis methods by name (``--method``).

@@ -27,7 +27,7 @@ from mocap.clean.resample import resample
 from synthesis.cycles import MISALIGNED_FRACTION, CycleWarning, cycle_phase_lags, mean_cycle
 from synthesis.methods import CellMethod, make_method, method_name
 from synthesis.nmode import Rank
-from synthesis.recognition import Recognition, distances, recognize
+from synthesis.recognition import Recognition, distances, recognize, unknown_limit
 from synthesis.regression import SignatureModel
 from synthesis.rotations import hierarchy_known, remove_mean_heading
 from synthesis.signature import interpolate_signatures
@@ -371,6 +371,12 @@ class MotionModel:
         (:func:`synthesis.recognition.distances`)."""
         self._check_fitted()
         return distances(self.cells_, curve, actions)
+
+    def unknown_limit(self, action: str) -> float:
+        """Distance (degrees) beyond which a trial of ``action`` is nobody known
+        (:func:`synthesis.recognition.unknown_limit`; NaN: no limit)."""
+        self._check_fitted()
+        return unknown_limit(self.cells_, self.action_index(action))
 
     def recognize(self, curve: np.ndarray, action: str | None = None) -> Recognition:
         """Most likely person (and action) of a captured cycle (samples, columns), degrees

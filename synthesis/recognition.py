@@ -220,42 +220,81 @@ def _distance(motion: np.ndarray, flat: np.ndarray, scale: np.ndarray | None) ->
     return float((difference if scale is None else difference * scale).mean())
 
 
+def held_out_distances(method: CellMethod, action: int) -> np.ndarray:
+    """Distance (the measure of :func:`distances`) between each donor's held-out prediction
+    of an action and their capture: how far a person's capture lies from the model's view
+    of them when the model never saw it (the errors behind the recognition weights,
+    :meth:`CellMethod.held_out_errors`), each weighted by the other donors' errors alone.
+
+    Returns
+    -------
+    ndarray, shape (donors,), degrees; empty when too few people
+    """
+    errors = method.held_out_errors(action)
+    if errors is None or errors.shape[0] < 3:
+        return np.empty(0)
+    donors = errors.shape[0]
+    squares = errors ** 2
+    result = []
+    for k in range(donors):
+        # The weights without donor k: the weights are fitted to these very errors, and a
+        # donor's own error weighted by them would look nearer than a stranger's.
+        variance = (squares.sum(axis=0) - squares[k]) / (donors - 1)
+        if not variance.mean() > 0:
+            result.append(float(np.abs(errors[k]).mean()))
+            continue
+        weights = 1.0 / moderated_variances(variance, donors - 1)
+        result.append(_distance(errors[k], np.zeros_like(errors[k]),
+                                np.sqrt(weights / weights.mean())))
+    return np.asarray(result)
+
+
+def capture_spacing(method: CellMethod, action: int) -> np.ndarray:
+    """Distance from each person's capture of an action to the nearest other person's
+    (shape (people,), degrees; NaN without a capture or with no other)."""
+    scale = _feature_scale(method, action)
+    captured = np.flatnonzero(method.observed_[:, action])
+    result = np.full(method.data_.shape[0], np.nan)
+    for person in captured:
+        others = [_distance(method.data_[other, action], method.data_[person, action], scale)
+                  for other in captured if other != person]
+        if others:
+            result[person] = min(others)
+    return result
+
+
 def match_scale(method: CellMethod, action: int) -> float:
     """Typical distance (degrees, the measure of :func:`distances`) between a trial of an
     action and the right person's template of it: the scale of the recognition scores.
 
     With every person's capture as the template (:meth:`CellMethod.template`), half the
-    median distance from a person's capture to the nearest other person's (a right match
-    lies within half-way to the next person); otherwise the median distance between a
-    known person's capture and their own template, modelled from their other actions (how
-    far the model's view of a person lies from what they did). NaN when neither can be
-    measured.
-
-    Returns
-    -------
-    float
+    median distance from a person's capture to the nearest other person's
+    (:func:`capture_spacing`: a right match lies within half-way to the next person);
+    otherwise the median of :func:`held_out_distances`. NaN when neither can be measured.
     """
-    observed = method.observed_[:, action]
-    scale = _feature_scale(method, action)
-    captured = np.flatnonzero(observed)
-    if observed.all():
-        nearest = []
-        for person in captured:
-            others = [_distance(method.data_[other, action], method.data_[person, action], scale)
-                      for other in captured if other != person]
-            if others:
-                nearest.append(min(others))
-        return 0.5 * float(np.median(nearest)) if nearest else float("nan")
-    own = []
-    for person in captured:
-        if method.observed_[person].sum() < 2:        # their template is their capture
-            continue
-        try:
-            own.append(_distance(method.template(person, action), method.data_[person, action],
-                                 scale))
-        except MocapError:
-            continue
-    return float(np.median(own)) if own else float("nan")
+    if method.observed_[:, action].all():
+        spacing = capture_spacing(method, action)
+        return 0.5 * float(np.nanmedian(spacing)) if np.isfinite(spacing).any() \
+            else float("nan")
+    held_out = held_out_distances(method, action)
+    return float(np.median(held_out)) if held_out.size else float("nan")
+
+
+def unknown_limit(method: CellMethod, action: int) -> float:
+    """Distance (degrees) beyond which a trial of an action is nobody known.
+
+    With capture templates, half the median distance between a person's capture and the
+    nearest other person's (:func:`match_scale`: a trial nearer to a person than half-way to
+    their neighbour is that person). With templates modelled from other actions, the
+    largest of the donors' :func:`held_out_distances`: a known person's capture lies that
+    far from the model's held-out view of them, and another, exchangeable with them, lies
+    further than all with probability at most 1 / (donors + 1). NaN (no limit) when
+    neither can be measured.
+    """
+    if method.observed_[:, action].all():
+        return match_scale(method, action)
+    held_out = held_out_distances(method, action)
+    return float(np.max(held_out)) if held_out.size else float("nan")
 
 
 def recognize(method: CellMethod, people: Sequence[str], actions: Sequence[str],

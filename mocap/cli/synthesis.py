@@ -407,7 +407,7 @@ def recognize(args: argparse.Namespace) -> int:
     result = model.recognize(curve, args.action)
     model.check_cycle_phase(curve, result.action, args.trial)
     limit = args.max_distance if args.max_distance is not None else \
-        UNKNOWN_FACTOR * person_spacing(model, result.action)
+        model.unknown_limit(result.action)
     person, nearest = open_set_person(result.person, result.distances, limit)
     ranking = sorted(result.distances, key=lambda name: result.distances[name])
     margin = (result.distances[ranking[1]] - result.distances[ranking[0]]
@@ -435,27 +435,6 @@ def recognize(args: argparse.Namespace) -> int:
 
 #: The answer of ``recognize`` for a trial farther from every known person than the limit.
 UNKNOWN = "unknown"
-#: Default limit of ``recognize``: this fraction of the typical distance between two known
-#: people's modelled motions (:func:`person_spacing`): a trial nearer to one person than
-#: half-way to their nearest neighbour is that person; beyond it, nobody known.
-UNKNOWN_FACTOR = 0.5
-
-
-def person_spacing(model, action: str) -> float:
-    """Median over the known people of the recognition distance (degrees) from the person's
-    modelled ``action`` to the nearest other person's (NaN with fewer than two people)."""
-    a = model.actions.index(action)
-    nearest = []
-    for person in model.people:
-        try:
-            cycle = model.synthesize_angles(person, action)
-        except MocapError:
-            continue
-        row = model.distances(cycle.values.reshape(cycle.frames, -1), [a])[:, a]
-        row[model.people.index(person)] = np.nan
-        if np.isfinite(row).any():
-            nearest.append(float(np.nanmin(row)))
-    return float(np.median(nearest)) if nearest else math.nan
 
 
 def open_set_person(best: str, distances: dict, limit: float) -> tuple[str, str]:
@@ -561,9 +540,11 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument("--max-distance", type=options.real(above=0, maximum=360),
                         metavar="DEG",
                         help="answer 'unknown' when the nearest person's model motion is "
-                             "farther than this distance in degrees (default: "
-                             f"{UNKNOWN_FACTOR:g} x the median distance between a known "
-                             "person's modelled motion and the nearest other person's)")
+                             "farther than this distance in degrees (default: half the "
+                             "median distance between two people's captures of the action "
+                             "when everyone was captured doing it; otherwise the largest "
+                             "distance at which a known person's capture lay from the "
+                             "model's held-out view of them)")
     parser.add_argument("--json", action="store_true",
                         help='print {"person": …, "action": …, "ranking": [{"person", '
                              '"distance_deg"} …], "margin_deg": …, "distances_deg": …, '

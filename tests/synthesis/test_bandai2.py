@@ -125,6 +125,37 @@ def test_recognize_names_new_takes_of_known_people(manifest):
     assert np.mean(scores) > 0.6 and min(scores) > 0.4
 
 
+def test_recognize_names_a_known_person_in_an_action_never_captured_for_them(manifest):
+    # Templates modelled from other actions: the model (takes 002 and 003) lacks the
+    # person's cell and sees their new take. The "unknown" limit is the largest held-out
+    # distance of the donors, so the known person is named; a person left out of the model
+    # altogether (with another person's cell of the action missing too) is called unknown
+    # only where the predictions tell people apart.
+    from synthesis.model import MotionModel
+    from synthesis.model_file import read_trial_curve
+    actions = ["walk", "run", "wave-both-hands"]
+    entries = [e for e in read_manifest(manifest) if e.action in actions]
+    with pytest.warns(CycleWarning):
+        corpus = read_corpus([e for e in entries if not e.path.stem.endswith("_001")],
+                             samples=50, cycles=True)
+    named, strangers = [], []
+    for entry in (e for e in entries if e.path.stem.endswith("_001")):
+        model = MotionModel().fit(corpus.without_cell(entry.person, entry.action))
+        curve, _ = read_trial_curve(model, entry.path)
+        result = model.recognize(curve, entry.action)
+        named.append(result.person == entry.person
+                     and result.distances[entry.person] <= model.unknown_limit(entry.action))
+        others = [p for p in corpus.people if p != entry.person]
+        model = MotionModel().fit(corpus.subset(others, None).without_cell(others[0],
+                                                                          entry.action))
+        result = model.recognize(read_trial_curve(model, entry.path)[0], entry.action)
+        strangers.append(result.distances[result.person] > model.unknown_limit(entry.action))
+    # 14 of 21 named (5 of the others recognised as someone else: a wave predicted from
+    # walks and runs is poor), 9 of 21 strangers unknown; the former limit, half the
+    # spacing between people's modelled motions, named none of the 21.
+    assert len(named) == 21 and sum(named) >= 13 and sum(strangers) >= 7
+
+
 def test_walking_periods_are_those_of_the_feet(corpus):
     """Cycle durations of walks: 0.8–1.5 s (one stride); runs are shorter than walks."""
     walk, run = corpus.actions.index("walk"), corpus.actions.index("run")

@@ -13,8 +13,8 @@ from mocap.errors import MocapError
 from synthesis.methods import METHODS, CellMethod, make_method, method_name
 from synthesis.model import MotionModel
 from synthesis.model_file import load_model, save_model
-from synthesis.recognition import (distances, match_scale, moderated_variances,
-                                   recognition_weights)
+from synthesis.recognition import (distances, held_out_distances, match_scale,
+                                   moderated_variances, recognition_weights, unknown_limit)
 from tests.synthesis.test_model import multilinear_corpus
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -183,11 +183,21 @@ def test_recognition_weights_are_the_inverse_moderated_variances(fitted, name):
     assert np.ptp(np.log(weights)) < np.ptp(np.log(1.0 / variance))
 
 
-def test_score_scale_is_the_typical_distance_of_the_right_person(fitted):
-    """The recognition scores' scale, by hand: for an action everyone captured, half the
-    median distance from a capture to the nearest other person's; for one someone lacks,
-    the median distance between a person's capture and their template (modelled from their
-    other actions)."""
+@pytest.mark.parametrize("name", sorted(METHODS))
+def test_held_out_errors_are_those_of_the_variances(fitted, name):
+    _, data, methods = fitted
+    method = methods[name]
+    errors = method.held_out_errors(2)
+    variance, donors = method.feature_variance(2)
+    assert errors.shape == (donors, data.shape[2])
+    assert np.allclose((errors ** 2).mean(axis=0), variance, rtol=1e-10)
+
+
+def test_score_scale_and_unknown_limit_by_hand(fitted):
+    """For an action everyone captured: half the median distance from a capture to the
+    nearest other person's, both the scores' scale and the limit beyond which a trial is
+    nobody known. For one someone lacks: each donor's held-out error, weighted by the other
+    donors' errors alone; its median is the scale, its largest the limit."""
     _, data, methods = fitted
     method = methods["interaction"]
     keep = np.isfinite(data).all(axis=2)
@@ -198,7 +208,13 @@ def test_score_scale_is_the_typical_distance_of_the_right_person(fitted):
         row[p] = np.nan
         nearest.append(np.nanmin(row))
     assert match_scale(method, 1) == pytest.approx(0.5 * np.median(nearest), rel=1e-12)
-    own = [distances(method, data[p, 2][None], [2])[p, 2]
-           for p in np.flatnonzero(keep[:, 2]) if keep[p].sum() > 1]
-    assert match_scale(method, 2) == pytest.approx(np.median(own), rel=1e-12)
-    assert min(own) > 0
+    assert unknown_limit(method, 1) == match_scale(method, 1)
+    errors = method.held_out_errors(2)
+    by_hand = []
+    for k in range(errors.shape[0]):
+        rest = np.delete(errors, k, axis=0)
+        weights = 1.0 / moderated_variances((rest ** 2).mean(axis=0), rest.shape[0])
+        by_hand.append(np.mean(np.abs(errors[k]) * np.sqrt(weights / weights.mean())))
+    assert np.allclose(held_out_distances(method, 2), by_hand, rtol=1e-12)
+    assert match_scale(method, 2) == pytest.approx(np.median(by_hand), rel=1e-12)
+    assert unknown_limit(method, 2) == pytest.approx(max(by_hand), rel=1e-12)
