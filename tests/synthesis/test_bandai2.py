@@ -100,20 +100,28 @@ def test_a_new_trial_cut_at_another_event_is_named_by_recognize(corpus, manifest
     assert out.startswith(f"{path}: youthful doing walk") and "shifted by" not in err
 
 
-def test_recognize_names_new_takes_of_known_people(manifest):
+@pytest.fixture(scope="module")
+def new_takes(manifest):
+    """Walk, run and wave: a corpus of takes 002 and 003, and the take 001 entries it never
+    saw (21)."""
+    entries = [e for e in read_manifest(manifest)
+               if e.action in ("walk", "run", "wave-both-hands")]
+    with pytest.warns(CycleWarning):
+        corpus = read_corpus([e for e in entries if not e.path.stem.endswith("_001")],
+                             samples=50, cycles=True)
+    return corpus, [e for e in entries if e.path.stem.endswith("_001")]
+
+
+def test_recognize_names_new_takes_of_known_people(new_takes):
     # A model of takes 002 and 003 and the take 001 trials it never saw: with every person's
     # capture of the action in the model, a new take is compared with the captures and all
     # 21 are named (through predictions from the other actions, only 3 of the 7 waves were).
     from synthesis.model import MotionModel
     from synthesis.model_file import read_trial_curve
-    actions = ["walk", "run", "wave-both-hands"]
-    entries = [e for e in read_manifest(manifest) if e.action in actions]
-    with pytest.warns(CycleWarning):
-        corpus = read_corpus([e for e in entries if not e.path.stem.endswith("_001")],
-                             samples=50, cycles=True)
+    corpus, trials = new_takes
     model = MotionModel().fit(corpus)
     named, scores = [], []
-    for entry in (e for e in entries if e.path.stem.endswith("_001")):
+    for entry in trials:
         curve, _ = read_trial_curve(model, entry.path)
         result = model.recognize(curve)
         named.append((result.person, result.action) == (entry.person, entry.action))
@@ -125,7 +133,7 @@ def test_recognize_names_new_takes_of_known_people(manifest):
     assert np.mean(scores) > 0.6 and min(scores) > 0.4
 
 
-def test_recognize_names_a_known_person_in_an_action_never_captured_for_them(manifest):
+def test_recognize_names_a_known_person_in_an_action_never_captured_for_them(new_takes):
     # Templates modelled from other actions: the model (takes 002 and 003) lacks the
     # person's cell and sees their new take. The "unknown" limit is the largest held-out
     # distance of the donors, so the known person is named; a person left out of the model
@@ -133,13 +141,9 @@ def test_recognize_names_a_known_person_in_an_action_never_captured_for_them(man
     # only where the predictions tell people apart.
     from synthesis.model import MotionModel
     from synthesis.model_file import read_trial_curve
-    actions = ["walk", "run", "wave-both-hands"]
-    entries = [e for e in read_manifest(manifest) if e.action in actions]
-    with pytest.warns(CycleWarning):
-        corpus = read_corpus([e for e in entries if not e.path.stem.endswith("_001")],
-                             samples=50, cycles=True)
+    corpus, trials = new_takes
     named, strangers = [], []
-    for entry in (e for e in entries if e.path.stem.endswith("_001")):
+    for entry in trials:
         model = MotionModel().fit(corpus.without_cell(entry.person, entry.action))
         curve, _ = read_trial_curve(model, entry.path)
         result = model.recognize(curve, entry.action)
