@@ -391,8 +391,9 @@ class MotionModel:
         captures of ``action`` (:func:`synthesis.cycles.cycle_phase_lags`); a
         :class:`~synthesis.cycles.CycleWarning` names the trial beyond
         :data:`~synthesis.cycles.MISALIGNED_FRACTION` (cut at another event of the
-        movement). NaN, and no check, for a model of whole trials or with fewer than two
-        captures of the action.
+        movement). NaN, and no check, for a model of whole trials, an action whose
+        captures were not cut into cycles (a wave in a corpus of walks), or with fewer than
+        two captures of the action; the caller checks only trials it cut.
 
         Parameters
         ----------
@@ -404,7 +405,9 @@ class MotionModel:
         self._check_fitted()
         a = self.action_index(action)
         data, observed = self.cells_.data_, self.cells_.observed_
-        if not self.cycles or observed[:, a].sum() < 2:
+        cut = (self.rig or {}).get("cut_actions") if self.representation == "rotvec" \
+            else self.actions
+        if not self.cycles or observed[:, a].sum() < 2 or action not in (cut or ()):
             return float("nan")
         shape = np.asarray(curve).shape
         captures = data[observed[:, a], a].reshape((-1,) + shape)

@@ -103,16 +103,25 @@ def read_trial_curve(model: MotionModel, path: str | os.PathLike) -> tuple[np.nd
 
     Models of skeleton corpora read a BVH / ASF-AMC trial of the same rig (or any rig when
     the model is on the body model) and featurise it about the corpus' mean rotations."""
+    curve, duration, _ = read_trial_cycle(model, path)
+    return curve, duration
+
+
+def read_trial_cycle(model: MotionModel, path: str | os.PathLike
+                     ) -> tuple[np.ndarray, float, bool]:
+    """:func:`read_trial_curve` and whether the trial was cut into cycles (False: used
+    whole, by a model of whole trials or for want of a complete cycle)."""
     model._check_fitted()
     if model.representation == "rotvec":
-        curve, _, duration, _, _ = trial_cycle(read_motion(path), model.rig,
-                                               model.rotation_means, model.samples,
-                                               model.cycles, path)
-        return curve, duration
+        curve, _, duration, _, count = trial_cycle(read_motion(path), model.rig,
+                                                   model.rotation_means, model.samples,
+                                                   model.cycles, path)
+        return curve, duration, count > 0
     angles = read_trial_angles(path, model.markerset, model.sequence,
                                model.cleaning.get("lowpass_hz"),
                                model.cleaning.get("max_gap_seconds"))
     try:
-        return model.normalise(angles)
+        curve, duration = model.normalise(angles)
     except MocapError as error:
         raise MocapError(error.problem, error.path or path) from None
+    return curve, duration, bool(model.cycles)

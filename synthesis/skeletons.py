@@ -289,7 +289,8 @@ def read_skeleton_corpus(entries: list, samples: int, cycles: bool, body: bool =
         sources[(person, action)] = [source for _, source in parts]
     rig = {"names": list(skeleton.names), "parents": list(skeleton.parents),
            "offsets": skeleton.offsets.tolist(), "joints": list(joints), "on_body": on_body,
-           "phase": phase, "signals": None if signals is None else signals.to_json()}
+           "phase": phase, "signals": None if signals is None else signals.to_json(),
+           "cut_actions": sorted(cut)}
     return dict(
         people=people, actions=actions, segments=names,
         parents=[joints.index(skeleton.parents[j]) if skeleton.parents[j] in joints else -1
@@ -323,7 +324,7 @@ def trial_cycle(motion, rig: dict, means: np.ndarray, samples: int, cycles: bool
 
     Returns
     -------
-    As :func:`normalise_trial`.
+    As :func:`normalise_trial`, except that ``count`` is 0 for a trial used whole.
     """
     if rig.get("on_body"):
         motion = reduce_to_segments(motion)
@@ -348,7 +349,8 @@ def trial_cycle(motion, rig: dict, means: np.ndarray, samples: int, cycles: bool
                           "of the movement); the trial is used whole", CycleWarning,
                           stacklevel=2)
             events = None
-    return normalise_trial(times, features, root, events, float(rig.get("phase", 0.5)), samples)
+    result = normalise_trial(times, features, root, events, float(rig.get("phase", 0.5)), samples)
+    return result if events is not None else result[:4] + (0,)
 
 
 def unregister_cycle(curve: np.ndarray, registered: float, phase: float) -> np.ndarray:

@@ -29,7 +29,7 @@ from synthesis.corpus import load_corpus
 from synthesis.evaluate import leave_one_out
 from synthesis.methods import METHODS
 from synthesis.model import MotionModel
-from synthesis.model_file import load_model, read_trial_curve, save_model
+from synthesis.model_file import load_model, read_trial_cycle, save_model
 from synthesis.plot import plot_evaluation
 from synthesis.rotations import feature_joints
 
@@ -316,10 +316,11 @@ def synthesize(args: argparse.Namespace) -> int:
             raise MocapError("more --from-action than --from trials")
         observations = []
         for k, path in enumerate(args.trials):
-            curve, duration = read_trial_curve(model, path)
+            curve, duration, cut = read_trial_cycle(model, path)
             action = _trial_action(model, path, curve, duration,
                                    actions[k] if k < len(actions) else None)
-            model.check_cycle_phase(curve, action, path)
+            if cut:
+                model.check_cycle_phase(curve, action, path)
             observations.append((action, curve, duration))
         signature = model.signature_from(observations)
         who = "new person from " + ", ".join(Path(p).name for p in args.trials)
@@ -403,9 +404,10 @@ def recognize(args: argparse.Namespace) -> int:
     """``mocap recognize``: most likely person (and action) of a trial."""
 
     model = load_model(args.model)
-    curve, duration = read_trial_curve(model, args.trial)
+    curve, duration, cut = read_trial_cycle(model, args.trial)
     result = model.recognize(curve, args.action)
-    model.check_cycle_phase(curve, result.action, args.trial)
+    if cut:
+        model.check_cycle_phase(curve, result.action, args.trial)
     limit = args.max_distance if args.max_distance is not None else \
         model.unknown_limit(result.action)
     person, nearest = open_set_person(result.person, result.distances, limit)

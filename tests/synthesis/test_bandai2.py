@@ -93,6 +93,10 @@ def test_a_new_trial_cut_at_another_event_is_named_by_recognize(corpus, manifest
     rolled = np.roll(curve, curve.shape[0] // 2, axis=0)
     with pytest.warns(CycleWarning, match=r"youthful_001\.bvh: .* 'walk' best when shifted"):
         assert abs(model.check_cycle_phase(rolled, "walk", str(path))) > 0.4
+    # Waves are not cut into cycles (the model knows which actions were): never checked.
+    assert {"walk", "run"} <= set(model.rig["cut_actions"])
+    assert "wave-both-hands" not in model.rig["cut_actions"]
+    assert np.isnan(model.check_cycle_phase(rolled, "wave-both-hands", str(path)))
     # The command: a real walk passes without a word about its cycle.
     save_model(model, tmp_path / "model.npz")
     assert main(["recognize", str(tmp_path / "model.npz"), str(path)]) == 0
