@@ -10,7 +10,14 @@ feature's difference is scaled by the inverse of its leave-one-person-out predic
 (:func:`moderated_variances`: a variance from few donors is not taken at face value), and
 the distance is the **mean absolute** scaled difference (a Laplace rather than a Gaussian
 likelihood, :func:`distances`): a prediction from other actions misses a few joints by far
-more than the rest, and a squared distance lets those few decide.
+more than the rest, and a squared distance lets those few decide. When every person was
+captured doing the action, the templates are the captures themselves (a new take of a known
+cell; :meth:`CellMethod.template`).
+
+Scores and "unknown" are measured in the same weighted distance (:func:`match_scale`,
+:func:`unknown_limit`): with capture templates, against half the spacing between people's
+captures; with modelled templates, against the donors' held-out distances — the distance at
+which a known person's capture lies from the model's view of them when it never saw it.
 
 Chosen on the design split (docs/synthesis.md; bandai2 styles active / elderly / exhausted /
 feminine): per-feature weights, top-1 92 % against 79 % for the plain distance to the
