@@ -101,10 +101,9 @@ class Interaction:
     shrinkage : float
         Fraction κ ∈ [0, 1] of the interaction's correction kept: the prediction is the
         additive one plus κ × (configuration − additive) (1 unless the model shrinks).
-    donors : int
-        Donors whose held-out residuals give ``variance`` (its degrees of freedom).
     residuals : ndarray, shape (donors, r), optional
-        Those residuals (kept configuration), in the coordinates of
+        The donors' held-out residuals that give ``variance`` (kept configuration; their
+        count is its degrees of freedom), in the coordinates of
         :attr:`InteractionModel.basis_`.
     """
 
@@ -115,7 +114,6 @@ class Interaction:
     additive_loo_rms: float
     variance: np.ndarray
     shrinkage: float = 1.0
-    donors: int = 0
     residuals: np.ndarray | None = field(default=None, repr=False)
 
 
@@ -302,7 +300,8 @@ class InteractionModel:
         variance = np.mean([(self.basis_ @ residual) ** 2 for residual in kept], axis=0)
         loo = np.mean([residual @ residual for residual in kept]) / features
         result = Interaction(mode, rank, alpha, float(np.sqrt(loo)),
-                             float(np.sqrt(errors[0])), variance, kappa, donors, np.stack(kept))
+                             float(np.sqrt(errors[0])), variance, kappa,
+                             residuals=np.stack(kept))
         self._cache[key] = result
         return result
 

@@ -185,7 +185,9 @@ class InteractionMethod(CellMethod):
 
     def feature_variance(self, action: int) -> tuple[np.ndarray, int] | None:
         chosen = self.model_.interaction(action, self._others(action))
-        return (chosen.variance, chosen.donors) if np.isfinite(chosen.variance).all() else None
+        if not np.isfinite(chosen.variance).all():
+            return None
+        return chosen.variance, chosen.residuals.shape[0]
 
     def held_out_errors(self, action: int) -> np.ndarray | None:
         chosen = self.model_.interaction(action, self._others(action))
@@ -240,7 +242,9 @@ class TransferMethod(CellMethod):
 
     def feature_variance(self, action: int) -> tuple[np.ndarray, int] | None:
         chosen = self.model_.transfer(action, self._others(action))
-        return (chosen.variance, chosen.donors) if np.isfinite(chosen.variance).all() else None
+        if not np.isfinite(chosen.variance).all():
+            return None
+        return chosen.variance, chosen.residuals.shape[0]
 
     def held_out_errors(self, action: int) -> np.ndarray | None:
         chosen = self.model_.transfer(action, self._others(action))

@@ -174,12 +174,12 @@ def recognition_weights(method: CellMethod, action: int) -> np.ndarray | None:
     ndarray, shape (features,), or None
     """
     found = method.feature_variance(action)
-    if found is None:
-        return None
-    variance, donors = found
-    if not variance.mean() > 0:
-        return None
-    return 1.0 / moderated_variances(variance, donors)
+    return None if found is None else _weights(*found)
+
+
+def _weights(variance: np.ndarray, dof: int) -> np.ndarray | None:
+    """``1 / s̃_f²`` of variances with ``dof`` degrees of freedom (None when all vanish)."""
+    return 1.0 / moderated_variances(variance, dof) if variance.mean() > 0 else None
 
 
 def distances(method: CellMethod, curve: np.ndarray,
@@ -217,12 +217,18 @@ def distances(method: CellMethod, curve: np.ndarray,
 
 def _feature_scale(method: CellMethod, action: int) -> np.ndarray | None:
     """``√(w_f / mean w)`` of an action's :func:`recognition_weights` (None: unweighted)."""
-    weights = recognition_weights(method, action)
+    return _scale(recognition_weights(method, action))
+
+
+def _scale(weights: np.ndarray | None) -> np.ndarray | None:
+    """``√(w_f / mean w)``: the factor of each feature's absolute difference."""
     return None if weights is None else np.sqrt(weights / weights.mean())
 
 
-def _distance(motion: np.ndarray, flat: np.ndarray, scale: np.ndarray | None) -> float:
-    """Weighted mean absolute difference of two flattened motions, degrees."""
+def _distance(motion: np.ndarray, flat: np.ndarray | float, scale: np.ndarray | None
+              ) -> float:
+    """Weighted mean absolute difference of two flattened motions (or of one from 0),
+    degrees."""
     difference = np.abs(motion - flat)
     return float((difference if scale is None else difference * scale).mean())
 
@@ -242,17 +248,13 @@ def held_out_distances(method: CellMethod, action: int) -> np.ndarray:
         return np.empty(0)
     donors = errors.shape[0]
     squares = errors ** 2
+    total = squares.sum(axis=0)
     result = []
     for k in range(donors):
         # The weights without donor k: the weights are fitted to these very errors, and a
         # donor's own error weighted by them would look nearer than a stranger's.
-        variance = (squares.sum(axis=0) - squares[k]) / (donors - 1)
-        if not variance.mean() > 0:
-            result.append(float(np.abs(errors[k]).mean()))
-            continue
-        weights = 1.0 / moderated_variances(variance, donors - 1)
-        result.append(_distance(errors[k], np.zeros_like(errors[k]),
-                                np.sqrt(weights / weights.mean())))
+        others = _weights((total - squares[k]) / (donors - 1), donors - 1)
+        result.append(_distance(errors[k], 0.0, _scale(others)))
     return np.asarray(result)
 
 

@@ -38,14 +38,13 @@ ALPHAS = (0.0, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0, float("inf"))
 @dataclass
 class Transfer:
     """Weights for one (target action, observed actions) pair (``variance``: each feature's
-    leave-one-person-out mean squared error over ``donors`` people, whose held-out
-    ``residuals`` (donors, features) give it)."""
+    leave-one-person-out mean squared error, over the donors' held-out ``residuals``
+    (donors, features))."""
 
     weights: np.ndarray
     alpha: float
     loo_rms: float
     variance: np.ndarray
-    donors: int = 0
     residuals: np.ndarray | None = field(default=None, repr=False)
 
 
@@ -136,7 +135,7 @@ class TransferModel:
         error, alpha, residuals = best
         weights = _solve(grams.sum(0), crosses.sum(0), alpha)
         result = Transfer(weights, alpha, float(np.sqrt(error)), np.mean(residuals ** 2, axis=0),
-                          len(donors), residuals)
+                          residuals)
         self._cache[key] = result
         return result
 
