@@ -232,12 +232,20 @@ class Evaluation:
             lines.append(f"{person:<{width}}  {action:<{awidth}}  skipped: {reason}")
         overall = self._overall(self.cells)
         ratio = overall["improvement"]
-        times = f"{ratio:.1f}×" if ratio < 1000 else "over 1000×"
+        # improvement = baseline / synthesis: below 1 the synthesis is the worse of the two.
+        if ratio >= 1000:
+            times = "over 1000× lower"
+        elif ratio >= 1:
+            times = f"{ratio:.1f}× lower"
+        elif ratio > 0:
+            times = f"synthesis {1 / ratio:.2f}× higher"
+        else:
+            times = "no ratio"
         lines += [
             "",
             f"overall RMS joint-rotation error ({self.method}, held out by {self.hold_out}): "
             f"synthesis {self.synthesis_rms:.2f}°, baseline (mean of the other people) "
-            f"{self.baseline_rms:.2f}° ({times} lower), additive (mean + the person's offset) "
+            f"{self.baseline_rms:.2f}° ({times}), additive (mean + the person's offset) "
             f"{self.additive_rms:.2f}°",
         ]
         if self.whole_trials:

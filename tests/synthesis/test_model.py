@@ -192,3 +192,13 @@ def test_generator_default_corpus_beats_the_baseline_twice(tmp_path):
                                 for p, a in [(corpus.people.index(c.person),
                                               corpus.actions.index(c.action))]]))
     assert result.duration_rms < 0.5 * baseline
+
+
+@pytest.mark.parametrize("synthesis, words", [(2.0, "(3.0× lower)"),
+                                              (8.0, "(synthesis 1.33× higher)")])
+def test_the_summary_says_which_way_the_synthesis_differs_from_the_baseline(synthesis, words):
+    from synthesis.evaluate import CellResult, Evaluation
+    cell = CellResult("ana", "walk", synthesis_rms=synthesis, baseline_rms=6.0, duration=1.0,
+                      predicted_duration=1.0, recognised="ana", additive_rms=5.0)
+    text = Evaluation([cell], [], ["x"], method="interaction").table()
+    assert f"baseline (mean of the other people) 6.00° {words}" in text
