@@ -107,6 +107,9 @@ class CellResult:
     recognised_rank : int
         How many people were nearer the held-out capture than the right one (0 = recognised;
         below 3 = in the top 3).
+    right_score : float
+        The recognition score (:attr:`synthesis.recognition.Recognition.scores`) of the right
+        person, in [0, 1]: calibrated scores average to the accuracy.
     captured, synthesised, baseline : ndarray, shape (samples, columns)
     """
 
@@ -123,6 +126,7 @@ class CellResult:
     additive_rms: float = float("nan")
     take_spread_rms: float = float("nan")
     recognised_rank: int = 0
+    right_score: float = float("nan")
 
 
 @dataclass
@@ -164,6 +168,9 @@ class Evaluation:
                 "recognition_accuracy": float(np.mean([c.recognised == c.person
                                                        for c in cells])),
                 "recognition_top3": float(np.mean([c.recognised_rank < 3 for c in cells])),
+                "recognition_right_score": float(np.mean([c.right_score for c in cells])),
+                "recognition_log_score": float(np.mean(
+                    [np.log(max(c.right_score, 1e-12)) for c in cells])),
                 "versus_additive": paired_comparison(cells),
                 "take_spread_rms_deg": _rms(spreads) if spreads else float("nan")}
 
@@ -207,7 +214,8 @@ class Evaluation:
                        "take_spread_rms_deg": c.take_spread_rms,
                        "duration_s": c.duration, "predicted_duration_s": c.predicted_duration,
                        "recognised": c.recognised,
-                       "recognised_rank": c.recognised_rank} for c in self.cells],
+                       "recognised_rank": c.recognised_rank,
+                       "right_score": c.right_score} for c in self.cells],
             "skipped": [{"person": p, "action": a, "reason": r} for p, a, r in self.skipped],
             "trials_without_cycle": [{"person": p, "action": a, "path": t}
                                      for p, a, t in self.whole_trials],
@@ -265,7 +273,9 @@ class Evaluation:
             f"cycle duration RMS error: {self.duration_rms * 1000:.0f} ms",
             f"person recognition: {sum(c.recognised == c.person for c in self.cells)}/"
             f"{len(self.cells)} = {100 * self.recognition_accuracy:.0f} % "
-            f"(top 3: {100 * overall['recognition_top3']:.0f} %)",
+            f"(top 3: {100 * overall['recognition_top3']:.0f} %); mean score of the right "
+            f"person {overall['recognition_right_score']:.2f} (calibrated: the accuracy), "
+            f"mean log score {overall['recognition_log_score']:.2f}",
         ]
         return "\n".join(lines)
 
@@ -357,6 +367,7 @@ def leave_one_out(corpus: MotionCorpus, progress: Callable[[Iterable, str], Iter
                 baseline=rotation_errors(corpus, baseline, captured),
                 additive=rotation_errors(corpus, additive, captured),
                 duration=duration, recognised=recognition.person,
+                score=recognition.scores.get(person, 0.0),
                 rank=sum(d < recognition.distances[person]
                          for d in recognition.distances.values()), captured=captured,
                 curve=curve, base=baseline))
@@ -373,6 +384,7 @@ def leave_one_out(corpus: MotionCorpus, progress: Callable[[Iterable, str], Iter
             predicted_duration=float(np.mean([r["duration"] for r in runs])),
             recognised=max(recognised, key=recognised.count),      # majority over takes
             recognised_rank=int(np.median([r["rank"] for r in runs])),
+            right_score=float(np.mean([r["score"] for r in runs])),
             take_spread_rms=_take_spread(corpus, (person, action)),
             captured=runs[0]["captured"], synthesised=runs[0]["curve"],
             baseline=runs[0]["base"]))

@@ -209,13 +209,21 @@ class InteractionModel:
         """Cells of the donors (Q, m + 1, F; observed actions, then the target), and the sums
         (m + 1, F) and counts (m + 1,) of the means' pool (everyone but ``exclude``)."""
         order = list(observed) + [target]
-        donors = [q for q in range(self.data_.shape[0]) if q != exclude
-                  and self.observed_[q, order].all()]
+        donors = self.donor_people(target, observed, exclude)
         keep = self.observed_[:, order].copy()
         if exclude is not None:
             keep[exclude] = False
         sums = np.where(keep[..., None], self.coords_[:, order], 0.0).sum(axis=0)
         return self.coords_[donors][:, order], sums, keep.sum(axis=0).astype(float)
+
+    def donor_people(self, target: int, observed: tuple, exclude: int | None = None
+                     ) -> list[int]:
+        """Indices of the donors of ``target`` from ``observed``: the people other than
+        ``exclude`` who have the target and every observed action, in the order of
+        :attr:`Interaction.residuals`."""
+        order = list(observed) + [target]
+        return [q for q in range(self.data_.shape[0]) if q != exclude
+                and self.observed_[q, order].all()]
 
     def _candidates(self, training: np.ndarray, x: np.ndarray, people_rank: int
                     ) -> tuple[list, np.ndarray]:

@@ -123,9 +123,33 @@ class CellMethod:
 
     def held_out_errors(self, action: int) -> np.ndarray | None:
         """The leave-one-person-out errors behind :meth:`feature_variance`: each donor's
-        held-out prediction error of ``action`` (either sign), shape (donors, features);
+        held-out prediction of ``action`` minus their capture, shape (donors, features);
         None when too few people."""
         raise NotImplementedError
+
+    def held_out_templates(self, action: int) -> tuple[np.ndarray, np.ndarray] | None:
+        """The donors of :meth:`held_out_errors`: their captures of ``action`` and their
+        templates of it as :meth:`template` would model them from their other actions, by a
+        model that never saw that donor; both shape (donors, features); None when too few
+        people."""
+        errors = self.held_out_errors(action)
+        if errors is None:
+            return None
+        captures = self.data_[self._donor_people(action), action]
+        if self._templates_are_main_effects(action):
+            # Held out exactly: the means without the donor, the offset from their others.
+            donors = self._donor_people(action)
+            return captures, np.stack([self._additive_model.additive(q, action)
+                                       for q in donors])
+        return captures, captures + errors
+
+    def _donor_people(self, action: int) -> list[int]:
+        raise NotImplementedError
+
+    def _templates_are_main_effects(self, action: int) -> bool:
+        """Whether :meth:`template` models a captured cell of ``action`` by the person's
+        main effects (:meth:`additive`) rather than the method's prediction."""
+        return False
 
     def describe(self) -> dict:
         """Action → what predicts it from all the other actions (empty when nothing to say)."""
@@ -193,7 +217,14 @@ class InteractionMethod(CellMethod):
         chosen = self.model_.interaction(action, self._others(action))
         if chosen.residuals is None or not np.isfinite(chosen.variance).all():
             return None
+        # Prediction − capture, in the basis of the captured cells.
         return chosen.residuals @ self.model_.basis_.T
+
+    def _donor_people(self, action: int) -> list[int]:
+        return self.model_.donor_people(action, self._others(action))
+
+    def _templates_are_main_effects(self, action: int) -> bool:
+        return self.data_.shape[1] <= 2          # a donor's one other action: see _held_out
 
     def describe(self) -> dict:
         result = {}
@@ -225,6 +256,9 @@ class SignatureMethod(InteractionMethod):
     def _held_out(self, person: int, action: int) -> np.ndarray:
         return self.model_.additive(person, action)
 
+    def _templates_are_main_effects(self, action: int) -> bool:
+        return True
+
 
 class TransferMethod(CellMethod):
     """Action transfer (:class:`synthesis.transfer.TransferModel`)."""
@@ -248,7 +282,12 @@ class TransferMethod(CellMethod):
 
     def held_out_errors(self, action: int) -> np.ndarray | None:
         chosen = self.model_.transfer(action, self._others(action))
-        return chosen.residuals if np.isfinite(chosen.variance).all() else None
+        if chosen.residuals is None or not np.isfinite(chosen.variance).all():
+            return None
+        return -chosen.residuals                            # theirs: capture − prediction
+
+    def _donor_people(self, action: int) -> list[int]:
+        return self.model_.donor_people(action, self._others(action))
 
 
 #: Synthesis methods by name (``--method``).

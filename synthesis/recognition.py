@@ -34,6 +34,7 @@ from dataclasses import dataclass
 from typing import Sequence
 
 import numpy as np
+from scipy.optimize import minimize_scalar
 from scipy.special import digamma, polygamma
 
 from mocap.errors import MocapError
@@ -49,10 +50,12 @@ class Recognition:
     person, action : str
         Most likely person and action.
     scores : dict of str to float
-        Person → score in [0, 1] (summing to 1) for the recognised action: softmax of
-        ``−½ (d / σ)²`` with ``d`` the distance (:func:`distances`, degrees) between the
-        trial and the model's motion of that person and ``σ`` the action's
-        :func:`match_scale`, the typical distance of the right person in the same measure.
+        Person → score in [0, 1] (summing to 1) for the recognised action, from the
+        distance ``d`` (:func:`distances`, degrees) between the trial and the model's motion
+        of that person: with templates modelled from other actions, ``(1 − ε) softmax(−d /
+        τ) + ε / N`` fitted to the donors' own recognition problems (:func:`score_model`);
+        with capture templates, a softmax of ``−½ (d / σ)²`` with ``σ`` the action's
+        :func:`match_scale`.
     distances : dict of str to float
         Person → weighted mean absolute difference, degrees, for the recognised action.
     action_scores : dict of str to float
@@ -233,29 +236,137 @@ def _distance(motion: np.ndarray, flat: np.ndarray | float, scale: np.ndarray | 
     return float((difference if scale is None else difference * scale).mean())
 
 
+def donor_distances(method: CellMethod, action: int) -> np.ndarray:
+    """The donors' own recognition problems: the distance (the measure of
+    :func:`distances`) from each donor's capture of an action to every donor's held-out
+    template of it (:meth:`CellMethod.held_out_templates`: modelled as recognition models a
+    person, by a model that never saw that donor), weighted by the *other* donors' errors
+    alone (:meth:`CellMethod.held_out_errors`) — the weights are fitted to these very
+    errors, and a donor's own error weighted by them would look nearer than a stranger's.
+
+    Returns
+    -------
+    ndarray, shape (donors, donors), degrees
+        Row k: donor k's capture against every donor's template; the diagonal is
+        :func:`held_out_distances`. Empty (0, 0) when too few people.
+    """
+    errors = method.held_out_errors(action)
+    found = method.held_out_templates(action)
+    if errors is None or found is None or errors.shape[0] < 3:
+        return np.empty((0, 0))
+    captures, templates = found
+    donors = captures.shape[0]
+    squares = errors ** 2
+    total = squares.sum(axis=0)
+    table = np.empty((donors, donors))
+    for k in range(donors):
+        scale = _scale(_weights((total - squares[k]) / (donors - 1), donors - 1))
+        table[k] = [_distance(template, captures[k], scale) for template in templates]
+    return table
+
+
 def held_out_distances(method: CellMethod, action: int) -> np.ndarray:
     """Distance (the measure of :func:`distances`) between each donor's held-out prediction
     of an action and their capture: how far a person's capture lies from the model's view
-    of them when the model never saw it (the errors behind the recognition weights,
-    :meth:`CellMethod.held_out_errors`), each weighted by the other donors' errors alone.
+    of them when the model never saw it (the diagonal of :func:`donor_distances`).
 
     Returns
     -------
     ndarray, shape (donors,), degrees; empty when too few people
     """
-    errors = method.held_out_errors(action)
-    if errors is None or errors.shape[0] < 3:
-        return np.empty(0)
-    donors = errors.shape[0]
-    squares = errors ** 2
-    total = squares.sum(axis=0)
-    result = []
-    for k in range(donors):
-        # The weights without donor k: the weights are fitted to these very errors, and a
-        # donor's own error weighted by them would look nearer than a stranger's.
-        others = _weights((total - squares[k]) / (donors - 1), donors - 1)
-        result.append(_distance(errors[k], 0.0, _scale(others)))
-    return np.asarray(result)
+    return np.diagonal(donor_distances(method, action)).copy()
+
+
+@dataclass
+class ScoreModel:
+    """How distances turn into scores for one action (:func:`score_model`).
+
+    Scores are ``(1 − ε) softmax(−d / τ) + ε / N`` over the N people: a Laplace likelihood
+    of the mean absolute distance (the distance's own measure), with the chance ε that the
+    distances carry nothing (the nearest is anyone).
+
+    Attributes
+    ----------
+    temperature : float
+        τ, degrees: the maximum-likelihood fit to the donors' own recognition problems
+        (:func:`donor_distances`). 0 when every donor problem is solved whatever τ (the
+        softmax is then the nearest person alone).
+    miss_chance : float
+        ε = (misses + 1) / (problems + 2): Laplace's rule of succession for the chance that
+        the nearest template is not the right person, from the donors' problems.
+    """
+
+    temperature: float
+    miss_chance: float
+
+    def scores(self, distances: np.ndarray) -> np.ndarray:
+        """Scores summing to 1 (shape as ``distances``, 1-D)."""
+        distances = np.asarray(distances, dtype=float)
+        if self.temperature > 0:
+            logits = -(distances - distances.min()) / self.temperature
+            softmax = np.exp(logits)
+        else:
+            softmax = (distances == distances.min()).astype(float)
+        softmax /= softmax.sum()
+        return (1.0 - self.miss_chance) * softmax + self.miss_chance / distances.size
+
+
+def score_model(method: CellMethod, action: int) -> ScoreModel | None:
+    """Temperature and miss chance of the scores of an action whose templates are modelled
+    from other actions, fitted to the donors' own recognition problems
+    (:func:`donor_distances`, :func:`fit_score_model`). None when too few people."""
+    return fit_score_model(donor_distances(method, action))
+
+
+def fit_score_model(table: np.ndarray) -> ScoreModel | None:
+    """:class:`ScoreModel` of recognition problems whose right answers are known.
+
+    τ maximises the mean log score of the right candidate, ``log softmax(−d_k / τ)_k``;
+    that log-likelihood is concave in 1/τ, and when every problem is solved with a margin
+    it grows without bound as τ → 0 (τ = 0 is returned: the nearest alone, tempered by ε).
+
+    Parameters
+    ----------
+    table : ndarray, shape (problems, problems)
+        Row k: problem k's distance to every candidate, degrees; candidate k is the right
+        one.
+
+    Returns
+    -------
+    ScoreModel, or None with fewer than 3 problems
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> fit_score_model(np.array([[1.0, 5.0, 5.0], [5.0, 1.0, 5.0], [5.0, 5.0, 1.0]]))
+    ScoreModel(temperature=0.0, miss_chance=0.2)
+    """
+    table = np.asarray(table, dtype=float)
+    problems = table.shape[0]
+    if problems < 3:
+        return None
+    misses = int(np.sum(np.argmin(table, axis=1) != np.arange(problems)))
+    miss_chance = (misses + 1) / (problems + 2)
+    right = np.diagonal(table)
+    # Distance of the right donor above the nearest wrong one: all negative is separable.
+    others = np.where(np.eye(problems, dtype=bool), np.inf, table)
+    if np.all(right < others.min(axis=1)):
+        return ScoreModel(0.0, miss_chance)
+    differences = table - right[:, None]                    # ≥ 0 where the right is nearer
+
+    def loss(inverse: float) -> float:                      # −mean log softmax of the right
+        logits = -inverse * differences
+        top = logits.max(axis=1, keepdims=True)
+        return float(np.mean(top[:, 0] + np.log(np.exp(logits - top).sum(axis=1))))
+
+    spread = float(np.median(np.abs(differences[~np.eye(problems, dtype=bool)])))
+    if not spread > 0:
+        return ScoreModel(0.0, miss_chance)
+    # A miss makes the loss grow linearly in 1/τ beyond ~1/spread: the optimum is finite
+    # and below a few hundred over the spread; search the decades around it.
+    found = minimize_scalar(lambda t: loss(np.exp(t) / spread), bounds=(-10.0, 10.0),
+                            method="bounded", options={"xatol": 1e-4})
+    return ScoreModel(float(spread / np.exp(found.x)), miss_chance)
 
 
 def capture_spacing(method: CellMethod, action: int) -> np.ndarray:
@@ -323,8 +434,11 @@ def recognize(method: CellMethod, people: Sequence[str], actions: Sequence[str],
     Returns
     -------
     Recognition
-        Scores against each action's :func:`match_scale` (where it cannot be measured, the
-        median of the action's distances).
+        Person scores: with templates modelled from other actions, the donors' own
+        recognition problems calibrate them (:func:`score_model`); with capture templates
+        (or too few donors), a softmax of ``−½ (d / σ)²`` with σ the action's
+        :func:`match_scale` (where it cannot be measured, the median of the action's
+        distances). Action scores: the latter over each action's nearest person.
     """
     table = distances(method, curve, candidates)
     nearest = np.full(len(actions), np.inf)
@@ -339,7 +453,10 @@ def recognize(method: CellMethod, people: Sequence[str], actions: Sequence[str],
     column = table[:, best_action]
     valid = np.isfinite(column)
     names = [people[i] for i in np.flatnonzero(valid)]
-    scores = posterior_scores(column[valid], scales[best_action])
+    fitted = None if method.observed_[:, best_action].all() \
+        else score_model(method, best_action)
+    scores = fitted.scores(column[valid]) if fitted is not None \
+        else posterior_scores(column[valid], scales[best_action])
     chosen = list(candidates)
     action_scores = posterior_scores(nearest[chosen] / np.where(scales[chosen] > 0,
                                                                 scales[chosen], 1.0), 1.0)

@@ -39,7 +39,7 @@ ALPHAS = (0.0, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0, float("inf"))
 class Transfer:
     """Weights for one (target action, observed actions) pair (``variance``: each feature's
     leave-one-person-out mean squared error, over the donors' held-out ``residuals``
-    (donors, features))."""
+    (donors, features): capture − held-out prediction)."""
 
     weights: np.ndarray
     alpha: float
@@ -105,8 +105,7 @@ class TransferModel:
         key = (target, observed, exclude)
         if key in self._cache:
             return self._cache[key]
-        donors = [q for q in range(self.data_.shape[0]) if q != exclude
-                  and self.observed_[q, target] and self.observed_[q, list(observed)].all()]
+        donors = self.donor_people(target, observed, exclude)
         features = self.data_.shape[2]
         if len(donors) < 3:
             uniform = np.full(len(observed), 1.0 / len(observed))
@@ -138,6 +137,13 @@ class TransferModel:
                           residuals)
         self._cache[key] = result
         return result
+
+    def donor_people(self, target: int, observed: tuple[int, ...], exclude: int | None = None
+                     ) -> list[int]:
+        """Indices of the people other than ``exclude`` who have ``target`` and every
+        ``observed`` action: the donors, in the order of :attr:`Transfer.residuals`."""
+        return [q for q in range(self.data_.shape[0]) if q != exclude
+                and self.observed_[q, target] and self.observed_[q, list(observed)].all()]
 
     def _leave_two_means(self, person: int, exclude: int) -> np.ndarray:
         keep = self.observed_.copy()

@@ -13,7 +13,7 @@ from mocap.errors import MocapError
 from synthesis.methods import METHODS, CellMethod, make_method, method_name
 from synthesis.model import MotionModel
 from synthesis.model_file import load_model, save_model
-from synthesis.recognition import (distances, held_out_distances, match_scale,
+from synthesis.recognition import (distances, donor_distances, held_out_distances, match_scale,
                                    moderated_variances, recognition_weights, unknown_limit)
 from tests.synthesis.test_model import multilinear_corpus
 
@@ -218,3 +218,32 @@ def test_score_scale_and_unknown_limit_by_hand(fitted):
     assert np.allclose(held_out_distances(method, 2), by_hand, rtol=1e-12)
     assert match_scale(method, 2) == pytest.approx(np.median(by_hand), rel=1e-12)
     assert unknown_limit(method, 2) == pytest.approx(max(by_hand), rel=1e-12)
+
+
+@pytest.mark.parametrize("name", sorted(METHODS))
+def test_held_out_templates_are_the_donors_modelled_as_recognition_models_them(fitted, name):
+    """The donors' templates for calibrating scores: for the signature (whose recognition
+    templates are a person's main effects), each donor's additive prediction with the means
+    taken without them, by hand; for the others, their held-out prediction, capture +
+    held-out error."""
+    _, data, methods = fitted
+    method = methods[name]
+    captures, templates = method.held_out_templates(2)
+    keep = np.isfinite(data).all(axis=2)
+    donors = [q for q in range(data.shape[0]) if keep[q].all()]
+    assert np.array_equal(captures, data[donors, 2])
+    if name == "signature":
+        by_hand = []
+        for q in donors:
+            others = keep.copy()
+            others[q] = False
+            means = np.array([data[others[:, a], a].mean(axis=0) for a in range(4)])
+            offset = np.mean([data[q, a] - means[a] for a in (0, 1, 3)], axis=0)
+            by_hand.append(means[2] + offset)
+        assert np.allclose(templates, by_hand, rtol=1e-10, atol=1e-10)
+    else:
+        assert np.allclose(templates - captures, method.held_out_errors(2), atol=1e-10)
+    # The donors' own recognition problems: the diagonal is the held-out distance.
+    table = donor_distances(method, 2)
+    assert table.shape == (len(donors), len(donors))
+    assert np.array_equal(np.diagonal(table), held_out_distances(method, 2))

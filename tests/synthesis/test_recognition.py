@@ -1,11 +1,13 @@
-"""Recognition weights: limma's moderated variances against known draws."""
+"""Recognition weights (limma's moderated variances against known draws) and the
+calibration of recognition scores."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 from scipy.special import polygamma
 
-from synthesis.recognition import _trigamma_inverse, moderated_variances, variance_prior
+from synthesis.recognition import (ScoreModel, _trigamma_inverse, fit_score_model,
+                                   moderated_variances, variance_prior)
 
 
 @pytest.mark.parametrize("value", [1e-8, 1e-3, 0.3, 1.0, 10.0, 1e4, 1e9])
@@ -51,3 +53,50 @@ def test_degenerate_variances_stay_finite():
     moderated = moderated_variances(exact, 4)
     assert np.isfinite(moderated).all() and (moderated > 0).all()
     assert np.array_equal(moderated_variances(exact, 0), exact)
+
+
+def test_scores_are_a_laplace_softmax_mixed_with_the_miss_chance():
+    model = ScoreModel(temperature=2.0, miss_chance=0.25)
+    scores = model.scores(np.array([3.0, 5.0, 9.0]))
+    softmax = np.exp(-np.array([0.0, 1.0, 3.0]))
+    assert np.allclose(scores, 0.75 * softmax / softmax.sum() + 0.25 / 3, rtol=1e-12)
+    assert scores.sum() == pytest.approx(1.0, rel=1e-12)
+    # τ = 0: the nearest alone, tempered by the miss chance.
+    hard = ScoreModel(0.0, 0.2).scores(np.array([4.0, 1.0, 7.0, 2.0]))
+    assert np.allclose(hard, [0.05, 0.85, 0.05, 0.05], rtol=1e-12)
+
+
+def test_the_temperature_maximises_the_right_candidates_log_score_and_misses_count():
+    """Problems drawn from a known Laplace-softmax: the fitted τ is the likelihood's maximum
+    (no grid point of 400 does better), near the τ they were drawn with; ε counts the
+    problems whose nearest is wrong by Laplace's rule of succession."""
+    rng = np.random.default_rng(11)
+    problems, candidates, true_temperature = 400, 400, 2.0
+    table = rng.uniform(0.0, 10.0, (problems, candidates))
+    # Which candidate is right: drawn with probability softmax(−d / τ) in each row.
+    logits = -table / true_temperature
+    chances = np.exp(logits - logits.max(axis=1, keepdims=True))
+    chances /= chances.sum(axis=1, keepdims=True)
+    right = np.array([rng.choice(candidates, p=row) for row in chances])
+    # fit_score_model wants the right candidate on the diagonal: swap it there.
+    rows = np.arange(problems)
+    table[rows, right], table[rows, rows] = table[rows, rows], table[rows, right]
+    fitted = fit_score_model(table)
+    misses = int(np.sum(np.argmin(table, axis=1) != rows))
+    assert fitted.miss_chance == pytest.approx((misses + 1) / (problems + 2))
+
+    def log_score(temperature):
+        logits = -table / temperature
+        top = logits.max(axis=1, keepdims=True)
+        return np.mean(logits[rows, rows] - top[:, 0]
+                       - np.log(np.exp(logits - top).sum(axis=1)))
+
+    grid = np.geomspace(0.2, 20.0, 400)
+    assert log_score(fitted.temperature) >= max(log_score(t) for t in grid) - 1e-9
+    assert fitted.temperature == pytest.approx(true_temperature, rel=0.2)
+
+
+def test_separable_problems_give_the_nearest_alone_and_too_few_give_nothing():
+    table = np.full((5, 5), 3.0) - 2.0 * np.eye(5)
+    assert fit_score_model(table) == ScoreModel(0.0, 1.0 / 7.0)
+    assert fit_score_model(table[:2, :2]) is None
