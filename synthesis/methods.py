@@ -41,6 +41,9 @@ class CellMethod:
     data_ : ndarray, shape (people, actions, features)
         The fitted cells, NaN where missing.
     observed_ : ndarray, shape (people, actions), bool
+    memo_ : dict
+        Quantities derived from the fit, kept until the next fit (the donors' recognition
+        problems of each action, :func:`synthesis.recognition.donor_distances`).
     """
 
     name: ClassVar[str] = ""
@@ -49,6 +52,7 @@ class CellMethod:
         self.data_: np.ndarray | None = None
         self.observed_: np.ndarray | None = None
         self.signatures_: SignatureModel | None = None
+        self.memo_: dict = {}
 
     def fit(self, data: np.ndarray, signatures: SignatureModel | None = None) -> "CellMethod":
         """Fit to the cells.
@@ -70,6 +74,7 @@ class CellMethod:
             raise MocapError("method data must be people × actions × features")
         self.data_, self.observed_ = data, np.isfinite(data).all(axis=2)
         self.signatures_ = signatures
+        self.memo_ = {}
         self._fit(data)
         return self
 

@@ -250,6 +250,13 @@ def donor_distances(method: CellMethod, action: int) -> np.ndarray:
         Row k: donor k's capture against every donor's template; the diagonal is
         :func:`held_out_distances`. Empty (0, 0) when too few people.
     """
+    key = ("donor_distances", action)
+    if key not in method.memo_:
+        method.memo_[key] = _donor_distances(method, action)
+    return method.memo_[key].copy()
+
+
+def _donor_distances(method: CellMethod, action: int) -> np.ndarray:
     errors = method.held_out_errors(action)
     found = method.held_out_templates(action)
     if errors is None or found is None or errors.shape[0] < 3:
