@@ -256,6 +256,9 @@ class Evaluation:
             f"{self.baseline_rms:.2f}° ({times}), additive (mean + the person's offset) "
             f"{self.additive_rms:.2f}°",
         ]
+        if self.additive_rms > self.baseline_rms:
+            lines.append("the additive model is worse than the baseline here: a person's offset "
+                         "in their other actions says little about these")
         if self.whole_trials:
             actions = sorted({a for _, a, _ in self.whole_trials})
             counts = ", ".join(f"{a} {sum(t[1] == a for t in self.whole_trials)}"

@@ -202,3 +202,7 @@ def test_the_summary_says_which_way_the_synthesis_differs_from_the_baseline(synt
                       predicted_duration=1.0, recognised="ana", additive_rms=5.0)
     text = Evaluation([cell], [], ["x"], method="interaction").table()
     assert f"baseline (mean of the other people) 6.00° {words}" in text
+    assert "the additive model is worse than the baseline" not in text
+    cell.additive_rms = 6.5
+    text = Evaluation([cell], [], ["x"], method="interaction").table()
+    assert "the additive model is worse than the baseline here" in text
