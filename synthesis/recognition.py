@@ -369,8 +369,8 @@ def fit_score_model(table: np.ndarray) -> ScoreModel | None:
     spread = float(np.median(np.abs(differences[~np.eye(problems, dtype=bool)])))
     if not spread > 0:
         return ScoreModel(0.0, miss_chance)
-    # A miss makes the loss grow linearly in 1/τ beyond ~1/spread: the optimum is finite
-    # and below a few hundred over the spread; search the decades around it.
+    # With a miss the loss grows linearly in 1/τ for large 1/τ, so the optimum is finite;
+    # it is searched over e^±10 times the typical distance difference.
     found = minimize_scalar(lambda t: loss(np.exp(t) / spread), bounds=(-10.0, 10.0),
                             method="bounded", options={"xatol": 1e-4})
     return ScoreModel(float(spread / np.exp(found.x)), miss_chance)
