@@ -427,10 +427,10 @@ def recognize(args: argparse.Namespace) -> int:
         print(f"{args.trial}: {person} doing {result.action}"
               + (f", {margin:.2f}° nearer than {ranking[1]}" if len(ranking) > 1 else ""))
     print("  weighted mean absolute difference between the trial and each person's modelled "
-          "motion:")
+          "motion, and each person's score (summing to 1):")
     for name in ranking:
         behind = result.distances[name] - result.distances[ranking[0]]
-        print(f"  {name:<16} {result.distances[name]:6.2f}°"
+        print(f"  {name:<16} {result.distances[name]:6.2f}°  {result.scores[name]:5.3f}"
               + (f"   +{behind:.2f}°" if name != ranking[0] else ""))
     return 0
 
@@ -531,8 +531,8 @@ def register(subparsers: Subparsers) -> None:
         "recognize", help=summary("recognize"),
         description="Compare a trial with every person's model motion and print the people "
                     "ranked by distance in degrees (the weighted mean absolute difference "
-                    "of the joint angles; nearest first), and the margin by "
-                    "which the nearest beats the next.")
+                    "of the joint angles; nearest first) with each person's score (summing "
+                    "to 1), and the margin by which the nearest beats the next.")
     parser.add_argument("model", metavar="MODEL.npz", help="model from 'mocap decompose'")
     parser.add_argument("trial", metavar="TRIAL",
                         help="marker trial (read with the model's marker set), angle CSV, "

@@ -156,9 +156,12 @@ def test_recognize_ranks_people_by_distance_in_degrees(folder, capsys, tmp_path,
     lines = out.splitlines()
     assert lines[0] == (f"{trial}: p2 doing walk, {distances[1] - distances[0]:.2f}° nearer "
                         f"than {ranking[1]['person']}")
-    assert "score" not in out
-    shown = [line.split()[0] for line in lines[2:]]
-    assert shown == [row["person"] for row in ranking]
+    shown = [line.split() for line in lines[2:]]
+    assert [row[0] for row in shown] == [row["person"] for row in ranking]
+    # Each person's score beside the distance, as in --json (summing to 1).
+    assert [float(row[2]) for row in shown] == \
+        [round(result["scores"][row["person"]], 3) for row in ranking]
+    assert sum(result["scores"].values()) == pytest.approx(1.0)
 
 
 def test_decompose_piped_into_head_keeps_its_model(folder, tmp_path):
