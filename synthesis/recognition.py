@@ -340,7 +340,7 @@ def fit_score_model(table: np.ndarray) -> ScoreModel | None:
 
     Returns
     -------
-    ScoreModel, or None with fewer than 3 problems
+    ScoreModel, or None with fewer than 3 problems (or a distance that is not finite)
 
     Examples
     --------
@@ -350,7 +350,7 @@ def fit_score_model(table: np.ndarray) -> ScoreModel | None:
     """
     table = np.asarray(table, dtype=float)
     problems = table.shape[0]
-    if problems < 3:
+    if problems < 3 or not np.isfinite(table).all():
         return None
     misses = int(np.sum(np.argmin(table, axis=1) != np.arange(problems)))
     miss_chance = (misses + 1) / (problems + 2)

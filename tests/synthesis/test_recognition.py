@@ -100,3 +100,5 @@ def test_separable_problems_give_the_nearest_alone_and_too_few_give_nothing():
     table = np.full((5, 5), 3.0) - 2.0 * np.eye(5)
     assert fit_score_model(table) == ScoreModel(0.0, 1.0 / 7.0)
     assert fit_score_model(table[:2, :2]) is None
+    table[1, 3] = np.nan
+    assert fit_score_model(table) is None
