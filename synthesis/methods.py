@@ -26,7 +26,7 @@ from typing import ClassVar
 import numpy as np
 
 from mocap.errors import MocapError
-from synthesis.interaction import MIN_DONORS, InteractionModel
+from synthesis.interaction import MAJORITY, MARGIN, MIN_DONORS, InteractionModel
 from synthesis.regression import SignatureModel
 from synthesis.transfer import TransferModel
 
@@ -192,13 +192,27 @@ class InteractionMethod(CellMethod):
     def _missing(self, person: int, action: int) -> np.ndarray:
         prediction, chosen = self.model_.predict(person, action)
         # Too few donors although the corpus has enough people: its missing cells stand in
-        # the way, and the (imputed) signatures fill the cell.
+        # the way. The (imputed) signatures fill the cell where their own held-out cells of
+        # the action vouch for them; otherwise the additive prediction stands.
         signatures = self.signatures_
         if signatures is not None and (chosen is None or not np.isfinite(chosen.loo_rms)) \
                 and self.data_.shape[0] > MIN_DONORS \
-                and np.isfinite(signatures.signatures_[person]).all():
+                and np.isfinite(signatures.signatures_[person]).all() \
+                and self._signatures_beat_the_additive_model(action):
             return signatures.predict(signatures.signatures_[person], action)
         return prediction
+
+    def _signatures_beat_the_additive_model(self, action: int) -> bool:
+        """Whether the signature model passes, on its own held-out cells of ``action``, the
+        rule a rank of the interaction must pass to be kept (:data:`MARGIN`,
+        :data:`MAJORITY`): an RMS :data:`MARGIN` below the additive model's on the same
+        cells (:attr:`SignatureModel.held_out_`: its leave-one-out, or with imputed cells
+        the imputation's cross-validation), better on most of them, and as many of them as
+        the interaction needs donors (:data:`MIN_DONORS`). An action with fewer held-out
+        cells is not vouched for."""
+        own, additive, wins, cells = self.signatures_.held_out_[:, action]
+        return bool(np.isfinite(own) and cells >= 2
+                    and own <= (1.0 - MARGIN) * additive and (not MAJORITY or wins > 0.5))
 
     def _held_out(self, person: int, action: int) -> np.ndarray:
         # With one other action the interaction's correction acts on the person's offset

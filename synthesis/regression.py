@@ -144,6 +144,73 @@ TOO_FEW_CELLS = ("need at least 2 people who performed every action to build the
                  "at least 2 of them)")
 
 
+def additive_errors(data: np.ndarray, observed: np.ndarray, cells) -> np.ndarray:
+    """Squared errors (summed over features) of the additive model, action mean + the
+    person's mean offset, predicting each of ``cells`` from the person's other observed
+    cells, the means taken without the person.
+
+    Parameters
+    ----------
+    data : ndarray, shape (people, actions, features)
+    observed : ndarray of bool, shape (people, actions)
+        The cells the model may use (the predicted cell's own value never enters).
+    cells : sequence of (person, action)
+
+    Returns
+    -------
+    ndarray, shape (len(cells),); NaN where the person has no other cell or the action no
+    other person
+    """
+    data = np.asarray(data, dtype=float)
+    filled = np.where(observed[..., None], data, 0.0)
+    totals, counts = filled.sum(axis=0), observed.sum(axis=0).astype(float)
+    result = np.full(len(cells), np.nan)
+    for i, (p, a) in enumerate(cells):
+        others = counts - observed[p]                                   # (actions,)
+        means = (totals - filled[p]) / np.where(others > 0, others, np.nan)[:, None]
+        used = [b for b in np.flatnonzero(observed[p]) if b != a and others[b] > 0]
+        if not used or others[a] == 0:
+            continue
+        offset = np.mean([data[p, b] - means[b] for b in used], axis=0)
+        result[i] = float(np.sum((means[a] + offset - data[p, a]) ** 2))
+    return result
+
+
+def held_out_by_action(actions: np.ndarray, own: np.ndarray, additive: np.ndarray,
+                       count: int, robust: bool = False) -> np.ndarray:
+    """Per action, a model's held-out RMS error, the additive model's on the same cells, and
+    the fraction of those cells the model predicts better.
+
+    Parameters
+    ----------
+    actions : ndarray of int, shape (cells,)
+        Action of each held-out cell.
+    own, additive : ndarray, shape (cells,)
+        Squared errors of the model and of the additive model (same units).
+    count : int
+        Number of actions.
+    robust : bool
+        Root of the median squared error instead of the mean (a cross-validation whose
+        alternating fit goes astray in one fold must not decide).
+
+    Returns
+    -------
+    ndarray, shape (4, count)
+        Rows: RMS (or root median square) of ``own``, the same of ``additive``, fraction
+        won, number of cells; NaN for an action with no held-out cell (nothing says the
+        model is better there).
+    """
+    average = np.median if robust else np.mean
+    result = np.full((4, count), np.nan)
+    for action in range(count):
+        chosen = (np.asarray(actions) == action) & np.isfinite(additive)
+        if chosen.any():
+            result[:, action] = (np.sqrt(average(own[chosen])),
+                                 np.sqrt(average(additive[chosen])),
+                                 np.mean(own[chosen] < additive[chosen]), chosen.sum())
+    return result
+
+
 def can_impute(observed: np.ndarray) -> bool:
     """True when :func:`impute_cells` can fill the missing cells of ``observed``.
 
@@ -169,7 +236,8 @@ def can_fit(observed: np.ndarray) -> bool:
 
 
 def impute_cells(data: np.ndarray, action_rank: Rank = None, feature_rank: Rank = None,
-                 people_rank: Rank = None, folds: int = 4) -> tuple[np.ndarray, int]:
+                 people_rank: Rank = None, folds: int = 4
+                 ) -> tuple[np.ndarray, int, np.ndarray]:
     """Fill the missing cells of a tensor in which fewer than two people are complete.
 
     With full people rank a filled-in guess reproduces itself (every value of a missing cell
@@ -186,6 +254,13 @@ def impute_cells(data: np.ndarray, action_rank: Rank = None, feature_rank: Rank 
     filled : ndarray, same shape, no NaN
     rank : int
         People rank used.
+    held_out : ndarray, shape (4, actions)
+        Per action, the cross-validation's root median squared error (feature units) of
+        the imputation at that rank and of the additive model on the same hidden cells, and
+        the fraction of them the imputation predicts better, and their number
+        (:func:`held_out_by_action`);
+        NaN for an action none of whose cells was hidden, and everywhere when the rank was
+        given.
 
     Raises
     ------
@@ -199,12 +274,15 @@ def impute_cells(data: np.ndarray, action_rank: Rank = None, feature_rank: Rank 
     largest = people - 2               # below the centred people rank (people − 1): no echo
     if isinstance(people_rank, (int, np.integer)) and not isinstance(people_rank, bool):
         rank = int(min(people_rank, largest))
-        return _impute_with_rank(data, observed, rank, action_rank, feature_rank), rank
+        return (_impute_with_rank(data, observed, rank, action_rank, feature_rank), rank,
+                np.full((4, actions), np.nan))
     candidates = rank_grid(largest)
     cells = [(p, a) for p, a in np.argwhere(observed)
              if observed[p].sum() >= 3 and observed[:, a].sum() >= 4]
     order = np.random.default_rng(0).permutation(len(cells))
     errors = np.full((folds, len(candidates)), np.nan)
+    features = data.shape[2]
+    cell_errors: list = []              # per fold: actions, (cells, candidates), (cells,)
     for fold in range(folds):
         hidden = [cells[i] for i in order[fold::folds]]
         if not hidden:
@@ -217,16 +295,26 @@ def impute_cells(data: np.ndarray, action_rank: Rank = None, feature_rank: Rank 
         masked = np.where(mask[..., None], data, np.nan)
         if not held:
             continue
+        baseline = additive_errors(data, mask, held) / features
+        squares = np.empty((len(held), len(candidates)))
         for i, rank in enumerate(candidates):
             filled = _impute_with_rank(masked, mask, rank, action_rank, feature_rank,
                                        iterations=100)
-            errors[fold, i] = np.sqrt(np.mean([(filled[p, a] - data[p, a]) ** 2
-                                               for p, a in held]))
+            squares[:, i] = [np.mean((filled[p, a] - data[p, a]) ** 2) for p, a in held]
+            errors[fold, i] = np.sqrt(squares[:, i].mean())
+        cell_errors.append(([a for _, a in held], squares, baseline))
     # Median over folds: one fold in which the alternating fit goes astray must not decide.
     scores = np.nanmedian(errors, axis=0) if np.isfinite(errors).any() \
         else np.zeros(len(candidates))
-    rank = candidates[int(np.argmin(scores))]
-    return _impute_with_rank(data, observed, rank, action_rank, feature_rank), rank
+    best = int(np.argmin(scores))
+    held_out = np.full((4, actions), np.nan)
+    if cell_errors:
+        held_out = held_out_by_action(
+            np.concatenate([hidden for hidden, _, _ in cell_errors]),
+            np.concatenate([squares[:, best] for _, squares, _ in cell_errors]),
+            np.concatenate([baseline for _, _, baseline in cell_errors]), actions, robust=True)
+    rank = candidates[best]
+    return _impute_with_rank(data, observed, rank, action_rank, feature_rank), rank, held_out
 
 
 @dataclass
@@ -277,6 +365,12 @@ class SignatureModel:
     loo_rms_: float = field(default=float("nan"), init=False)
     loo_cells_: int = field(default=0, init=False)
     imputed_rank_: int = field(default=0, init=False)
+    #: Per action (shape (4, actions), :func:`held_out_by_action`): held-out RMS error of
+    #: this model's predictions, of the additive model's on the same cells, the fraction of
+    #: those cells this model predicts better, and their number — on the leave-one-out
+    #: cells, or with imputed cells on the imputation's cross-validation (NaN for an action
+    #: with no held-out cell).
+    held_out_: np.ndarray | None = field(default=None, init=False, repr=False)
 
     # ------------------------------------------------------------------ fitting
 
@@ -306,7 +400,7 @@ class SignatureModel:
         if complete.size < 2:
             # Too few complete people: impute the missing cells with a low-rank model first.
             self._cache = None
-            self._basis_data, self.imputed_rank_ = impute_cells(
+            self._basis_data, self.imputed_rank_, held_out = impute_cells(
                 self.data_, self.action_rank, self.feature_rank, self.people_rank)
             complete = np.arange(self.data_.shape[0])
         full = self._fold(complete)
@@ -317,7 +411,7 @@ class SignatureModel:
             ranks = rank_grid(full.bases.shape[1])
         else:
             ranks = [full.bases.shape[1]]
-        errors, cells = self._leave_one_out_errors(full, ranks, alphas)
+        errors, cells, per_cell = self._leave_one_out_errors(full, ranks, alphas)
         if cells:
             best_rank, best_alpha = np.unravel_index(int(np.argmin(errors)), errors.shape)
             rank, alpha = ranks[best_rank], alphas[best_alpha]
@@ -327,6 +421,15 @@ class SignatureModel:
             rank, alpha = ranks[-1], (DEFAULT_RIDGE if self.ridge == "auto" else alphas[0])
             self.loo_rms_ = float("nan")
         self.loo_cells_ = int(cells)
+        if self.imputed_rank_:
+            # The imputation saw every cell: its cross-validation is what was held out.
+            self.held_out_ = held_out
+        elif cells:
+            actions, own, baseline = per_cell
+            self.held_out_ = held_out_by_action(actions, own[:, best_rank, best_alpha],
+                                                baseline, self.data_.shape[1])
+        else:
+            self.held_out_ = np.full((4, self.data_.shape[1]), np.nan)
         self._store(full, rank)
         self.ridge_alpha_ = float(alpha)
         self.ridge_ = float(alpha) * full.ridge_unit
@@ -417,10 +520,13 @@ class SignatureModel:
         return errors
 
     def _leave_one_out_errors(self, full: _Fold, ranks: Sequence[int], alphas: Sequence[float]
-                              ) -> tuple[np.ndarray, int]:
-        """Summed squared errors (ranks, alphas) over the leave-one-out cells, and their count."""
+                              ) -> tuple[np.ndarray, int, tuple]:
+        """Summed squared errors (ranks, alphas) over the leave-one-out cells, their count,
+        and per cell: its action, its squared errors (cells, ranks, alphas) and the additive
+        model's (cells,)."""
         totals = np.zeros((len(ranks), len(alphas)))
         cells = 0
+        scored, blocks = [], []
         complete = list(full.people)
         for person in range(self.data_.shape[0]):
             if person in complete:
@@ -432,7 +538,12 @@ class SignatureModel:
             errors = self._cell_errors(fold, person, ranks, alphas)
             totals += errors.sum(axis=0)
             cells += errors.shape[0]
-        return totals, cells
+            if errors.shape[0]:
+                scored += [(person, a) for a in np.flatnonzero(self.observed[person])]
+                blocks.append(errors)
+        additive = additive_errors(self.data_, self.observed, scored)
+        own = np.concatenate(blocks) if blocks else np.zeros((0, len(ranks), len(alphas)))
+        return totals, cells, (np.array([a for _, a in scored], dtype=int), own, additive)
 
     def _signatures(self) -> np.ndarray:
         """Signature of every person: row of P for the complete, a fit for the others."""
@@ -497,6 +608,7 @@ class SignatureModel:
             "action_singular_values": self.singular_values_[1],
             "feature_singular_values": self.singular_values_[2],
             "energy": np.asarray(self.energy_), "signatures": self.signatures_,
+            "held_out": self.held_out_,
         }
         meta = {"people_rank": self.people_rank, "action_rank": self.action_rank,
                 "feature_rank": self.feature_rank, "ridge": self.ridge,
@@ -524,4 +636,9 @@ class SignatureModel:
         model.ridge_alpha_, model.ridge_ = float(meta["ridge_alpha"]), float(meta["ridge_value"])
         model.loo_rms_, model.loo_cells_ = float(meta["loo_rms"]), int(meta["loo_cells"])
         model.imputed_rank_ = int(meta.get("imputed_rank", 0))
+        # Files written before the held-out comparison: nothing says the model beat the
+        # additive one anywhere.
+        key = f"{prefix}_held_out"
+        model.held_out_ = np.asarray(arrays[key], dtype=float) if key in arrays \
+            else np.full((4, model.data_.shape[1]), np.nan)
         return model

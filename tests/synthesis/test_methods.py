@@ -247,3 +247,30 @@ def test_held_out_templates_are_the_donors_modelled_as_recognition_models_them(f
     table = donor_distances(method, 2)
     assert table.shape == (len(donors), len(donors))
     assert np.array_equal(np.diagonal(table), held_out_distances(method, 2))
+
+
+def test_additive_errors_and_held_out_comparison_by_hand():
+    """The additive model's held-out error of a cell (means without the person, the offset
+    from their other cells) and the per-action comparison, against a hand computation."""
+    from synthesis.regression import additive_errors, held_out_by_action
+    data = np.array([[[1.0], [2.0], [4.0]],
+                     [[3.0], [3.0], [np.nan]],
+                     [[5.0], [7.0], [6.0]]])
+    observed = np.isfinite(data).all(axis=2)
+    # Person 0, action 2 from actions 0 and 1: means without person 0 are 4, 5 and 6.
+    # Offsets −3 and −3, so the prediction is 6 − 3 = 3 and the error (3 − 4)² = 1.
+    # Person 1 has no cell of action 2 here, so it never enters action 2's mean.
+    errors = additive_errors(data, observed, [(0, 2), (2, 0), (1, 2)])
+    assert errors[0] == pytest.approx(1.0)
+    # Person 2, action 0 from actions 1 and 2: means without person 2 are 2, 2.5 and 4;
+    # offsets 4.5 and 2, prediction 2 + 3.25 = 5.25, error 0.0625.
+    assert errors[1] == pytest.approx(0.0625)
+    assert np.isnan(errors[2])                     # a cell to predict needs its capture
+    table = held_out_by_action(np.array([0, 0, 2]), np.array([1.0, 9.0, 4.0]),
+                               np.array([4.0, 1.0, 1.0]), 3)
+    assert np.allclose(table[:, 0], [np.sqrt(5.0), np.sqrt(2.5), 0.5, 2])
+    assert np.isnan(table[:, 1]).all()
+    assert np.allclose(table[:, 2], [2.0, 1.0, 0.0, 1])
+    robust = held_out_by_action(np.array([0, 0, 0]), np.array([1.0, 4.0, 100.0]),
+                                np.array([9.0, 9.0, 9.0]), 1, robust=True)
+    assert np.allclose(robust[:, 0], [2.0, 3.0, 2 / 3, 3])
