@@ -52,7 +52,7 @@ from mocap.view import view_files
 from synthesis.corpus import CorpusEntry, corpus_from_angles
 from synthesis.model import MotionModel
 from synthesis.model_file import save_model
-from synthesis.regression import TOO_FEW_CELLS, can_fit
+from synthesis.imputation import TOO_FEW_CELLS, can_fit
 from synthesis.plot import synthesis_figure
 
 ACTION = "walk"

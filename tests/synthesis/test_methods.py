@@ -252,7 +252,7 @@ def test_held_out_templates_are_the_donors_modelled_as_recognition_models_them(f
 def test_additive_errors_and_held_out_comparison_by_hand():
     """The additive model's held-out error of a cell (means without the person, the offset
     from their other cells) and the per-action comparison, against a hand computation."""
-    from synthesis.regression import additive_errors, held_out_by_action
+    from synthesis.imputation import additive_errors, held_out_by_action
     data = np.array([[[1.0], [2.0], [4.0]],
                      [[3.0], [3.0], [np.nan]],
                      [[5.0], [7.0], [6.0]]])
