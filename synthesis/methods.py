@@ -31,6 +31,13 @@ from synthesis.regression import SignatureModel
 from synthesis.transfer import TransferModel
 
 
+#: Held-out cells of an action needed before the signature model may fill its cells where
+#: the interaction has too few donors: two, the fewest for which "better on most of them"
+#: means more than one cell (a definition, not a fitted constant; docs/synthesis.md,
+#: "Missing cells").
+VOUCHING_CELLS = 2
+
+
 class CellMethod:
     """Interface of a synthesis method (subclasses fill in the four hooks).
 
@@ -207,11 +214,11 @@ class InteractionMethod(CellMethod):
         rule a rank of the interaction must pass to be kept (:data:`MARGIN`,
         :data:`MAJORITY`): an RMS :data:`MARGIN` below the additive model's on the same
         cells (:attr:`SignatureModel.held_out_`: its leave-one-out, or with imputed cells
-        the imputation's cross-validation), better on most of them, and as many of them as
-        the interaction needs donors (:data:`MIN_DONORS`). An action with fewer held-out
-        cells is not vouched for."""
+        the imputation's cross-validation), better on most of them, and at least
+        :data:`VOUCHING_CELLS` of them. An action with fewer held-out cells is not vouched
+        for."""
         own, additive, wins, cells = self.signatures_.held_out_[:, action]
-        return bool(np.isfinite(own) and cells >= 2
+        return bool(np.isfinite(own) and cells >= VOUCHING_CELLS
                     and own <= (1.0 - MARGIN) * additive and (not MAJORITY or wins > 0.5))
 
     def _held_out(self, person: int, action: int) -> np.ndarray:
