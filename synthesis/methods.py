@@ -167,6 +167,10 @@ class CellMethod:
         """Action → what predicts it from all the other actions (empty when nothing to say)."""
         return {}
 
+    def filled_by(self, person: int, action: int) -> str:
+        """In words, what predicts a missing cell (the method's name by default)."""
+        return self.name
+
     # ------------------------------------------------------------------ hooks
 
     _additive_model: TransferModel | InteractionModel
@@ -208,6 +212,18 @@ class InteractionMethod(CellMethod):
                 and self._signatures_beat_the_additive_model(action):
             return signatures.predict(signatures.signatures_[person], action)
         return prediction
+
+    def filled_by(self, person: int, action: int) -> str:
+        _, chosen = self.model_.predict(person, action)
+        if chosen is None:
+            return "the action's mean (the person has no other action)"
+        if np.isfinite(chosen.loo_rms):
+            return "the additive model" if not chosen.rank else \
+                f"{chosen.mode} mode, rank {chosen.rank}"
+        if not np.array_equal(self._missing(person, action), self.model_.predict(person,
+                                                                                 action)[0]):
+            return "the N-mode signatures (too few donors; their held-out cells vouch)"
+        return "the additive model (too few donors)"
 
     def _signatures_beat_the_additive_model(self, action: int) -> bool:
         """Whether the signature model passes, on its own held-out cells of ``action``, the

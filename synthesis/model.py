@@ -442,6 +442,9 @@ class MotionModel:
             "method": self.method_, "representation": self.representation,
             "heading_removed": self.heading_removed,
             "interaction": self._interaction_summary(),
+            "missing_cells_filled_by": {
+                f"{self.people[p]}_{self.actions[a]}": self.cells_.filled_by(int(p), int(a))
+                for p, a in np.argwhere(~observed)},
             "timing_rank": timing.rank, "timing_ridge_alpha": timing.ridge_alpha_,
             "timing_loo_rms_log": timing.loo_rms_,
         }

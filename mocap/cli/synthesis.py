@@ -234,6 +234,10 @@ def decompose(args: argparse.Namespace) -> int:
     else:
         print(f"  bases from {len(summary['basis_people'])} complete people; missing cells: "
               f"{', '.join(summary['missing_cells']) or 'none'}")
+    filled = summary.get("missing_cells_filled_by", {})
+    if filled:
+        print("  missing cells filled by: " + "; ".join(f"{cell}: {how}"
+                                                         for cell, how in filled.items()))
     if summary["method"] == "transfer":
         print("  missing cells are synthesised by action transfer (the person's other actions "
               "through a map learned across people); blends and new people by signatures")

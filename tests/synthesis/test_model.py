@@ -206,3 +206,20 @@ def test_the_summary_says_which_way_the_synthesis_differs_from_the_baseline(synt
     cell.additive_rms = 6.5
     text = Evaluation([cell], [], ["x"], method="interaction").table()
     assert "the additive model is worse than the baseline here" in text
+
+
+def test_the_summary_says_what_fills_each_missing_cell(corpus):
+    """Every person incomplete: too few donors everywhere, and the imputed signatures,
+    vouched for by the imputation's held-out cells, fill every cell (exactly, above). One
+    hole among seven people: the interaction has its donors and says its configuration."""
+    holed = corpus
+    for p, person in enumerate(corpus.people):
+        holed = holed.without_cell(person, corpus.actions[p % 4])
+    filled = MotionModel().fit(holed).summary()["missing_cells_filled_by"]
+    assert sorted(filled) == sorted(f"{person}_{corpus.actions[p % 4]}"
+                                    for p, person in enumerate(corpus.people))
+    assert all(how.startswith("the N-mode signatures") for how in filled.values())
+    one = MotionModel().fit(corpus.without_cell("p3", "run")).summary()
+    assert list(one["missing_cells_filled_by"]) == ["p3_run"]
+    how = one["missing_cells_filled_by"]["p3_run"]
+    assert how == "the additive model" or " mode, rank " in how
