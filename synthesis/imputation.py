@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from mocap.errors import MocapError
+from synthesis.interaction import InteractionModel
 from synthesis.nmode import Rank, nmode_svd
 from synthesis.signature import (action_bases, fit_signature, solve_signature,
                                  synthesize_features)
@@ -142,17 +143,16 @@ def additive_errors(data: np.ndarray, observed: np.ndarray, cells) -> np.ndarray
     other person
     """
     data = np.asarray(data, dtype=float)
-    filled = np.where(observed[..., None], data, 0.0)
-    totals, counts = filled.sum(axis=0), observed.sum(axis=0).astype(float)
+    # The additive model's one home: the interaction model at rank 0, on the usable cells.
+    model = InteractionModel(max_rank=0).fit(np.where(observed[..., None], data, np.nan))
+    counts = observed.sum(axis=0)
     result = np.full(len(cells), np.nan)
     for i, (p, a) in enumerate(cells):
         others = counts - observed[p]                                   # (actions,)
-        means = (totals - filled[p]) / np.where(others > 0, others, np.nan)[:, None]
-        used = [b for b in np.flatnonzero(observed[p]) if b != a and others[b] > 0]
-        if not used or others[a] == 0:
+        if others[a] == 0 or not any(b != a and others[b] > 0
+                                     for b in np.flatnonzero(observed[p])):
             continue
-        offset = np.mean([data[p, b] - means[b] for b in used], axis=0)
-        result[i] = float(np.sum((means[a] + offset - data[p, a]) ** 2))
+        result[i] = float(np.sum((model.additive(p, a) - data[p, a]) ** 2))
     return result
 
 

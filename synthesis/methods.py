@@ -39,7 +39,7 @@ VOUCHING_CELLS = 2
 
 
 class CellMethod:
-    """Interface of a synthesis method (subclasses fill in the four hooks).
+    """Interface of a synthesis method (subclasses fill in the hooks below).
 
     Attributes
     ----------
@@ -131,13 +131,19 @@ class CellMethod:
         """Leave-one-person-out mean squared error of each feature when ``action`` is
         predicted from all the others (shape (features,)), and the number of people it is
         averaged over (its degrees of freedom); None when too few people."""
-        raise NotImplementedError
+        chosen = self._chosen(action)
+        if not np.isfinite(chosen.variance).all():
+            return None
+        return chosen.variance, chosen.residuals.shape[0]
 
     def held_out_errors(self, action: int) -> np.ndarray | None:
         """The leave-one-person-out errors behind :meth:`feature_variance`: each donor's
         held-out prediction of ``action`` minus their capture, shape (donors, features);
         None when too few people."""
-        raise NotImplementedError
+        chosen = self._chosen(action)
+        if chosen.residuals is None or not np.isfinite(chosen.variance).all():
+            return None
+        return self._prediction_errors(chosen)
 
     def held_out_templates(self, action: int) -> tuple[np.ndarray, np.ndarray] | None:
         """The donors of :meth:`held_out_errors`: their captures of ``action`` and their
@@ -147,16 +153,13 @@ class CellMethod:
         errors = self.held_out_errors(action)
         if errors is None:
             return None
-        captures = self.data_[self._donor_people(action), action]
+        donors = self._additive_model.donor_people(action, self._others(action))
+        captures = self.data_[donors, action]
         if self._templates_are_main_effects(action):
             # Held out exactly: the means without the donor, the offset from their others.
-            donors = self._donor_people(action)
             return captures, np.stack([self._additive_model.additive(q, action)
                                        for q in donors])
         return captures, captures + errors
-
-    def _donor_people(self, action: int) -> list[int]:
-        raise NotImplementedError
 
     def _templates_are_main_effects(self, action: int) -> bool:
         """Whether :meth:`template` models a captured cell of ``action`` by the person's
@@ -184,6 +187,16 @@ class CellMethod:
     def _held_out(self, person: int, action: int) -> np.ndarray:
         raise NotImplementedError
 
+    def _chosen(self, action: int):
+        """What the method chose to predict ``action`` from all the other actions (an
+        :class:`~synthesis.interaction.Interaction` or a
+        :class:`~synthesis.transfer.Transfer`: its ``variance`` and ``residuals``)."""
+        raise NotImplementedError
+
+    def _prediction_errors(self, chosen) -> np.ndarray:
+        """``chosen``'s held-out residuals as prediction − capture, (donors, features)."""
+        raise NotImplementedError
+
     def _others(self, action: int) -> tuple[int, ...]:
         return tuple(a for a in range(self.data_.shape[1]) if a != action)
 
@@ -202,28 +215,32 @@ class InteractionMethod(CellMethod):
 
     def _missing(self, person: int, action: int) -> np.ndarray:
         prediction, chosen = self.model_.predict(person, action)
-        # Too few donors although the corpus has enough people: its missing cells stand in
-        # the way. The (imputed) signatures fill the cell where their own held-out cells of
-        # the action vouch for them; otherwise the additive prediction stands.
-        signatures = self.signatures_
-        if signatures is not None and (chosen is None or not np.isfinite(chosen.loo_rms)) \
-                and self.data_.shape[0] > MIN_DONORS \
-                and np.isfinite(signatures.signatures_[person]).all() \
-                and self._signatures_beat_the_additive_model(action):
-            return signatures.predict(signatures.signatures_[person], action)
+        if self._signatures_fill(person, action, chosen):
+            return self.signatures_.predict(self.signatures_.signatures_[person], action)
         return prediction
+
+    def _signatures_fill(self, person: int, action: int, chosen) -> bool:
+        """Whether the signatures fill a missing cell: too few donors although the corpus
+        has enough people (its missing cells stand in the way), and the signatures' own
+        held-out cells of the action vouch for them; otherwise the additive prediction
+        stands."""
+        signatures = self.signatures_
+        return signatures is not None \
+            and (chosen is None or not np.isfinite(chosen.loo_rms)) \
+            and self.data_.shape[0] > MIN_DONORS \
+            and np.isfinite(signatures.signatures_[person]).all() \
+            and self._signatures_beat_the_additive_model(action)
 
     def filled_by(self, person: int, action: int) -> str:
         _, chosen = self.model_.predict(person, action)
+        if self._signatures_fill(person, action, chosen):
+            return "the N-mode signatures (too few donors; their held-out cells vouch)"
         if chosen is None:
             return "the action's mean (the person has no other action)"
-        if np.isfinite(chosen.loo_rms):
-            return "the additive model" if not chosen.rank else \
-                f"{chosen.mode} mode, rank {chosen.rank}"
-        if not np.array_equal(self._missing(person, action), self.model_.predict(person,
-                                                                                 action)[0]):
-            return "the N-mode signatures (too few donors; their held-out cells vouch)"
-        return "the additive model (too few donors)"
+        if not np.isfinite(chosen.loo_rms):
+            return "the additive model (too few donors)"
+        return "the additive model" if not chosen.rank else \
+            f"{chosen.mode} mode, rank {chosen.rank}"
 
     def _signatures_beat_the_additive_model(self, action: int) -> bool:
         """Whether the signature model passes, on its own held-out cells of ``action``, the
@@ -246,24 +263,13 @@ class InteractionMethod(CellMethod):
         # action from all the others (the one whose variances weight the distance).
         if self.observed_[person].sum() <= 2:
             return self.model_.additive(person, action)
-        chosen = self.model_.interaction(action, self._others(action))
-        return self.model_.predict(person, action, chosen)[0]
+        return self.model_.predict(person, action, self._chosen(action))[0]
 
-    def feature_variance(self, action: int) -> tuple[np.ndarray, int] | None:
-        chosen = self.model_.interaction(action, self._others(action))
-        if not np.isfinite(chosen.variance).all():
-            return None
-        return chosen.variance, chosen.residuals.shape[0]
+    def _chosen(self, action: int):
+        return self.model_.interaction(action, self._others(action))
 
-    def held_out_errors(self, action: int) -> np.ndarray | None:
-        chosen = self.model_.interaction(action, self._others(action))
-        if chosen.residuals is None or not np.isfinite(chosen.variance).all():
-            return None
-        # Prediction − capture, in the basis of the captured cells.
-        return chosen.residuals @ self.model_.basis_.T
-
-    def _donor_people(self, action: int) -> list[int]:
-        return self.model_.donor_people(action, self._others(action))
+    def _prediction_errors(self, chosen) -> np.ndarray:
+        return chosen.residuals @ self.model_.basis_.T     # in the captured cells' basis
 
     def _templates_are_main_effects(self, action: int) -> bool:
         return self.data_.shape[1] <= 2          # a donor's one other action: see _held_out
@@ -271,7 +277,7 @@ class InteractionMethod(CellMethod):
     def describe(self) -> dict:
         result = {}
         for a in range(self.data_.shape[1]):
-            chosen = self.model_.interaction(a, self._others(a))
+            chosen = self._chosen(a)
             if np.isfinite(chosen.loo_rms):
                 result[a] = {"mode": chosen.mode, "rank": chosen.rank, "alpha": chosen.alpha,
                              "loo_rms": chosen.loo_rms,
@@ -316,20 +322,11 @@ class TransferMethod(CellMethod):
 
     _held_out = _missing
 
-    def feature_variance(self, action: int) -> tuple[np.ndarray, int] | None:
-        chosen = self.model_.transfer(action, self._others(action))
-        if not np.isfinite(chosen.variance).all():
-            return None
-        return chosen.variance, chosen.residuals.shape[0]
+    def _chosen(self, action: int):
+        return self.model_.transfer(action, self._others(action))
 
-    def held_out_errors(self, action: int) -> np.ndarray | None:
-        chosen = self.model_.transfer(action, self._others(action))
-        if chosen.residuals is None or not np.isfinite(chosen.variance).all():
-            return None
+    def _prediction_errors(self, chosen) -> np.ndarray:
         return -chosen.residuals                            # theirs: capture − prediction
-
-    def _donor_people(self, action: int) -> list[int]:
-        return self.model_.donor_people(action, self._others(action))
 
 
 #: Synthesis methods by name (``--method``).
