@@ -195,12 +195,24 @@ class InteractionModel:
 
     def additive(self, person: int, target: int) -> np.ndarray:
         """The additive prediction ``m_b + mean_a (d_{p,a} − m_a)`` (shape (features,))."""
-        means = self._means(person)
-        observed = self._observed_actions(person, target, means)
-        if not observed:
+        means, offsets = self._offsets(person, target)
+        if not len(offsets):
             return means[target]
-        return means[target] + np.mean([self.data_[person, a] - means[a] for a in observed],
-                                       axis=0)
+        return means[target] + np.mean(offsets, axis=0)
+
+    def additive_views(self, person: int, target: int) -> np.ndarray:
+        """The additive prediction from each of the person's other actions alone,
+        ``m_b + d_{p,a} − m_a``: shape (other actions, features), no rows when the person
+        has none (recognition compares a trial with each, :meth:`CellMethod.templates`)."""
+        means, offsets = self._offsets(person, target)
+        return means[target] + offsets
+
+    def _offsets(self, person: int, target: int) -> tuple[np.ndarray, np.ndarray]:
+        """The means without the person (actions, features) and the person's offsets from
+        them in their other actions (other actions, features)."""
+        means = self._means(person)
+        observed = list(self._observed_actions(person, target, means))
+        return means, self.data_[person, observed] - means[observed]
 
     # ------------------------------------------------------------------ the interaction
 

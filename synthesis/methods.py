@@ -122,6 +122,37 @@ class CellMethod:
             return self._held_out(person, action)
         return self.data_[person, action]
 
+    def templates(self, person: int, action: int) -> np.ndarray:
+        """Every motion of the person recognition compares a trial of ``action`` with: the
+        :meth:`template`, and where it is modelled from the person's other actions, the
+        additive prediction from each of those actions alone (:meth:`additive_views`); a
+        trial's distance to the person is its distance to the nearest of them.
+
+        A person's style shows most in the action most like the trial's, and a template
+        averaged over unlike actions (a wave's offset from walks and runs) lies nearer the
+        action mean, so nearer everyone. With the model's template among them, a corpus the
+        model predicts exactly is still recognised exactly. Chosen on the design split:
+        top-1 of the signature on walk + run + wave 75 → 92 % (docs/synthesis.md, ninth
+        round).
+
+        Returns
+        -------
+        ndarray, shape (templates, features)
+        """
+        template = self.template(person, action)[None]
+        modelled = not self.observed_[:, action].all() and \
+            (not self.observed_[person, action] or self.observed_[person].sum() > 1)
+        if not modelled:
+            return template
+        views = self.additive_views(person, action)
+        return np.concatenate([template, views[np.isfinite(views).all(axis=1)]])
+
+    def additive_views(self, person: int, action: int) -> np.ndarray:
+        """The additive prediction of cell (person, action) from each of the person's other
+        actions alone, ``m_b + d_{p,a} − m_a`` (means over the other people; shape (other
+        actions, features))."""
+        return self._additive_model.additive_views(person, action)
+
     def additive(self, person: int, action: int) -> np.ndarray:
         """The additive prediction ``m_b + mean_a (d_{p,a} − m_a)`` of cell (person, action),
         means over the other people (shape (features,))."""
@@ -153,13 +184,17 @@ class CellMethod:
         errors = self.held_out_errors(action)
         if errors is None:
             return None
-        donors = self._additive_model.donor_people(action, self._others(action))
+        donors = self.held_out_donors(action)
         captures = self.data_[donors, action]
         if self._templates_are_main_effects(action):
             # Held out exactly: the means without the donor, the offset from their others.
             return captures, np.stack([self._additive_model.additive(q, action)
                                        for q in donors])
         return captures, captures + errors
+
+    def held_out_donors(self, action: int) -> list[int]:
+        """The people of :meth:`held_out_templates`, in its order."""
+        return self._additive_model.donor_people(action, self._others(action))
 
     def _templates_are_main_effects(self, action: int) -> bool:
         """Whether :meth:`template` models a captured cell of ``action`` by the person's

@@ -189,7 +189,8 @@ def distances(method: CellMethod, curve: np.ndarray,
               actions: Sequence[int] | None = None) -> np.ndarray:
     """Weighted mean absolute difference between a cycle and every person's motion of every
     action (module notes): ``mean_f |x_f − t_f| √(w_f / mean w)``, with ``w`` the
-    :func:`recognition_weights` (unweighted when they are None).
+    :func:`recognition_weights` (unweighted when they are None), to the nearest of the
+    person's templates ``t`` (:meth:`CellMethod.templates`).
 
     Parameters
     ----------
@@ -212,10 +213,19 @@ def distances(method: CellMethod, curve: np.ndarray,
         scale = _feature_scale(method, action)
         for person in range(people):
             try:
-                table[person, action] = _distance(method.template(person, action), flat, scale)
+                table[person, action] = _nearest(method.templates(person, action), flat,
+                                                 scale)
             except MocapError:
                 continue
     return table
+
+
+def _nearest(templates: np.ndarray, flat: np.ndarray, scale: np.ndarray | None) -> float:
+    """:func:`_distance` from ``flat`` to the nearest row of ``templates``, degrees."""
+    difference = np.abs(templates - flat)
+    if scale is not None:
+        difference = difference * scale
+    return float(difference.mean(axis=1).min())
 
 
 def _feature_scale(method: CellMethod, action: int) -> np.ndarray | None:
@@ -239,8 +249,9 @@ def _distance(motion: np.ndarray, flat: np.ndarray | float, scale: np.ndarray | 
 def donor_distances(method: CellMethod, action: int) -> np.ndarray:
     """The donors' own recognition problems: the distance (the measure of
     :func:`distances`) from each donor's capture of an action to every donor's held-out
-    template of it (:meth:`CellMethod.held_out_templates`: modelled as recognition models a
-    person, by a model that never saw that donor), weighted by the *other* donors' errors
+    templates of it (:meth:`CellMethod.held_out_templates` and the donor's
+    :meth:`CellMethod.additive_views`: modelled as recognition models a person, by a model
+    that never saw that donor's capture), weighted by the *other* donors' errors
     alone (:meth:`CellMethod.held_out_errors`) — the weights are fitted to these very
     errors, and a donor's own error weighted by them would look nearer than a stranger's.
 
@@ -262,13 +273,15 @@ def _donor_distances(method: CellMethod, action: int) -> np.ndarray:
     if errors is None or found is None or errors.shape[0] < 3:
         return np.empty((0, 0))
     captures, templates = found
+    views = [np.concatenate([template[None], method.additive_views(q, action)])
+             for q, template in zip(method.held_out_donors(action), templates)]
     donors = captures.shape[0]
     squares = errors ** 2
     total = squares.sum(axis=0)
     table = np.empty((donors, donors))
     for k in range(donors):
         scale = _scale(_weights((total - squares[k]) / (donors - 1), donors - 1))
-        table[k] = [_distance(template, captures[k], scale) for template in templates]
+        table[k] = [_nearest(rows, captures[k], scale) for rows in views]
     return table
 
 

@@ -176,9 +176,19 @@ class TransferModel:
 
     def additive(self, person: int, target: int) -> np.ndarray:
         """The additive prediction ``m_b + mean_a r_{p,a}`` (shape (features,))."""
+        means, offsets = self._offsets(person, target)
+        if not len(offsets):
+            return means[target]
+        return means[target] + np.mean(offsets, axis=0)
+
+    def additive_views(self, person: int, target: int) -> np.ndarray:
+        """The additive prediction from each of the person's other actions alone,
+        ``m_b + r_{p,a}``: shape (other actions, features), no rows when they have none."""
+        means, offsets = self._offsets(person, target)
+        return means[target] + offsets
+
+    def _offsets(self, person: int, target: int) -> tuple[np.ndarray, np.ndarray]:
+        """The means without the person and the person's offsets ``r_{p,a}`` from them."""
         means = self._means_without(person)
         observed = [a for a in np.flatnonzero(self.observed_[person]) if a != target]
-        if not observed:
-            return means[target]
-        return means[target] + np.mean([self.data_[person, a] - means[a] for a in observed],
-                                       axis=0)
+        return means, self.data_[person, observed] - means[observed]

@@ -430,8 +430,9 @@ def recognize(args: argparse.Namespace) -> int:
     else:
         print(f"{args.trial}: {person} doing {result.action}"
               + (f", {margin:.2f}° nearer than {ranking[1]}" if len(ranking) > 1 else ""))
-    print("  weighted mean absolute difference between the trial and each person's modelled "
-          "motion, and each person's score (summing to 1):")
+    print("  weighted mean absolute difference between the trial and each person's nearest "
+          "template (their capture, or their motion modelled from their other actions), and "
+          "each person's score (summing to 1):")
     for name in ranking:
         behind = result.distances[name] - result.distances[ranking[0]]
         print(f"  {name:<16} {result.distances[name]:6.2f}°  {result.scores[name]:5.3f}"

@@ -162,8 +162,8 @@ def test_recognize_names_a_known_person_in_an_action_never_captured_for_them(new
                                                                           entry.action))
         result = model.recognize(read_trial_curve(model, entry.path)[0], entry.action)
         strangers.append(result.distances[result.person] > model.unknown_limit(entry.action))
-    # 14 of 21 named (5 of the others recognised as someone else: a wave predicted from
-    # walks and runs is poor), 9 of 21 strangers unknown; the former limit, half the
+    # 14 of 21 named (4 called unknown, 3 recognised as someone else: a wave predicted
+    # from walks and runs is poor), 10 of 21 strangers unknown; the former limit, half the
     # spacing between people's modelled motions, named none of the 21.
     assert len(named) == 21 and sum(named) >= 13 and sum(strangers) >= 7
 
@@ -294,6 +294,17 @@ def test_missing_cells_fall_back_on_the_additive_model_unless_held_out_cells_vou
         design = design.without_cell(person, design.actions[p])
     result = leave_one_out(design, method=method).to_json()
     assert result["synthesis_rms_deg"] <= result["additive_rms_deg"] * (1 + 1e-9)
+
+
+def test_walk_run_wave_recognises_nine_in_ten_with_either_method(corpus):
+    # Walk, run and wave, three takes: a wave predicted from walks and runs is a poor
+    # template, so a person's templates also hold the additive prediction from each of
+    # their other actions alone, and the nearest decides (signature 86 → 95 %, default 90 %;
+    # docs/synthesis.md, ninth round).
+    waves = corpus.subset(None, ["walk", "run", "wave-both-hands"])
+    for method in ("interaction", "signature"):
+        result = leave_one_out(waves, method=method).to_json()
+        assert result["recognition_top3"] >= result["recognition_accuracy"] >= 0.9, method
 
 
 def test_two_actions_still_recognise_people(manifest):
