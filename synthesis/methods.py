@@ -144,14 +144,14 @@ class CellMethod:
             (not self.observed_[person, action] or self.observed_[person].sum() > 1)
         if not modelled:
             return template
-        views = self.additive_views(person, action)
-        return np.concatenate([template, views[np.isfinite(views).all(axis=1)]])
+        return np.concatenate([template, self.additive_views(person, action)])
 
     def additive_views(self, person: int, action: int) -> np.ndarray:
         """The additive prediction of cell (person, action) from each of the person's other
         actions alone, ``m_b + d_{p,a} − m_a`` (means over the other people; shape (other
-        actions, features))."""
-        return self._additive_model.additive_views(person, action)
+        actions, features); an action nobody else has gives none)."""
+        views = self._additive_model.additive_views(person, action)
+        return views[np.isfinite(views).all(axis=1)]
 
     def additive(self, person: int, action: int) -> np.ndarray:
         """The additive prediction ``m_b + mean_a (d_{p,a} − m_a)`` of cell (person, action),
