@@ -241,12 +241,9 @@ def _scale(weights: np.ndarray | None) -> np.ndarray | None:
     return None if weights is None else np.sqrt(weights / weights.mean())
 
 
-def _distance(motion: np.ndarray, flat: np.ndarray | float, scale: np.ndarray | None
-              ) -> float:
-    """Weighted mean absolute difference of two flattened motions (or of one from 0),
-    degrees."""
-    difference = np.abs(motion - flat)
-    return float((difference if scale is None else difference * scale).mean())
+def _distance(motion: np.ndarray, flat: np.ndarray, scale: np.ndarray | None) -> float:
+    """Weighted mean absolute difference of two flattened motions, degrees."""
+    return _nearest(motion[None], flat, scale)
 
 
 def donor_distances(method: CellMethod, action: int) -> np.ndarray:
