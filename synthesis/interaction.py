@@ -195,24 +195,25 @@ class InteractionModel:
 
     def additive(self, person: int, target: int) -> np.ndarray:
         """The additive prediction ``m_b + mean_a (d_{p,a} − m_a)`` (shape (features,))."""
-        means, offsets = self._offsets(person, target)
+        means, _, offsets = self._offsets(person, target)
         if not len(offsets):
             return means[target]
         return means[target] + np.mean(offsets, axis=0)
 
-    def additive_views(self, person: int, target: int) -> np.ndarray:
+    def additive_views(self, person: int, target: int) -> tuple[np.ndarray, list[int]]:
         """The additive prediction from each of the person's other actions alone,
         ``m_b + d_{p,a} − m_a``: shape (other actions, features), no rows when the person
-        has none (recognition compares a trial with each, :meth:`CellMethod.templates`)."""
-        means, offsets = self._offsets(person, target)
-        return means[target] + offsets
+        has none, and those actions (recognition compares a trial with each,
+        :meth:`CellMethod.templates`)."""
+        means, observed, offsets = self._offsets(person, target)
+        return means[target] + offsets, observed
 
-    def _offsets(self, person: int, target: int) -> tuple[np.ndarray, np.ndarray]:
-        """The means without the person (actions, features) and the person's offsets from
-        them in their other actions (other actions, features)."""
+    def _offsets(self, person: int, target: int) -> tuple[np.ndarray, list[int], np.ndarray]:
+        """The means without the person (actions, features), the person's other actions,
+        and their offsets from the means in those (other actions, features)."""
         means = self._means(person)
         observed = list(self._observed_actions(person, target, means))
-        return means, self.data_[person, observed] - means[observed]
+        return means, observed, self.data_[person, observed] - means[observed]
 
     # ------------------------------------------------------------------ the interaction
 

@@ -122,36 +122,55 @@ class CellMethod:
             return self._held_out(person, action)
         return self.data_[person, action]
 
-    def templates(self, person: int, action: int) -> np.ndarray:
+    def templates(self, person: int, action: int) -> tuple[np.ndarray, list[int | None]]:
         """Every motion of the person recognition compares a trial of ``action`` with: the
         :meth:`template`, and where it is modelled from the person's other actions, the
         additive prediction from each of those actions alone (:meth:`additive_views`); a
-        trial's distance to the person is its distance to the nearest of them.
+        trial's distance to the person is its distance to the nearest of them, each measured
+        against its own held-out spread (:func:`synthesis.recognition.distances`).
 
         A person's style shows most in the action most like the trial's, and a template
         averaged over unlike actions (a wave's offset from walks and runs) lies nearer the
         action mean, so nearer everyone. With the model's template among them, a corpus the
-        model predicts exactly is still recognised exactly. Chosen on the design split:
-        top-1 of the signature on walk + run + wave 75 → 92 % (docs/synthesis.md, ninth
-        round).
+        model predicts exactly is still recognised exactly. Chosen on the design split
+        (docs/synthesis.md, ninth round).
 
         Returns
         -------
-        ndarray, shape (templates, features)
+        templates : ndarray, shape (templates, features)
+        sources : list
+            None for the :meth:`template`, then the action each view is predicted from.
         """
         template = self.template(person, action)[None]
         modelled = not self.observed_[:, action].all() and \
             (not self.observed_[person, action] or self.observed_[person].sum() > 1)
         if not modelled:
-            return template
-        return np.concatenate([template, self.additive_views(person, action)])
+            return template, [None]
+        views, sources = self.additive_views(person, action)
+        return np.concatenate([template, views]), [None] + sources
 
-    def additive_views(self, person: int, action: int) -> np.ndarray:
+    def additive_views(self, person: int, action: int) -> tuple[np.ndarray, list[int]]:
         """The additive prediction of cell (person, action) from each of the person's other
         actions alone, ``m_b + d_{p,a} − m_a`` (means over the other people; shape (other
-        actions, features); an action nobody else has gives none)."""
-        views = self._additive_model.additive_views(person, action)
-        return views[np.isfinite(views).all(axis=1)]
+        actions, features); an action nobody else has gives none), and those actions."""
+        views, sources = self._additive_model.additive_views(person, action)
+        keep = np.isfinite(views).all(axis=1)
+        return views[keep], [a for a, kept in zip(sources, keep) if kept]
+
+    def view_errors(self, action: int) -> tuple[list[int], np.ndarray] | None:
+        """Held-out errors of the single-action views of the donors of
+        :meth:`held_out_errors` (view − capture; each view formed without the donor, so held
+        out exactly): the actions they are predicted from and the errors, shape (those
+        actions, donors, features); None when too few people."""
+        if self.held_out_errors(action) is None:
+            return None
+        donors = self.held_out_donors(action)
+        found = [self.additive_views(q, action) for q in donors]
+        sources = found[0][1]
+        if any(views_sources != sources for _, views_sources in found):
+            return None
+        views = np.stack([views for views, _ in found], axis=1)
+        return sources, views - self.data_[donors, action][None]
 
     def additive(self, person: int, action: int) -> np.ndarray:
         """The additive prediction ``m_b + mean_a (d_{p,a} − m_a)`` of cell (person, action),

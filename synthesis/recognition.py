@@ -190,10 +190,19 @@ def _weights(variance: np.ndarray, dof: int) -> np.ndarray | None:
 
 def distances(method: CellMethod, curve: np.ndarray,
               actions: Sequence[int] | None = None) -> np.ndarray:
-    """Weighted mean absolute difference between a cycle and every person's motion of every
-    action (module notes): ``mean_f |x_f − t_f| √(w_f / mean w)``, with ``w`` the
-    :func:`recognition_weights` (unweighted when they are None), to the nearest of the
-    person's templates ``t`` (:meth:`CellMethod.templates`).
+    """Distance from a cycle to every person's motion of every action (module notes): to
+    the nearest of the person's templates ``t`` (:meth:`CellMethod.templates`), each
+    measured against its own per-feature held-out spread ``s_t`` (:func:`template_spreads`)
+    as a Laplace log-likelihood, in degrees:
+
+        d_t = ŝ [mean_f |x_f − t_f| / s_{t,f} + mean_f log(s_{t,f} / s_f)],
+
+    ``s`` the spread of the method's template and ``ŝ = (mean_f s_f⁻²)^(−½)``. For the
+    method's template this is the weighted mean absolute difference
+    ``mean_f |x_f − t_f| √(w_f / mean w)`` with ``w = 1 / s²`` the
+    :func:`recognition_weights`; a view predicted from a less telling action is
+    measured against its wider spread and pays the log term for it. Unweighted when the
+    weights are None.
 
     Parameters
     ----------
@@ -213,22 +222,62 @@ def distances(method: CellMethod, curve: np.ndarray,
     people, count = method.data_.shape[:2]
     table = np.full((people, count), np.nan)
     for action in range(count) if actions is None else actions:
-        scale = _feature_scale(method, action)
+        spreads = template_spreads(method, action)
         for person in range(people):
             try:
-                table[person, action] = _nearest(method.templates(person, action), flat,
-                                                 scale)
+                rows, sources = method.templates(person, action)
             except MocapError:
                 continue
+            table[person, action] = _nearest(rows, sources, flat, spreads)
     return table
 
 
-def _nearest(templates: np.ndarray, flat: np.ndarray, scale: np.ndarray | None) -> float:
-    """:func:`_distance` from ``flat`` to the nearest row of ``templates``, degrees."""
-    difference = np.abs(templates - flat)
-    if scale is not None:
-        difference = difference * scale
-    return float(difference.mean(axis=1).min())
+def template_spreads(method: CellMethod, action: int) -> dict | None:
+    """Per-feature held-out spread ``s̃`` (degrees) of each kind of template of an action:
+    key None, the method's template (``1 / √w``, :func:`recognition_weights`); key ``a``,
+    the additive prediction from action ``a`` alone (its donors' held-out errors,
+    :meth:`CellMethod.view_errors`, moderated alike). None when too few people give a
+    spread (distances are then unweighted).
+
+    Returns
+    -------
+    dict of (int or None) to ndarray, shape (features,), or None
+    """
+    key = ("template_spreads", action)
+    if key not in method.memo_:
+        found = method.feature_variance(action)
+        views = method.view_errors(action)
+        squares = {} if views is None else {a: e ** 2 for a, e in zip(*views)}
+        method.memo_[key] = None if found is None else \
+            _spreads(found[0], found[1], {a: (sq.mean(axis=0), sq.shape[0])
+                                          for a, sq in squares.items()})
+    return method.memo_[key]
+
+
+def _spreads(variance: np.ndarray, dof: int, views: dict) -> dict | None:
+    """:func:`template_spreads` from the method's variances and each view's
+    ``(variances, dof)``; None when the method's variances all vanish."""
+    if not variance.mean() > 0:
+        return None
+    spreads = {None: np.sqrt(moderated_variances(variance, dof))}
+    for source, (view_variance, view_dof) in views.items():
+        if view_variance.mean() > 0:
+            spreads[source] = np.sqrt(moderated_variances(view_variance, view_dof))
+    return spreads
+
+
+def _nearest(rows: np.ndarray, sources: Sequence, flat: np.ndarray,
+             spreads: dict | None) -> float:
+    """:func:`distances`' measure from ``flat`` to the nearest of ``rows`` (templates whose
+    kinds are ``sources``), degrees."""
+    difference = np.abs(rows - flat)
+    if spreads is None:
+        return float(difference.mean(axis=1).min())
+    own = spreads[None]
+    unit = 1.0 / np.sqrt(np.mean(own ** -2.0))
+    spread = np.stack([spreads.get(source, own) for source in sources])
+    values = np.mean(difference / spread, axis=1) + np.mean(np.log(spread / own), axis=1)
+    return float(unit * values.min())
 
 
 def _feature_scale(method: CellMethod, action: int) -> np.ndarray | None:
@@ -243,7 +292,8 @@ def _scale(weights: np.ndarray | None) -> np.ndarray | None:
 
 def _distance(motion: np.ndarray, flat: np.ndarray, scale: np.ndarray | None) -> float:
     """Weighted mean absolute difference of two flattened motions, degrees."""
-    return _nearest(motion[None], flat, scale)
+    difference = np.abs(motion - flat)
+    return float((difference if scale is None else difference * scale).mean())
 
 
 def donor_distances(method: CellMethod, action: int) -> np.ndarray:
@@ -251,14 +301,15 @@ def donor_distances(method: CellMethod, action: int) -> np.ndarray:
     :func:`distances`) from each donor's capture of an action to every donor's held-out
     templates of it (:meth:`CellMethod.held_out_templates` and the donor's
     :meth:`CellMethod.additive_views`: modelled as recognition models a person, by a model
-    that never saw that donor's capture), weighted by the *other* donors' errors
-    alone (:meth:`CellMethod.held_out_errors`) — the weights are fitted to these very
-    errors, and a donor's own error weighted by them would look nearer than a stranger's.
+    that never saw that donor's capture), with the spreads of the *other* donors' errors
+    alone (:meth:`CellMethod.held_out_errors`, :meth:`CellMethod.view_errors`) — the
+    spreads are fitted to these very errors, and a donor's own error measured by them would
+    look nearer than a stranger's.
 
     Returns
     -------
     ndarray, shape (donors, donors), degrees
-        Row k: donor k's capture against every donor's template; the diagonal is
+        Row k: donor k's capture against every donor's templates; the diagonal is
         :func:`held_out_distances`. Empty (0, 0) when too few people.
     """
     key = ("donor_distances", action)
@@ -273,15 +324,24 @@ def _donor_distances(method: CellMethod, action: int) -> np.ndarray:
     if errors is None or found is None or errors.shape[0] < 3:
         return np.empty((0, 0))
     captures, templates = found
-    views = [np.concatenate([template[None], method.additive_views(q, action)])
-             for q, template in zip(method.held_out_donors(action), templates)]
+    candidates = []
+    for q, template in zip(method.held_out_donors(action), templates):
+        views, sources = method.additive_views(q, action)
+        candidates.append((np.concatenate([template[None], views]), [None] + sources))
+    found_views = method.view_errors(action)
+    view_squares = {} if found_views is None else \
+        {a: e ** 2 for a, e in zip(*found_views)}
     donors = captures.shape[0]
     squares = errors ** 2
     total = squares.sum(axis=0)
+    view_totals = {a: sq.sum(axis=0) for a, sq in view_squares.items()}
     table = np.empty((donors, donors))
     for k in range(donors):
-        scale = _scale(_weights((total - squares[k]) / (donors - 1), donors - 1))
-        table[k] = [_nearest(rows, captures[k], scale) for rows in views]
+        others = {a: ((view_totals[a] - sq[k]) / (donors - 1), donors - 1)
+                  for a, sq in view_squares.items()}
+        spreads = _spreads((total - squares[k]) / (donors - 1), donors - 1, others)
+        table[k] = [_nearest(rows, sources, captures[k], spreads)
+                    for rows, sources in candidates]
     return table
 
 

@@ -176,19 +176,22 @@ class TransferModel:
 
     def additive(self, person: int, target: int) -> np.ndarray:
         """The additive prediction ``m_b + mean_a r_{p,a}`` (shape (features,))."""
-        means, offsets = self._offsets(person, target)
+        means, _, offsets = self._offsets(person, target)
         if not len(offsets):
             return means[target]
         return means[target] + np.mean(offsets, axis=0)
 
-    def additive_views(self, person: int, target: int) -> np.ndarray:
+    def additive_views(self, person: int, target: int) -> tuple[np.ndarray, list[int]]:
         """The additive prediction from each of the person's other actions alone,
-        ``m_b + r_{p,a}``: shape (other actions, features), no rows when they have none."""
-        means, offsets = self._offsets(person, target)
-        return means[target] + offsets
+        ``m_b + r_{p,a}``: shape (other actions, features), no rows when the person
+        has none, and those actions (recognition compares a trial with each,
+        :meth:`CellMethod.templates`)."""
+        means, observed, offsets = self._offsets(person, target)
+        return means[target] + offsets, observed
 
-    def _offsets(self, person: int, target: int) -> tuple[np.ndarray, np.ndarray]:
-        """The means without the person and the person's offsets ``r_{p,a}`` from them."""
+    def _offsets(self, person: int, target: int) -> tuple[np.ndarray, list[int], np.ndarray]:
+        """The means without the person, their other actions, and their offsets ``r_{p,a}``
+        from the means in those."""
         means = self._means_without(person)
-        observed = [a for a in np.flatnonzero(self.observed_[person]) if a != target]
-        return means, self.data_[person, observed] - means[observed]
+        observed = [int(a) for a in np.flatnonzero(self.observed_[person]) if a != target]
+        return means, observed, self.data_[person, observed] - means[observed]

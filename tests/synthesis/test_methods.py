@@ -169,14 +169,24 @@ def test_recognition_distance_is_the_weighted_mean_absolute_difference(fitted):
     assert 20.0 / np.sqrt(data.shape[2]) > 2.0          # the outlier's RMS distance
 
 
+def _means_without(data, keep, person):
+    """Action means over the people other than ``person`` who have each action."""
+    others = [q for q in range(data.shape[0]) if q != person]
+    return np.array([data[[q for q in others if keep[q, a]], a].mean(axis=0)
+                     for a in range(data.shape[1])])
+
+
 @pytest.mark.parametrize("name", sorted(METHODS))
 def test_a_trial_is_as_near_as_the_persons_nearest_template(fitted, name):
     """For an action someone lacks (templates modelled from other actions), a person's
     templates are the method's template and the additive prediction from each of their
-    other actions alone, ``m_b + d_{p,a} − m_a`` (means over the other people), by hand;
-    the distance is to the nearest. A trial equal to one such view is at distance 0 from
-    its person although their template is not; for an action everyone captured, the
-    capture is the only template."""
+    other actions alone, ``m_b + d_{p,a} − m_a`` (means over the other people); each is
+    measured against its own spread — the method's, ``1 / √w``, or the view's, from the
+    donors' held-out view errors moderated alike — as
+    ``ŝ [mean |x − t| / s_t + mean log(s_t / s)]``, and the distance is to the nearest; all
+    by hand. A trial equal to one of person 3's views is recognised as person 3, through
+    that view rather than their template. For an action everyone captured, the capture is the only
+    template and the distance is the weighted mean absolute difference."""
     _, data, methods = fitted
     method = methods[name]
     keep = np.isfinite(data).all(axis=2)
@@ -184,27 +194,41 @@ def test_a_trial_is_as_near_as_the_persons_nearest_template(fitted, name):
     action = 2
     assert not keep[:, action].all()
     for person in (0, 1, 4):             # captured; the missing cell; one other action missing
-        others = [q for q in range(people) if q != person]
-        means = np.array([data[[q for q in others if keep[q, a]], a].mean(axis=0)
-                          for a in range(actions)])
-        views = [means[action] + data[person, a] - means[a] for a in range(actions)
-                 if a != action and keep[person, a]]
-        templates = method.templates(person, action)
+        means = _means_without(data, keep, person)
+        sources = [a for a in range(actions) if a != action and keep[person, a]]
+        templates, found = method.templates(person, action)
+        assert found == [None] + sources
         assert np.array_equal(templates[0], method.template(person, action))
-        assert np.allclose(templates[1:], views, rtol=1e-12, atol=1e-10)
-    trial = method.templates(3, action)[1]
-    scale = np.sqrt(recognition_weights(method, action) / recognition_weights(method,
-                                                                             action).mean())
+        assert np.allclose(templates[1:], [means[action] + data[person, a] - means[a]
+                                           for a in sources], rtol=1e-12, atol=1e-10)
+    donors = [q for q in range(people) if keep[q].all()]
+    spreads = {None: 1.0 / np.sqrt(recognition_weights(method, action))}
+    for a in range(actions):
+        if a != action:
+            errors = np.array([_means_without(data, keep, q)[action] + data[q, a]
+                               - _means_without(data, keep, q)[a] - data[q, action]
+                               for q in donors])
+            spreads[a] = np.sqrt(moderated_variances((errors ** 2).mean(axis=0),
+                                                     len(donors)))
+    unit = 1.0 / np.sqrt(np.mean(spreads[None] ** -2.0))
+
+    def by_hand(trial, person):
+        templates, sources = method.templates(person, action)
+        return min(unit * (np.mean(np.abs(trial - t) / spreads[source])
+                           + np.mean(np.log(spreads[source] / spreads[None])))
+                   for t, source in zip(templates, sources))
+
+    templates, sources = method.templates(3, action)
+    trial = templates[1]
     table = distances(method, trial[None], [action])
     for person in range(people):
-        by_hand = min(np.mean(np.abs(t - trial) * scale)
-                      for t in method.templates(person, action))
-        assert table[person, action] == pytest.approx(by_hand, rel=1e-12, abs=1e-12)
-    assert table[3, action] == pytest.approx(0.0, abs=1e-9)
-    assert np.mean(np.abs(method.template(3, action) - trial) * scale) > 0.1
+        assert table[person, action] == pytest.approx(by_hand(trial, person), rel=1e-10)
     assert np.nanargmin(table[:, action]) == 3
-    assert keep[:, 1].all() and all(np.array_equal(method.templates(p, 1), data[p, 1][None])
-                                    for p in range(people))
+    scale = np.sqrt(recognition_weights(method, action) / recognition_weights(method,
+                                                                             action).mean())
+    assert np.mean(np.abs(method.template(3, action) - trial) * scale) > table[3, action]
+    for p in range(people):
+        assert np.array_equal(method.templates(p, 1)[0], data[p, 1][None])
 
 
 @pytest.mark.parametrize("name", sorted(METHODS))
@@ -254,10 +278,18 @@ def test_score_scale_and_unknown_limit_by_hand(fitted):
         rest = np.delete(errors, k, axis=0)
         weights = 1.0 / moderated_variances((rest ** 2).mean(axis=0), rest.shape[0])
         scale = np.sqrt(weights / weights.mean())
-        # The nearest of the donor's held-out template and their single-action views.
-        by_hand.append(min([np.mean(np.abs(errors[k]) * scale)]
-                           + [np.mean(np.abs(view - captures[k]) * scale)
-                              for view in method.additive_views(donor, 2)]))
+        # The nearest of the donor's held-out template and their single-action views,
+        # each against the spread of the other donors' errors of its kind.
+        own = np.sqrt(moderated_variances((rest ** 2).mean(axis=0), rest.shape[0]))
+        views, sources = method.additive_views(donor, 2)
+        _, view_errors = method.view_errors(2)
+        candidates = [np.mean(np.abs(errors[k]) * scale)]
+        for view, e in zip(views, view_errors):
+            spread = np.sqrt(moderated_variances((np.delete(e, k, axis=0) ** 2).mean(axis=0),
+                                                 rest.shape[0]))
+            candidates.append(np.mean(np.abs(view - captures[k]) / spread + np.log(spread / own))
+                              / np.sqrt(np.mean(own ** -2.0)))
+        by_hand.append(min(candidates))
     assert np.allclose(held_out_distances(method, 2), by_hand, rtol=1e-12)
     assert match_scale(method, 2) == pytest.approx(np.median(by_hand), rel=1e-12)
     assert unknown_limit(method, 2) == pytest.approx(max(by_hand), rel=1e-12)
