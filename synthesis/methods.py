@@ -146,8 +146,18 @@ class CellMethod:
             (not self.observed_[person, action] or self.observed_[person].sum() > 1)
         if not modelled:
             return template, [None]
+        return self.beside_views(template[0], person, action)
+
+    def beside_views(self, template: np.ndarray, person: int, action: int
+                     ) -> tuple[np.ndarray, list[int | None]]:
+        """``template`` (features,) and, after it, the person's :meth:`additive_views` of
+        ``action`` that differ from it (a view that is the template itself — the main
+        effects of a person with one other action — is not a second template), with the
+        sources of :meth:`templates`."""
         views, sources = self.additive_views(person, action)
-        return np.concatenate([template, views]), [None] + sources
+        distinct = ~np.all(views == template, axis=1)
+        return np.concatenate([template[None], views[distinct]]), \
+            [None] + [a for a, kept in zip(sources, distinct) if kept]
 
     def additive_views(self, person: int, action: int) -> tuple[np.ndarray, list[int]]:
         """The additive prediction of cell (person, action) from each of the person's other

@@ -325,10 +325,8 @@ def _donor_distances(method: CellMethod, action: int) -> np.ndarray:
     if errors is None or found is None or errors.shape[0] < 3:
         return np.empty((0, 0))
     captures, templates = found
-    candidates = []
-    for q, template in zip(method.held_out_donors(action), templates):
-        views, sources = method.additive_views(q, action)
-        candidates.append((np.concatenate([template[None], views]), [None] + sources))
+    candidates = [method.beside_views(template, q, action)
+                  for q, template in zip(method.held_out_donors(action), templates)]
     found_views = method.view_errors(action)
     view_squares = {} if found_views is None else \
         {a: e ** 2 for a, e in zip(*found_views)}
