@@ -232,6 +232,37 @@ def test_a_trial_is_as_near_as_the_persons_nearest_template(fitted, name):
 
 
 @pytest.mark.parametrize("name", sorted(METHODS))
+def test_a_view_that_is_the_template_is_not_a_second_template(name):
+    """Two actions: a person with one other action whose template is their main effects has
+    one template (their one view is the same motion), in a trial's problem and in the
+    donors' problems; the person whose cell is missing keeps the view beside the synthesis
+    when the two differ."""
+    full, _ = cells(people=8)
+    data = full[:, :2].copy()
+    data[5, 1] = np.nan
+    method = make_method(name).fit(data)
+    single = 0
+    for person in range(8):
+        templates, sources = method.templates(person, 1)
+        if person == 5:
+            views, _ = method.additive_views(5, 1)
+            expected = [None] if np.array_equal(views[0], templates[0]) else [None, 0]
+            assert sources == expected
+        elif np.array_equal(templates[0], method.additive(person, 1)):
+            assert sources == [None] and templates.shape[0] == 1
+            single += 1
+        else:
+            assert sources == [None, 0]
+    # The interaction's templates of a person with one other action are their main effects.
+    assert single == (7 if name in ("interaction", "signature") else single)
+    captures, held_out = method.held_out_templates(1)
+    for q, template in zip(method.held_out_donors(1), held_out):
+        rows, sources = method.beside_views(template, q, 1)
+        if np.array_equal(template, method.additive(q, 1)):
+            assert sources == [None]
+
+
+@pytest.mark.parametrize("name", sorted(METHODS))
 def test_recognition_weights_are_the_inverse_moderated_variances(fitted, name):
     """Each method's recognition weights: the inverse of its leave-one-person-out variances
     moderated with as many degrees of freedom as it had donors."""
