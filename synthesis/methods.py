@@ -108,14 +108,17 @@ class CellMethod:
         everyone alike through a model, so the person never captured is not the only one
         seen through a prediction: a captured cell modelled from the person's other cells
         (their capture when they have no other; see the methods' ``_held_out``), a missing
-        one as :meth:`cell`.
+        one by the same kind of model (``_missing_template``: where the others are seen
+        through their main effects, so is the missing person — a synthesis shrunk toward the
+        action mean beside them drew 41–79 % of the other people's captures of pairs of
+        bandai2 actions; docs/synthesis.md, ninth round).
 
         Returns
         -------
         ndarray, shape (features,)
         """
         if not self.observed_[person, action]:
-            return self._missing(person, action)
+            return self._missing_template(person, action)
         if self.observed_[:, action].all():
             return self.data_[person, action]
         if self.observed_[person].sum() > 1:
@@ -251,6 +254,10 @@ class CellMethod:
     def _held_out(self, person: int, action: int) -> np.ndarray:
         raise NotImplementedError
 
+    def _missing_template(self, person: int, action: int) -> np.ndarray:
+        """A missing cell as :meth:`template` shows it: modelled like the captured ones."""
+        return self._missing(person, action)
+
     def _chosen(self, action: int):
         """What the method chose to predict ``action`` from all the other actions (an
         :class:`~synthesis.interaction.Interaction` or a
@@ -329,6 +336,12 @@ class InteractionMethod(CellMethod):
             return self.model_.additive(person, action)
         return self.model_.predict(person, action, self._chosen(action))[0]
 
+    def _missing_template(self, person: int, action: int) -> np.ndarray:
+        # As _held_out: a person with one other action is seen through their main effects.
+        if self.observed_[person].sum() <= 1:
+            return self.model_.additive(person, action)
+        return self._missing(person, action)
+
     def _chosen(self, action: int):
         return self.model_.interaction(action, self._others(action))
 
@@ -367,6 +380,8 @@ class SignatureMethod(InteractionMethod):
 
     def _held_out(self, person: int, action: int) -> np.ndarray:
         return self.model_.additive(person, action)
+
+    _missing_template = _held_out
 
     def _templates_are_main_effects(self, action: int) -> bool:
         return True

@@ -26,7 +26,8 @@ feminine): per-feature weights, top-1 92 % against 79 % for the plain distance t
 captures; the mean absolute distance, 100 % against 92 % (three takes) and 75 % against
 58–67 % on walk + run + wave; a person's main effects rather than the interaction's
 prediction as the template of a captured cell where they have one other action (the
-prediction shrinks toward the action mean there), pairs of actions 61 → 89 % on average;
+prediction shrinks toward the action mean there; the 61 → 89 % it gave pairs of actions was
+a hub, gone since the missing cell's template is modelled the same way: 71 % now);
 moderated variances instead of a fixed shrinkage toward their mean (0.1 of it), walk + run +
 wave 75 → 83 % (default) and 67 → 75 % (signature); the nearest of a person's templates
 rather than the model's alone, walk + run + wave 75 → 92 % (signature; default unchanged);

@@ -307,18 +307,34 @@ def test_walk_run_wave_recognises_nine_in_ten_with_either_method(corpus):
         assert result["recognition_top3"] >= result["recognition_accuracy"] >= 0.9, method
 
 
-def test_two_actions_still_recognise_people(manifest):
-    # Two actions, one take, whole trials: each person has one other action, so the
-    # interaction's prediction of their captured cells shrinks toward the action mean and
-    # would leave people alike (0 % of walks and waves recognised); templates from the
-    # person's main effects name 12 of the 14 (never used to choose anything).
+def test_two_actions_do_not_give_everyone_to_the_missing_person(manifest):
+    # Two actions, one take, whole trials: each person has one other action. The held-out
+    # person's template must be modelled like everyone else's (their main effects): their
+    # synthesis, shrunk toward the action mean, was nearer to every trial than anyone's own
+    # template and drew 93 % of the other people's captures, which made 93 % of the held-out
+    # cells look recognised. Now no more than chance of the others' captures go to them, and
+    # what is left is what a walk says about a wave: above chance, far from the target.
     entries = [e for e in read_manifest(manifest) if e.path.name.endswith("_001.bvh")
                and e.action in ("walk", "wave-both-hands")]
     corpus = read_corpus(entries, samples=50, cycles=False)
-    assert corpus.angles.shape[:2] == (7, 2) and corpus.observed.all()
-    result = leave_one_out(corpus).to_json()
-    assert result["recognition_top3"] >= result["recognition_accuracy"] >= 0.8
-    assert result["additive_rms_deg"] >= result["synthesis_rms_deg"]
+    people = len(corpus.people)
+    assert corpus.angles.shape[:2] == (people, 2) == (7, 2) and corpus.observed.all()
+    for method in ("interaction", "signature"):
+        result = leave_one_out(corpus, method=method).to_json()
+        assert result["recognition_top3"] > 3 / people
+        assert result["recognition_top3"] >= result["recognition_accuracy"] > 1 / people
+        assert result["additive_rms_deg"] >= result["synthesis_rms_deg"]
+        given = others = 0
+        for person, action in np.argwhere(corpus.observed):
+            model = MotionModel(method=method).fit(
+                corpus.without_cell(corpus.people[person], corpus.actions[action]), {})
+            for other in range(people):
+                if other != person:
+                    named = model.recognize(corpus.angles[other, action],
+                                            corpus.actions[action]).person
+                    given += named == corpus.people[person]
+                    others += 1
+        assert given / others <= 1 / people
 
 
 def test_hold_out_take_scores_unseen_takes(corpus):
