@@ -199,6 +199,29 @@ class CellMethod:
             return None
         return chosen.variance, chosen.residuals.shape[0]
 
+    def template_errors(self, action: int) -> np.ndarray | None:
+        """Held-out errors of the templates :meth:`template` models a captured cell of
+        ``action`` with (template − capture of each donor of :meth:`held_out_templates`, by a
+        model that never saw that donor): :meth:`held_out_errors` where the templates are
+        the method's predictions, the main effects' own errors where they are the person's
+        main effects — a template is measured against the spread of its own kind (docs/
+        synthesis.md, tenth round). Shape (donors, features); None when too few people."""
+        if not self._templates_are_main_effects(action):
+            return self.held_out_errors(action)
+        found = self.held_out_templates(action)
+        return None if found is None else found[1] - found[0]
+
+    def template_variance(self, action: int) -> tuple[np.ndarray, int] | None:
+        """Mean squared :meth:`template_errors` of each feature (shape (features,)) and the
+        number of donors it is averaged over (its degrees of freedom); None when too few
+        people. :meth:`feature_variance` where the templates are the method's predictions."""
+        if not self._templates_are_main_effects(action):
+            return self.feature_variance(action)
+        errors = self.template_errors(action)
+        if errors is None:
+            return None
+        return (errors ** 2).mean(axis=0), errors.shape[0]
+
     def held_out_errors(self, action: int) -> np.ndarray | None:
         """The leave-one-person-out errors behind :meth:`feature_variance`: each donor's
         held-out prediction of ``action`` minus their capture, shape (donors, features);

@@ -173,15 +173,16 @@ def _trigamma_inverse(value: float) -> float:
 
 def recognition_weights(method: CellMethod, action: int) -> np.ndarray | None:
     """Per-feature weights of recognition distances for one action: the inverse of each
-    feature's leave-one-person-out prediction variance, moderated across the features by
-    the number of donors it comes from (:func:`moderated_variances`); None when too few
+    feature's leave-one-person-out variance of the action's templates (their kind's own
+    held-out errors, :meth:`CellMethod.template_variance`), moderated across the features
+    by the number of donors it comes from (:func:`moderated_variances`); None when too few
     people give a variance.
 
     Returns
     -------
     ndarray, shape (features,), or None
     """
-    found = method.feature_variance(action)
+    found = method.template_variance(action)
     return None if found is None else _weights(*found)
 
 
@@ -247,7 +248,7 @@ def template_spreads(method: CellMethod, action: int) -> dict | None:
     """
     key = ("template_spreads", action)
     if key not in method.memo_:
-        found = method.feature_variance(action)
+        found = method.template_variance(action)
         views = method.view_errors(action)
         squares = {} if views is None else {a: e ** 2 for a, e in zip(*views)}
         method.memo_[key] = None if found is None else \
@@ -304,7 +305,7 @@ def donor_distances(method: CellMethod, action: int) -> np.ndarray:
     templates of it (:meth:`CellMethod.held_out_templates` and the donor's
     :meth:`CellMethod.additive_views`: modelled as recognition models a person, by a model
     that never saw that donor's capture), with the spreads of the *other* donors' errors
-    alone (:meth:`CellMethod.held_out_errors`, :meth:`CellMethod.view_errors`) — the
+    alone (:meth:`CellMethod.template_errors`, :meth:`CellMethod.view_errors`) — the
     spreads are fitted to these very errors, and a donor's own error measured by them would
     look nearer than a stranger's.
 
@@ -321,7 +322,7 @@ def donor_distances(method: CellMethod, action: int) -> np.ndarray:
 
 
 def _donor_distances(method: CellMethod, action: int) -> np.ndarray:
-    errors = method.held_out_errors(action)
+    errors = method.template_errors(action)
     found = method.held_out_templates(action)
     if errors is None or found is None or errors.shape[0] < 3:
         return np.empty((0, 0))

@@ -268,12 +268,41 @@ def test_recognition_weights_are_the_inverse_moderated_variances(fitted, name):
     moderated with as many degrees of freedom as it had donors."""
     _, data, methods = fitted
     method = methods[name]
-    variance, donors = method.feature_variance(0)
+    variance, donors = method.template_variance(0)
     assert donors >= 3
+    if name != "signature":             # templates are the method's own predictions
+        assert all(np.array_equal(a, b) for a, b in zip((variance, donors),
+                                                        method.feature_variance(0)))
     weights = recognition_weights(method, 0)
     assert np.allclose(weights, 1.0 / moderated_variances(variance, donors), rtol=1e-12)
     # Moderation pulls the variances together: the weights spread less than the raw inverse.
     assert np.ptp(np.log(weights)) < np.ptp(np.log(1.0 / variance))
+
+
+def test_main_effect_templates_are_measured_against_their_own_errors(fitted):
+    """Where recognition models a captured cell by the person's main effects (the signature,
+    always), its weights are the main effects' own held-out errors, by hand: each donor's
+    action mean plus their mean offset, the means formed without that donor."""
+    _, data, methods = fitted
+    method = methods["signature"]
+    keep = np.isfinite(data).all(axis=2)
+    action = 2
+    donors = method.held_out_donors(action)
+    errors = []
+    for q in donors:
+        pool = keep & (np.arange(len(data)) != q)[:, None]
+        means = np.array([data[pool[:, a], a].mean(axis=0) for a in range(data.shape[1])])
+        others = [a for a in range(data.shape[1]) if a != action and keep[q, a]]
+        predicted = means[action] + np.mean(data[q, others] - means[others], axis=0)
+        errors.append(predicted - data[q, action])
+    errors = np.array(errors)
+    assert np.allclose(method.template_errors(action), errors, atol=1e-9)
+    variance, dof = method.template_variance(action)
+    assert dof == len(donors) and np.allclose(variance, (errors ** 2).mean(axis=0))
+    assert np.allclose(recognition_weights(method, action),
+                       1.0 / moderated_variances(variance, dof), rtol=1e-12)
+    # Not the spread of the signature's own prediction, which is never a template here.
+    assert not np.allclose(variance, method.feature_variance(action)[0])
 
 
 @pytest.mark.parametrize("name", sorted(METHODS))
