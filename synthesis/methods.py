@@ -352,8 +352,9 @@ class InteractionMethod(CellMethod):
         # With one other action the interaction's correction acts on the person's offset
         # itself (a fixed shrink of it toward the action mean, or its projection on the
         # donors' offsets) and pulls people's templates together: their main effects there
-        # (m_a + the offset). Pairs of bandai2 actions 61 → 89 % top-1 on average
-        # (docs/synthesis.md, sixth round). With more, the configuration chosen for the
+        # (m_a + the offset). Pairs of bandai2 actions 61 → 71 % top-1 on average, 79 %
+        # against the main effects' own spread (docs/synthesis.md, sixth and tenth rounds;
+        # the 89 % the sixth round saw was a hub). With more, the configuration chosen for the
         # action from all the others (the one whose variances weight the distance).
         if self.observed_[person].sum() <= 2:
             return self.model_.additive(person, action)
