@@ -58,10 +58,12 @@ class CellMethod:
     def __init__(self) -> None:
         self.data_: np.ndarray | None = None
         self.observed_: np.ndarray | None = None
+        self.samples_: int | None = None
         self.signatures_: SignatureModel | None = None
         self.memo_: dict = {}
 
-    def fit(self, data: np.ndarray, signatures: SignatureModel | None = None) -> "CellMethod":
+    def fit(self, data: np.ndarray, signatures: SignatureModel | None = None,
+            samples: int | None = None) -> "CellMethod":
         """Fit to the cells.
 
         Parameters
@@ -71,6 +73,10 @@ class CellMethod:
         signatures : SignatureModel, optional
             The motion model's signature fit of the same data; a method may fall back on it
             where its own predictor has too few people.
+        samples : int, optional
+            Samples per cell where each cell is a curve flattened frame-major (features =
+            samples × columns): recognition then also compares a trial with the person's
+            posture in each other action (:meth:`additive_views`).
 
         Returns
         -------
@@ -79,6 +85,9 @@ class CellMethod:
         data = np.asarray(data, dtype=float)
         if data.ndim != 3:
             raise MocapError("method data must be people × actions × features")
+        if samples is not None and (samples < 2 or data.shape[2] % samples):
+            raise MocapError(f"{data.shape[2]} features are not curves of {samples} samples")
+        self.samples_ = samples
         self.data_, self.observed_ = data, np.isfinite(data).all(axis=2)
         self.signatures_ = signatures
         self.memo_ = {}
@@ -162,13 +171,35 @@ class CellMethod:
         return np.concatenate([template[None], views[distinct]]), \
             [None] + [a for a, kept in zip(sources, distinct) if kept]
 
-    def additive_views(self, person: int, action: int) -> tuple[np.ndarray, list[int]]:
+    def additive_views(self, person: int, action: int) -> tuple[np.ndarray, list]:
         """The additive prediction of cell (person, action) from each of the person's other
-        actions alone, ``m_b + d_{p,a} − m_a`` (means over the other people; shape (other
-        actions, features); an action nobody else has gives none), and those actions."""
+        actions alone, ``m_b + d_{p,a} − m_a`` (means over the other people; an action
+        nobody else has gives none), and those actions; where the cells are curves
+        (``samples``), then each one's **posture view** ``m_b + mean_t (d_{p,a} − m_a)``:
+        the person's offset in that action averaged over the cycle, the part of a style
+        that carries from one action to an unlike one (a stoop shows in a walk and in a
+        wave alike; the time course of a walk says nothing about a wave's). Chosen on the
+        design split (docs/synthesis.md, tenth round).
+
+        Returns
+        -------
+        views : ndarray, shape (views, features)
+        sources : list
+            The action each view is predicted from; ``("posture", a)`` for a posture view.
+        """
         views, sources = self._additive_model.additive_views(person, action)
         keep = np.isfinite(views).all(axis=1)
-        return views[keep], [a for a, kept in zip(sources, keep) if kept]
+        views, sources = views[keep], [a for a, kept in zip(sources, keep) if kept]
+        if self.samples_ is None or not len(sources):
+            return views, sources
+        others = self.observed_[:, action].copy()
+        others[person] = False
+        mean = self.data_[others, action].mean(axis=0)
+        offsets = (views - mean).reshape(len(sources), self.samples_, -1)
+        postures = mean + np.broadcast_to(offsets.mean(axis=1, keepdims=True),
+                                          offsets.shape).reshape(len(sources), -1)
+        return np.concatenate([views, postures]), \
+            sources + [("posture", a) for a in sources]
 
     def view_errors(self, action: int) -> tuple[list[int], np.ndarray] | None:
         """Held-out errors of the single-action views of the donors of

@@ -166,7 +166,8 @@ class MotionModel:
             Log duration (and the mid-cycle phase).
         root : ndarray, shape (people, actions, samples · 4), optional
         """
-        self.cells_ = make_method(self.method_).fit(angles, self.angle_model_)
+        self.cells_ = make_method(self.method_).fit(angles, self.angle_model_,
+                                                    samples=self.samples or None)
         self.timing_cells_ = make_method(self.method_).fit(timing, self.timing_model_)
         self.timing_transfer_ = TransferModel().fit(timing)
         self.root_transfer_ = None if root is None else TransferModel().fit(root)

@@ -409,3 +409,50 @@ def test_additive_errors_and_held_out_comparison_by_hand():
     robust = held_out_by_action(np.array([0, 0, 0]), np.array([1.0, 4.0, 100.0]),
                                 np.array([9.0, 9.0, 9.0]), 1, robust=True)
     assert np.allclose(robust[:, 0], [2.0, 3.0, 2 / 3, 3])
+
+
+def test_posture_views_are_the_offsets_averaged_over_the_cycle():
+    """With curves of ``samples`` frames, each single-action view comes with its posture view:
+    the action mean (over the other people) plus the view's offset from it averaged over the
+    cycle, by hand; without ``samples`` there are none."""
+    _, data = cells(features=30)
+    samples = 10
+    method = make_method("interaction").fit(data, samples=samples)
+    plain = make_method("interaction").fit(data)
+    person, action = 0, 2
+    views, sources = method.additive_views(person, action)
+    alone, alone_sources = plain.additive_views(person, action)
+    count = len(alone_sources)
+    assert count == 3 and sources == alone_sources + [("posture", a) for a in alone_sources]
+    assert np.array_equal(views[:count], alone)
+    keep = np.isfinite(data).all(axis=2)
+    others = keep[:, action] & (np.arange(len(data)) != person)
+    mean = data[others, action].mean(axis=0).reshape(samples, -1)
+    for view, posture in zip(alone, views[count:]):
+        offset = (view.reshape(samples, -1) - mean).mean(axis=0)
+        assert np.allclose(posture.reshape(samples, -1), mean + offset, atol=1e-12)
+    with pytest.raises(MocapError, match="not curves of 7 samples"):
+        make_method("interaction").fit(data, samples=7)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_style_that_is_a_posture_is_recognised_in_an_action_never_seen(seed):
+    """People who differ by a posture held in every action (sd 2°) under a time course of
+    their own in each action (sd 6° per frame, zero mean over the cycle): the course of one
+    action says nothing about another's, the posture does. Every cell held out in turn and
+    recognised among the eight people: with posture views 22–24 of 24, without 7–16."""
+    rng = np.random.default_rng(seed)
+    people, actions, samples, columns = 8, 3, 20, 6
+    course = rng.normal(0, 6, (people, actions, samples, columns))
+    course -= course.mean(axis=2, keepdims=True)
+    data = (rng.normal(0, 10, (1, actions, samples, columns))
+            + rng.normal(0, 2, (people, 1, 1, columns)) + course).reshape(people, actions, -1)
+    named = {None: 0, samples: 0}
+    for p in range(people):
+        for b in range(actions):
+            held = data.copy()
+            held[p, b] = np.nan
+            for count in named:
+                method = make_method("interaction").fit(held, samples=count)
+                named[count] += int(np.argmin(distances(method, data[p, b][None], [b])[:, b]) == p)
+    assert named[samples] >= 0.9 * people * actions > named[None]
