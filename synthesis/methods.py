@@ -120,7 +120,7 @@ class CellMethod:
         one by the same kind of model (``_missing_template``: where the others are seen
         through their main effects, so is the missing person — a synthesis shrunk toward the
         action mean beside them drew 41–79 % of the other people's captures of pairs of
-        bandai2 actions; docs/synthesis.md, ninth round).
+        bandai2 actions; docs/synthesis.md, tenth round).
 
         Returns
         -------
@@ -151,7 +151,8 @@ class CellMethod:
         -------
         templates : ndarray, shape (templates, features)
         sources : list
-            None for the :meth:`template`, then the action each view is predicted from.
+            None for the :meth:`template`, then the action each view is predicted from
+            (``("posture", a)`` for a posture view, :meth:`additive_views`).
         """
         template = self.template(person, action)[None]
         modelled = not self.observed_[:, action].all() and \
@@ -201,7 +202,7 @@ class CellMethod:
         return np.concatenate([views, postures]), \
             sources + [("posture", a) for a in sources]
 
-    def view_errors(self, action: int) -> tuple[list[int], np.ndarray] | None:
+    def view_errors(self, action: int) -> tuple[list, np.ndarray] | None:
         """Held-out errors of the single-action views of the donors of
         :meth:`held_out_errors` (view − capture; each view formed without the donor, so held
         out exactly): the actions they are predicted from and the errors, shape (those

@@ -31,7 +31,9 @@ a hub, gone since the missing cell's template is modelled the same way: 71 % now
 moderated variances instead of a fixed shrinkage toward their mean (0.1 of it), walk + run +
 wave 75 → 83 % (default) and 67 → 75 % (signature); the nearest of a person's templates
 rather than the model's alone, walk + run + wave 75 → 92 % (signature; default unchanged);
-each template against its own spread, its take 001 83 → 92 % (both methods).
+each template against its own spread, its take 001 83 → 92 % (both methods); beside each
+single-action view its posture (the offset averaged over the cycle), walk + run + wave
+83 → 100 % and pairs of whole trials 51 → 63 % (default; docs/synthesis.md, tenth round).
 """
 from __future__ import annotations
 
