@@ -195,22 +195,16 @@ class InteractionModel:
 
     def additive(self, person: int, target: int) -> np.ndarray:
         """The additive prediction ``m_b + mean_a (d_{p,a} − m_a)`` (shape (features,))."""
-        means, _, offsets = self._offsets(person, target)
+        means, _, offsets = self.offsets(person, target)
         if not len(offsets):
             return means[target]
         return means[target] + np.mean(offsets, axis=0)
 
-    def additive_views(self, person: int, target: int) -> tuple[np.ndarray, list[int]]:
-        """The additive prediction from each of the person's other actions alone,
-        ``m_b + d_{p,a} − m_a``: shape (other actions, features), no rows when the person
-        has none, and those actions (recognition compares a trial with each,
-        :meth:`CellMethod.templates`)."""
-        means, observed, offsets = self._offsets(person, target)
-        return means[target] + offsets, observed
-
-    def _offsets(self, person: int, target: int) -> tuple[np.ndarray, list[int], np.ndarray]:
+    def offsets(self, person: int, target: int) -> tuple[np.ndarray, list[int], np.ndarray]:
         """The means without the person (actions, features), the person's other actions,
-        and their offsets from the means in those (other actions, features)."""
+        and their offsets from the means in those (other actions, features): the additive
+        prediction's parts (recognition's single-action views,
+        :meth:`CellMethod.additive_views`)."""
         means = self._means(person)
         observed = list(self._observed_actions(person, target, means))
         return means, observed, self.data_[person, observed] - means[observed]

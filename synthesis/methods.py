@@ -188,17 +188,16 @@ class CellMethod:
         sources : list
             The action each view is predicted from; ``("posture", a)`` for a posture view.
         """
-        views, sources = self._additive_model.additive_views(person, action)
+        means, sources, offsets = self._additive_model.offsets(person, action)
+        views = means[action] + offsets
         keep = np.isfinite(views).all(axis=1)
-        views, sources = views[keep], [a for a, kept in zip(sources, keep) if kept]
+        views, offsets = views[keep], offsets[keep]
+        sources = [a for a, kept in zip(sources, keep) if kept]
         if self.samples_ is None or not len(sources):
             return views, sources
-        others = self.observed_[:, action].copy()
-        others[person] = False
-        mean = self.data_[others, action].mean(axis=0)
-        offsets = (views - mean).reshape(len(sources), self.samples_, -1)
-        postures = mean + np.broadcast_to(offsets.mean(axis=1, keepdims=True),
-                                          offsets.shape).reshape(len(sources), -1)
+        curves = offsets.reshape(len(sources), self.samples_, -1)
+        postures = means[action] + np.broadcast_to(curves.mean(axis=1, keepdims=True),
+                                                   curves.shape).reshape(len(sources), -1)
         return np.concatenate([views, postures]), \
             sources + [("posture", a) for a in sources]
 
@@ -206,7 +205,14 @@ class CellMethod:
         """Held-out errors of the single-action views of the donors of
         :meth:`held_out_errors` (view − capture; each view formed without the donor, so held
         out exactly): the actions they are predicted from and the errors, shape (those
-        actions, donors, features); None when too few people."""
+        actions, donors, features); None when too few people. Computed once per fit
+        (recognition's spreads and the donors' problems both ask)."""
+        key = ("view_errors", action)
+        if key not in self.memo_:
+            self.memo_[key] = self._view_errors(action)
+        return self.memo_[key]
+
+    def _view_errors(self, action: int) -> tuple[list, np.ndarray] | None:
         if self.held_out_errors(action) is None:
             return None
         donors = self.held_out_donors(action)

@@ -176,22 +176,15 @@ class TransferModel:
 
     def additive(self, person: int, target: int) -> np.ndarray:
         """The additive prediction ``m_b + mean_a r_{p,a}`` (shape (features,))."""
-        means, _, offsets = self._offsets(person, target)
+        means, _, offsets = self.offsets(person, target)
         if not len(offsets):
             return means[target]
         return means[target] + np.mean(offsets, axis=0)
 
-    def additive_views(self, person: int, target: int) -> tuple[np.ndarray, list[int]]:
-        """The additive prediction from each of the person's other actions alone,
-        ``m_b + r_{p,a}``: shape (other actions, features), no rows when the person
-        has none, and those actions (recognition compares a trial with each,
-        :meth:`CellMethod.templates`)."""
-        means, observed, offsets = self._offsets(person, target)
-        return means[target] + offsets, observed
-
-    def _offsets(self, person: int, target: int) -> tuple[np.ndarray, list[int], np.ndarray]:
+    def offsets(self, person: int, target: int) -> tuple[np.ndarray, list[int], np.ndarray]:
         """The means without the person, their other actions, and their offsets ``r_{p,a}``
-        from the means in those."""
+        from the means in those: the additive prediction's parts (recognition's
+        single-action views, :meth:`CellMethod.additive_views`)."""
         means = self._means_without(person)
         observed = [int(a) for a in np.flatnonzero(self.observed_[person]) if a != target]
         return means, observed, self.data_[person, observed] - means[observed]
