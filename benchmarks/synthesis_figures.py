@@ -34,6 +34,10 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from synthesis.corpus import read_manifest  # noqa: E402
+
 REALDATA = ROOT.parent / "shared" / "realdata"
 METHODS = ("interaction", "signature", "transfer")
 DESIGN = ("active", "elderly", "exhausted", "feminine")
@@ -44,16 +48,13 @@ WAVES = "walk,run,wave-both-hands"
 
 def bandai_manifest(realdata: Path, folder: Path, take: str | None) -> Path:
     """bandai2's manifest with absolute paths, one take only when ``take`` is given."""
-    source = realdata / "bandai2" / "manifest.csv"
     out = folder / f"bandai2_{take or 'all'}.csv"
-    with open(source, newline="") as handle, open(out, "w", newline="") as target:
-        rows = list(csv.DictReader(handle))
-        writer = csv.DictWriter(target, fieldnames=["path", "person", "action"])
-        writer.writeheader()
-        for row in rows:
-            if take is None or Path(row["path"]).stem.endswith(f"_{take}"):
-                writer.writerow({"path": str((source.parent / row["path"]).resolve()),
-                                 "person": row["person"], "action": row["action"]})
+    with open(out, "w", newline="") as target:
+        writer = csv.writer(target)
+        writer.writerow(["path", "person", "action"])
+        for entry in read_manifest(realdata / "bandai2" / "manifest.csv"):
+            if take is None or entry.path.stem.endswith(f"_{take}"):
+                writer.writerow([str(entry.path.resolve()), entry.person, entry.action])
     return out
 
 
