@@ -2,8 +2,10 @@
 
 :class:`synthesis.interaction.InteractionModel` scores these on the same leave-one-donor-out
 folds: the action mode (the person basis, :func:`action_weight_grid`) and the people mode (the
-signature, :func:`people_candidates`), every rank and every ridge of :data:`ALPHAS` at once.
-Rank 0 of either is the additive model.
+signature, :func:`people_candidates`), every rank and every ridge of :data:`ALPHAS` at once,
+and the ridge map across actions (:func:`regression_candidates`, the weights of
+:class:`synthesis.transfer.TransferModel`). Rank 0 of either mode, and the map at an infinite
+ridge, are the additive model.
 """
 from __future__ import annotations
 
@@ -13,6 +15,70 @@ import numpy as np
 ALPHAS = (0.0, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0)
 #: Largest people rank tried (every leave-one-out fold must reach it).
 MAX_PEOPLE_RANK = 12
+
+
+def regression_weights(gram: np.ndarray, cross: np.ndarray, alpha: float) -> np.ndarray:
+    """Weights of the observed offsets in the ridge map ``Σ_a w_a x_a``, shrunk toward the
+    additive weights ``1/m``.
+
+    Solves ``(G + λ I) w = c + λ 1/m`` with ``λ = α · trace(G)/m`` (dimensionless ``α``;
+    ``inf`` gives ``1/m``, the additive model).
+
+    Parameters
+    ----------
+    gram : ndarray, shape (m, m)
+        ``Σ_q X_qᵀ X_q`` over the training people, ``X_q`` (features, m) their observed offsets.
+    cross : ndarray, shape (m,)
+        ``Σ_q X_qᵀ y_q``, ``y_q`` their target offset.
+    alpha : float
+
+    Returns
+    -------
+    ndarray, shape (m,)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> regression_weights(np.array([[4.0]]), np.array([2.0]), 0.0).round(9).tolist()
+    [0.5]
+    >>> regression_weights(np.array([[4.0]]), np.array([2.0]), float("inf")).tolist()
+    [1.0]
+    """
+    count = gram.shape[0]
+    uniform = np.full(count, 1.0 / count)
+    if not np.isfinite(alpha):
+        return uniform
+    strength = alpha * np.trace(gram) / count + 1e-12 * max(np.trace(gram), 1.0)
+    return np.linalg.solve(gram + strength * np.eye(count), cross + strength * uniform)
+
+
+def regression_candidates(training: np.ndarray, x: np.ndarray) -> tuple[list, np.ndarray]:
+    """Ridge-map predictions of people's target offset, for every ridge of :data:`ALPHAS`.
+
+    The map is the action transfer's (:class:`synthesis.transfer.TransferModel`): one weight
+    per observed action, shared by every feature, fitted by least squares on the training
+    donors' offsets and shrunk toward the additive weights ``1/m``
+    (:func:`regression_weights`). Unlike the action mode it needs no second observed action:
+    with one, it is the donors' regression of the target offset on the observed one — how
+    much of a person's offset in a walk carries into their wave.
+
+    Parameters
+    ----------
+    training : ndarray, shape (Q, m + 1, F)
+        Offsets of the training donors (observed actions, then the target).
+    x : ndarray, shape (n, m, F)
+        Offsets of n predicted people.
+
+    Returns
+    -------
+    labels : list of ("regression", m, alpha)
+    predictions : ndarray, shape (n, len(ALPHAS), F)
+    """
+    m = x.shape[1]
+    gram = np.einsum("qaf,qbf->ab", training[:, :m], training[:, :m])
+    cross = np.einsum("qaf,qf->a", training[:, :m], training[:, m])
+    weights = np.stack([regression_weights(gram, cross, alpha) for alpha in ALPHAS])
+    return [("regression", m, alpha) for alpha in ALPHAS], np.einsum("km,nmf->nkf", weights, x)
 
 
 def action_weights(vectors: np.ndarray, alpha: float) -> np.ndarray:

@@ -31,7 +31,14 @@ ridge ``λ`` are chosen by leave-one-donor-out *inside the training donors*: eac
 predicted from a decomposition of the others, and the (rank, ridge) with the lowest total
 squared error is kept, rank 0 included — so the model departs from the additive one only as
 far as held-out donors reward it. ``mode="both"`` lets the same leave-one-donor-out choose the
-mode as well. Choosing the best of many configurations on a few donors is optimistic, so the
+mode as well, and adds a third candidate, the **ridge map across actions**
+``d̂_{p,b} = m_b + Σ_{a∈O} w_a x_{p,a}`` (one weight per observed action, shared by the
+features, fitted to the donors' offsets and shrunk toward ``1/|O|``:
+:func:`synthesis.candidates.regression_candidates`), which says how much of an offset carries
+from one action to another — what a wave keeps of a walk's (eleventh round of
+docs/synthesis.md: walk + run + wave 0.971 → 0.949 of the additive error on the design styles,
+0.946 → 0.918 on the report styles). With one observed action it replaces the action mode,
+which has no person basis to fit there. Choosing the best of many configurations on a few donors is optimistic, so the
 choice is itself held out (:data:`NESTED`): each donor is predicted with the configuration the
 other donors alone would have chosen, and the additive model stays unless that nested error
 is :data:`MARGIN` below the additive one. With ``shrink=True`` (the signature method) the
@@ -55,7 +62,7 @@ import numpy as np
 
 from mocap.errors import MocapError
 from synthesis.candidates import (ALPHAS, MAX_PEOPLE_RANK, action_weight_grid,  # noqa: F401
-                                 action_weights, people_candidates)
+                                 action_weights, people_candidates, regression_candidates)
 
 #: Donors needed before the interaction is decomposed (fewer: the additive model); 3 rather
 #: than 4 on the design split (four-style bandai2 corpora: 0.68 against 1.00 of the additive
@@ -88,9 +95,11 @@ class Interaction:
     Attributes
     ----------
     mode : str
-        ``"actions"``, ``"people"`` or ``"additive"`` (rank 0).
+        ``"actions"``, ``"people"``, ``"regression"`` (the ridge map across actions) or
+        ``"additive"`` (rank 0).
     rank : int
-        Rank of the interaction kept (0 = additive model).
+        Rank of the interaction kept (0 = additive model; the number of observed actions for
+        the ridge map).
     alpha : float
         Relative ridge.
     loo_rms, additive_loo_rms : float
@@ -259,11 +268,18 @@ class InteractionModel:
         if self.max_rank == 0:
             return labels, blocks[0][0] if single else blocks[0]
         centred = training - training.mean(axis=1, keepdims=True)             # E (Q, m+1, F)
-        if self.mode in ("actions", "both"):
+        # With one observed action the action mode has no person basis to fit (its only
+        # weight, 1/3, is the pseudo-inverse's minimum norm, not the data's); the ridge map
+        # takes its place there in mode "both".
+        if self.mode == "actions" or self.mode == "both" and m >= 2:
             _, vectors = np.linalg.eigh(np.einsum("qaf,qbf->ab", centred, centred))
             weights = action_weight_grid(vectors[:, ::-1][:, :m])              # (m, alphas, m)
             labels += [("actions", rank + 1, alpha) for rank in range(m) for alpha in ALPHAS]
             blocks.append((weights.reshape(-1, m) @ x))                       # (n, R·A, F)
+        if self.mode == "both":
+            regression_labels, predictions = regression_candidates(training, x)
+            labels += regression_labels
+            blocks.append(predictions)
         if self.mode in ("people", "both"):
             # One observed action cannot tell an offset from a signature: there the people
             # mode decomposes the offsets themselves (Vasilescu's uncentred signature).

@@ -7,9 +7,10 @@ evaluate --method NAME`` picks one from :data:`METHODS`:
 
 ``interaction`` (default, also ``auto``)
     The additive model (action mean + the person's offset) corrected by the N-mode SVD of the
-    person × action interaction, mode (action basis or people signature), rank and ridge
-    chosen by leave-one-donor-out inside the training people; rank 0 is the additive model
-    (:class:`synthesis.interaction.InteractionModel`, ``mode="both"``).
+    person × action interaction or by a ridge map across actions, mode (action basis, people
+    signature or map), rank and ridge chosen by leave-one-donor-out inside the training
+    people; rank 0 is the additive model (:class:`synthesis.interaction.InteractionModel`,
+    ``mode="both"``).
 ``signature``
     The same with the people mode only, shrunk toward the additive prediction: the N-mode
     SVD signature model.
@@ -371,8 +372,11 @@ class InteractionMethod(CellMethod):
             return "the action's mean (the person has no other action)"
         if not np.isfinite(chosen.loo_rms):
             return "the additive model (too few donors)"
-        return "the additive model" if not chosen.rank else \
-            f"{chosen.mode} mode, rank {chosen.rank}"
+        if not chosen.rank:
+            return "the additive model"
+        if chosen.mode == "regression":
+            return "the ridge map across actions"
+        return f"{chosen.mode} mode, rank {chosen.rank}"
 
     def _signatures_beat_the_additive_model(self, action: int) -> bool:
         """Whether the signature model passes, on its own held-out cells of ``action``, the

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mocap.errors import MocapError
+from synthesis.candidates import regression_weights
 
 #: Relative ridge strengths tried by leave-one-person-out (inf = additive model).
 ALPHAS = (0.0, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0, float("inf"))
@@ -46,15 +47,6 @@ class Transfer:
     loo_rms: float
     variance: np.ndarray
     residuals: np.ndarray | None = field(default=None, repr=False)
-
-
-def _solve(gram: np.ndarray, cross: np.ndarray, alpha: float) -> np.ndarray:
-    count = gram.shape[0]
-    uniform = np.full(count, 1.0 / count)
-    if not np.isfinite(alpha):
-        return uniform
-    strength = alpha * np.trace(gram) / count + 1e-12 * max(np.trace(gram), 1.0)
-    return np.linalg.solve(gram + strength * np.eye(count), cross + strength * uniform)
 
 
 @dataclass
@@ -125,14 +117,14 @@ class TransferModel:
             residuals = []
             for k in range(len(donors)):
                 others = np.arange(len(donors)) != k
-                weights = _solve(grams[others].sum(0), crosses[others].sum(0), alpha)
+                weights = regression_weights(grams[others].sum(0), crosses[others].sum(0), alpha)
                 residuals.append(outputs[k] - inputs[k] @ weights)
             residuals = np.stack(residuals)
             error = float(np.mean(residuals ** 2))
             if best is None or error < best[0] - 1e-12:
                 best = (error, alpha, residuals)
         error, alpha, residuals = best
-        weights = _solve(grams.sum(0), crosses.sum(0), alpha)
+        weights = regression_weights(grams.sum(0), crosses.sum(0), alpha)
         result = Transfer(weights, alpha, float(np.sqrt(error)), np.mean(residuals ** 2, axis=0),
                           residuals)
         self._cache[key] = result

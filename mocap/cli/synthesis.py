@@ -127,9 +127,10 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
                         default="auto",
                         help="synthesis of a missing cell: interaction (the additive model, "
                              "action mean + the person's offset, corrected by the N-mode SVD "
-                             "of the person x action interaction, mode, rank and ridge chosen "
-                             "by leave-one-out; rank 0 is the additive model), signature (the "
-                             "same with the people mode only), transfer (the older action "
+                             "of the person x action interaction or by a ridge map across "
+                             "actions, mode, rank and ridge chosen by leave-one-out; rank 0 "
+                             "is the additive model), signature (the N-mode SVD's "
+                             "people mode only), transfer (the older action "
                              "transfer), or auto (= interaction; default)")
 
 
@@ -242,10 +243,11 @@ def decompose(args: argparse.Namespace) -> int:
         print("  missing cells are synthesised by action transfer (the person's other actions "
               "through a map learned across people); blends and new people by signatures")
     for action, chosen in summary.get("interaction", {}).items():
+        kind = "the ridge map across actions" if chosen["mode"] == "regression" \
+            else f"{chosen['mode']} mode, rank {chosen['rank']}"
         gain = "the additive model (no interaction earned its place)" if not chosen["rank"] \
-            else (f"{chosen['mode']} mode, rank {chosen['rank']}: leave-one-out "
-                  f"{chosen['loo_rms']:.2f} against the additive model's "
-                  f"{chosen['additive_loo_rms']:.2f}")
+            else (f"{kind}: leave-one-out {chosen['loo_rms']:.2f} against the additive "
+                  f"model's {chosen['additive_loo_rms']:.2f}")
         print(f"  {action} from the other actions: {gain}")
     loo = summary["loo_rms_deg"]
     caveat = " (optimistic: imputed cells saw everyone; use 'mocap evaluate')" \

@@ -111,6 +111,36 @@ def test_an_action_mode_interaction_is_found_and_used(mode):
     assert max(errors) < 0.2 * min(additive)
 
 
+@pytest.mark.parametrize("actions", [2, 4])
+def test_a_fraction_of_the_offset_that_carries_is_found_by_the_ridge_map(actions):
+    """Cells ``μ_a + z_p`` in the observed actions and ``μ_b + ½ z_p`` in the target: half of a
+    person's offset carries. The offsets are formed from means without the person, and the
+    target offset is still exactly half the observed ones' mean, so the ridge map across
+    actions (weights ``1/(2m)``, from the donors alone) predicts the held-out cell exactly —
+    the additive model is ``½ z`` off and no action-mode or people-mode rank is exact — and the
+    default's selection picks it; with one observed action it stands where the action mode
+    has no person basis."""
+    rng = np.random.default_rng(5)
+    people, features = 9, 60
+    offsets = rng.normal(0, 5, (people, 1, features))
+    carried = np.r_[np.ones(actions - 1), 0.5]
+    data = rng.normal(0, 10, (1, actions, features)) + carried[None, :, None] * offsets
+    for person in (0, 4, 8):
+        masked = data.copy()
+        masked[person, -1] = np.nan
+        model = InteractionModel("both").fit(masked)
+        prediction, chosen = model.predict(person, actions - 1)
+        assert (chosen.mode, chosen.rank, chosen.alpha) == ("regression", actions - 1, 0.0)
+        truth = data[person, -1]
+        assert np.abs(prediction - truth).max() < 1e-9 * np.abs(data).max()
+        additive = model.additive(person, actions - 1)
+        assert np.sqrt(np.mean((additive - truth) ** 2)) > 1.0
+        if actions == 2:     # no action-mode candidate where one action is observed
+            cells, sums, counts = model._donors(actions - 1, (0,), person)
+            labels, _, _ = model._folds(cells, sums, counts, 1, features)
+            assert not [label for label in labels if label[0] == "actions"]
+
+
 def test_a_person_beyond_the_donors_range_keeps_the_additive_prediction():
     """Two actions, people whose offsets in one say little about the other (the donors teach
     a shrink toward the mean), and one person whose every cell carries a persistent offset
