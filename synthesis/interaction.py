@@ -38,8 +38,10 @@ features, fitted to the donors' offsets and shrunk toward ``1/|O|``:
 from one action to another — what a wave keeps of a walk's (eleventh round of
 docs/synthesis.md: walk + run + wave 0.971 → 0.949 of the additive error on the design styles,
 0.946 → 0.918 on the report styles). With one observed action it replaces the action mode,
-which has no person basis to fit there. Choosing the best of many configurations on a few donors is optimistic, so the
-choice is itself held out (:data:`NESTED`): each donor is predicted with the configuration the
+which has no person basis to fit there.
+
+Choosing the best of many configurations on a few donors is optimistic, so the choice is
+itself held out (:data:`NESTED`): each donor is predicted with the configuration the
 other donors alone would have chosen, and the additive model stays unless that nested error
 is :data:`MARGIN` below the additive one. With ``shrink=True`` (the signature method) the
 correction is moreover scaled by the fraction κ of it that the donors' nested held-out
@@ -47,12 +49,13 @@ residuals favour (:func:`shrinkage`), each donor scored with the κ of the other
 leave-one-donor-out residuals of the chosen configuration also give each
 feature's prediction variance (used to weight recognition distances).
 
-With one observed action the correction acts on the person's offset itself (a fixed
-shrink in the action mode, the offset's projection on the donors' in the people mode), and
+With one observed action the correction acts on the person's offset itself (a shrink of it
+by the ridge map, its projection on the donors' offsets in the people mode), and
 nothing in the person's own cells can check it: it is applied only to a person inside the
 donors' range (:data:`RANGE_GUARD`, :meth:`InteractionModel.outside_donors`); a person whose
 offset reaches further outside the donors' span than any donor's reaches outside the others'
-gets the additive prediction. The candidates' predictions themselves are in :mod:`synthesis.candidates`.
+gets the additive prediction. The candidates' predictions themselves are in
+:mod:`synthesis.candidates`.
 """
 from __future__ import annotations
 

@@ -392,7 +392,7 @@ class InteractionMethod(CellMethod):
 
     def _held_out(self, person: int, action: int) -> np.ndarray:
         # With one other action the interaction's correction acts on the person's offset
-        # itself (a fixed shrink of it toward the action mean, or its projection on the
+        # itself (a shrink of it toward the action mean by the ridge map, or its projection on the
         # donors' offsets) and pulls people's templates together: their main effects there
         # (m_a + the offset). Pairs of bandai2 actions 61 → 71 % top-1 on average, 79 %
         # against the main effects' own spread (docs/synthesis.md, sixth and tenth rounds;
