@@ -456,3 +456,21 @@ def test_a_style_that_is_a_posture_is_recognised_in_an_action_never_seen(seed):
                 method = make_method("interaction").fit(held, samples=count)
                 named[count] += int(np.argmin(distances(method, data[p, b][None], [b])[:, b]) == p)
     assert named[samples] >= 0.9 * people * actions > named[None]
+
+
+def test_the_default_fills_a_cell_by_the_ridge_map_where_a_fraction_of_the_offset_carries():
+    """Half of every person's offset carries from the two other actions into the third: the
+    default (its selection includes the ridge map across actions) fills the missing cell
+    exactly and says what filled it; the signature (the people mode only) and the additive
+    model do not reach it."""
+    rng = np.random.default_rng(11)
+    offsets = rng.normal(0, 5, (8, 1, 40))
+    data = rng.normal(0, 10, (1, 3, 40)) + np.array([1.0, 1.0, 0.5])[None, :, None] * offsets
+    masked = data.copy()
+    masked[2, 2] = np.nan
+    default = make_method("auto").fit(masked)
+    assert default.filled_by(2, 2) == "the ridge map across actions"
+    assert np.abs(default.cell(2, 2) - data[2, 2]).max() < 1e-9 * np.abs(data).max()
+    additive = np.sqrt(np.mean((default.additive(2, 2) - data[2, 2]) ** 2))
+    signature = make_method("signature").fit(masked)
+    assert np.sqrt(np.mean((signature.cell(2, 2) - data[2, 2]) ** 2)) > 0.1 * additive > 0.1
