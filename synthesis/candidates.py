@@ -74,11 +74,28 @@ def regression_candidates(training: np.ndarray, x: np.ndarray) -> tuple[list, np
     labels : list of ("regression", m, alpha)
     predictions : ndarray, shape (n, len(ALPHAS), F)
     """
-    m = x.shape[1]
+    weights = map_weights(training, ALPHAS)
+    return [("regression", x.shape[1], alpha) for alpha in ALPHAS], \
+        np.einsum("km,nmf->nkf", weights, x)
+
+
+def map_weights(training: np.ndarray, alphas) -> np.ndarray:
+    """The ridge map's weights fitted to the training donors, one row per ridge.
+
+    Parameters
+    ----------
+    training : ndarray, shape (Q, m + 1, F)
+        Offsets of the training donors (observed actions, then the target).
+    alphas : sequence of float
+
+    Returns
+    -------
+    ndarray, shape (len(alphas), m)
+    """
+    m = training.shape[1] - 1
     gram = np.einsum("qaf,qbf->ab", training[:, :m], training[:, :m])
     cross = np.einsum("qaf,qf->a", training[:, :m], training[:, m])
-    weights = np.stack([regression_weights(gram, cross, alpha) for alpha in ALPHAS])
-    return [("regression", m, alpha) for alpha in ALPHAS], np.einsum("km,nmf->nkf", weights, x)
+    return np.stack([regression_weights(gram, cross, alpha) for alpha in alphas])
 
 
 def action_weights(vectors: np.ndarray, alpha: float) -> np.ndarray:

@@ -65,7 +65,8 @@ import numpy as np
 
 from mocap.errors import MocapError
 from synthesis.candidates import (ALPHAS, MAX_PEOPLE_RANK, action_weight_grid,  # noqa: F401
-                                 action_weights, people_candidates, regression_candidates)
+                                 action_weights, map_weights, people_candidates,
+                                 regression_candidates)
 
 #: Donors needed before the interaction is decomposed (fewer: the additive model); 3 rather
 #: than 4 on the design split (four-style bandai2 corpora: 0.68 against 1.00 of the additive
@@ -483,6 +484,16 @@ class InteractionModel:
         largest = np.array([np.delete(sizes, k).max() for k in range(donors)])
         limit = float(np.max(sizes / np.maximum(largest, 1e-300)))
         return mine > limit * sizes.max() and mine > 1e-9 * float(np.linalg.norm(x.mean(axis=0)))
+
+    def map_weights(self, target: int, observed: tuple, alpha: float,
+                    exclude: int | None = None) -> np.ndarray:
+        """The ridge map's weights of the observed actions (shape (m,)), fitted to every
+        donor of ``target`` from ``observed`` (``exclude``: the person predicted): how much of
+        a person's offset in each observed action carries into the target (1/m each is the
+        additive model)."""
+        cells, sums, counts = self._donors(target, observed, exclude)
+        training = cells - (sums - cells) / (counts[:, None] - 1)
+        return map_weights(training, [alpha])[0]
 
     def _correction(self, chosen: Interaction, target: int, observed: tuple, person: int,
                     x: np.ndarray) -> np.ndarray:

@@ -425,6 +425,10 @@ class InteractionMethod(CellMethod):
                 result[a] = {"mode": chosen.mode, "rank": chosen.rank, "alpha": chosen.alpha,
                              "loo_rms": chosen.loo_rms,
                              "additive_loo_rms": chosen.additive_loo_rms}
+                if chosen.mode == "regression":
+                    others = self._others(a)
+                    weights = self.model_.map_weights(a, others, chosen.alpha)
+                    result[a]["map_weights"] = dict(zip(others, weights.tolist()))
         return result
 
 

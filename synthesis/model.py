@@ -451,8 +451,15 @@ class MotionModel:
         }
 
     def _interaction_summary(self) -> dict:
-        """Action → the interaction configuration that predicts it from all other actions."""
-        return {self.actions[a]: chosen for a, chosen in self.cells_.describe().items()}
+        """Action → the interaction configuration that predicts it from all other actions
+        (with the ridge map, ``map_weights``: other action → its weight)."""
+        summary = {}
+        for a, chosen in self.cells_.describe().items():
+            if "map_weights" in chosen:
+                chosen = {**chosen, "map_weights": {self.actions[b]: w for b, w
+                                                    in chosen["map_weights"].items()}}
+            summary[self.actions[a]] = chosen
+        return summary
 
 
 @dataclass

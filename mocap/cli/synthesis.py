@@ -243,8 +243,11 @@ def decompose(args: argparse.Namespace) -> int:
         print("  missing cells are synthesised by action transfer (the person's other actions "
               "through a map learned across people); blends and new people by signatures")
     for action, chosen in summary.get("interaction", {}).items():
-        kind = "the ridge map across actions" if chosen["mode"] == "regression" \
-            else f"{chosen['mode']} mode, rank {chosen['rank']}"
+        kind = f"{chosen['mode']} mode, rank {chosen['rank']}"
+        if chosen["mode"] == "regression":
+            kind = "the ridge map across actions (" + ", ".join(
+                f"{name} {round(weight, 2) + 0.0:.2f}"
+                for name, weight in chosen["map_weights"].items()) + ")"
         gain = "the additive model (no interaction earned its place)" if not chosen["rank"] \
             else (f"{kind}: leave-one-out {chosen['loo_rms']:.2f} against the additive "
                   f"model's {chosen['additive_loo_rms']:.2f}")

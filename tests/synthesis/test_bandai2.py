@@ -311,6 +311,28 @@ def test_walk_run_wave_recognises_nine_in_ten_with_either_method(corpus):
         assert result["recognition_top3"] >= result["recognition_accuracy"] >= 0.9, method
 
 
+def test_decompose_names_how_much_of_an_offset_carries(manifest, capsys, tmp_path):
+    """Walk, run and wave: where the default predicts an action by the ridge map across
+    actions, decompose prints its weights and --json holds them; a walk draws more from
+    the run than from the wave (locomotion carries into locomotion; a wave's offset says
+    little about a walk's)."""
+    status = main(["decompose", "--manifest", str(manifest), "--cycles", "--samples", "50",
+                   "--actions", "walk,run,wave-both-hands", "-o", str(tmp_path / "m.npz"),
+                   "--json"])
+    summary = json.loads(capsys.readouterr().out)
+    assert status == 0
+    maps = {action: chosen["map_weights"] for action, chosen in summary["interaction"].items()
+            if chosen["mode"] == "regression"}
+    assert "walk" in maps and maps["walk"]["run"] > maps["walk"]["wave-both-hands"]
+    status = main(["decompose", "--manifest", str(manifest), "--cycles", "--samples", "50",
+                   "--actions", "walk,run,wave-both-hands", "-o", str(tmp_path / "m2.npz")])
+    printed = capsys.readouterr().out
+    weights = maps["walk"]
+    assert status == 0 and ("walk from the other actions: the ridge map across actions (run "
+                            f"{weights['run']:.2f}, wave-both-hands "
+                            f"{weights['wave-both-hands']:.2f})") in printed
+
+
 def test_two_actions_do_not_give_everyone_to_the_missing_person(manifest):
     # Two actions, one take, whole trials: each person has one other action. The held-out
     # person's template must be modelled like everyone else's (their main effects): their

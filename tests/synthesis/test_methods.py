@@ -459,13 +459,15 @@ def test_a_style_that_is_a_posture_is_recognised_in_an_action_never_seen(seed):
 
 
 def test_the_default_fills_a_cell_by_the_ridge_map_where_a_fraction_of_the_offset_carries():
-    """Half of every person's offset carries from the two other actions into the third: the
-    default (its selection includes the ridge map across actions) fills the missing cell
-    exactly and says what filled it; the signature (the people mode only) and the additive
-    model do not reach it."""
+    """Half of every person's offset in the first action and a quarter of their offset in
+    the second carry into the third: the default (its selection includes the ridge map
+    across actions) fills the missing cell exactly, says what filled it, and describes the
+    map by those weights; the signature (the people mode only) and the additive model do not
+    reach it."""
     rng = np.random.default_rng(11)
-    offsets = rng.normal(0, 5, (8, 1, 40))
-    data = rng.normal(0, 10, (1, 3, 40)) + np.array([1.0, 1.0, 0.5])[None, :, None] * offsets
+    first, second = rng.normal(0, 5, (2, 8, 40))
+    data = rng.normal(0, 10, (1, 3, 40)) + np.stack([first, second,
+                                                     0.5 * first + 0.25 * second], axis=1)
     masked = data.copy()
     masked[2, 2] = np.nan
     default = make_method("auto").fit(masked)
@@ -474,3 +476,7 @@ def test_the_default_fills_a_cell_by_the_ridge_map_where_a_fraction_of_the_offse
     additive = np.sqrt(np.mean((default.additive(2, 2) - data[2, 2]) ** 2))
     signature = make_method("signature").fit(masked)
     assert np.sqrt(np.mean((signature.cell(2, 2) - data[2, 2]) ** 2)) > 0.1 * additive > 0.1
+    described = make_method("auto").fit(data).describe()[2]
+    assert described["mode"] == "regression"
+    assert list(described["map_weights"]) == [0, 1]
+    assert np.allclose(list(described["map_weights"].values()), [0.5, 0.25], atol=1e-9)
