@@ -497,7 +497,8 @@ class InteractionModel:
 
     def _correction(self, chosen: Interaction, target: int, observed: tuple, person: int,
                     x: np.ndarray) -> np.ndarray:
-        """The predicted cell's offset ``α + C v_b`` or ``α + B_bᵀ s``, bases from all donors."""
+        """The predicted cell's offset ``α + C v_b``, ``α + B_bᵀ s`` or the map's
+        ``Σ_a w_a x_a``, fitted to all donors."""
         if chosen.rank == 0:
             return x.mean(axis=0)
         cells, sums, counts = self._donors(target, observed, person)
