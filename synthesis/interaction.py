@@ -491,9 +491,13 @@ class InteractionModel:
         donor of ``target`` from ``observed`` (``exclude``: the person predicted): how much of
         a person's offset in each observed action carries into the target (1/m each is the
         additive model)."""
+        return map_weights(self._donor_offsets(target, observed, exclude), [alpha])[0]
+
+    def _donor_offsets(self, target: int, observed: tuple, exclude: int | None) -> np.ndarray:
+        """Every donor's offsets (Q, m + 1, r; observed actions, then the target), each
+        formed from means without that donor and ``exclude``, as a predicted person's are."""
         cells, sums, counts = self._donors(target, observed, exclude)
-        training = cells - (sums - cells) / (counts[:, None] - 1)
-        return map_weights(training, [alpha])[0]
+        return cells - (sums - cells) / (counts[:, None] - 1)
 
     def _correction(self, chosen: Interaction, target: int, observed: tuple, person: int,
                     x: np.ndarray) -> np.ndarray:
@@ -501,9 +505,8 @@ class InteractionModel:
         ``Σ_a w_a x_a``, fitted to all donors."""
         if chosen.rank == 0:
             return x.mean(axis=0)
-        cells, sums, counts = self._donors(target, observed, person)
-        training = cells - (sums - cells) / (counts[:, None] - 1)
-        labels, predictions = self._candidates(training, x, cells.shape[0] - 2)
+        training = self._donor_offsets(target, observed, person)
+        labels, predictions = self._candidates(training, x, training.shape[0] - 2)
         # The chosen rank, or the largest of its mode and ridge these donors reach.
         reached = [i for i, (mode, rank, alpha) in enumerate(labels)
                    if mode == chosen.mode and alpha == chosen.alpha and rank <= chosen.rank]
