@@ -12,8 +12,9 @@ evaluate --method NAME`` picks one from :data:`METHODS`:
     people; rank 0 is the additive model (:class:`synthesis.interaction.InteractionModel`,
     ``mode="both"``).
 ``signature``
-    The same with the people mode only, shrunk toward the additive prediction: the N-mode
-    SVD signature model.
+    The N-mode SVD model alone: the interaction's people mode (the person's signature) or its
+    action mode (their person basis), without the ridge map, shrunk toward the additive
+    prediction (``mode="nmode"``).
 ``transfer``
     The older action transfer (:class:`synthesis.transfer.TransferModel`).
 
@@ -433,9 +434,13 @@ class InteractionMethod(CellMethod):
 
 
 class SignatureMethod(InteractionMethod):
-    """The N-mode SVD signature model: the interaction's people mode only, its correction
-    shrunk toward the additive prediction by the fraction its donors' held-out residuals
-    favour (``InteractionModel(shrink=True)``).
+    """The N-mode SVD signature model: the interaction's two modes — the person's signature
+    (people mode, Vasilescu's action-specific bases ``B_a``) or their person basis (action
+    mode, ``C_p``), whichever the donors' held-out cells choose, never the ridge map — its
+    correction shrunk toward the additive prediction by the fraction its donors' held-out
+    residuals favour (``InteractionModel("nmode", shrink=True)``). The people mode alone lost
+    to the additive model on walk + run + wave (1.022 of its error on the design styles, 1.000
+    on the report styles; with both modes 0.978 and 0.946: docs/synthesis.md, twelfth round).
 
     Recognition compares a trial with each person's main effects (the additive part of the
     model, ``m_a`` + the person's mean offset over their other actions), weighted by the
@@ -445,7 +450,7 @@ class SignatureMethod(InteractionMethod):
     """
 
     name = "signature"
-    mode = "people"
+    mode = "nmode"
     shrink = True
 
     def _held_out(self, person: int, action: int) -> np.ndarray:

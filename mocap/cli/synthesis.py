@@ -129,8 +129,9 @@ def _add_model_options(parser: argparse.ArgumentParser) -> None:
                              "action mean + the person's offset, corrected by the N-mode SVD "
                              "of the person x action interaction or by a ridge map across "
                              "actions, mode, rank and ridge chosen by leave-one-out; rank 0 "
-                             "is the additive model), signature (the N-mode SVD's "
-                             "people mode only), transfer (the older action "
+                             "is the additive model), signature (the N-mode SVD alone: "
+                             "the person's signature or person basis, shrunk; no ridge "
+                             "map), transfer (the older action "
                              "transfer), or auto (= interaction; default)")
 
 

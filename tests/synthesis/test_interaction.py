@@ -91,7 +91,7 @@ def test_noise_without_interaction_keeps_the_additive_model():
     assert np.mean(np.array(chosen) == 0) >= 0.9
 
 
-@pytest.mark.parametrize("mode", ["actions", "both"])
+@pytest.mark.parametrize("mode", ["actions", "nmode", "both"])
 def test_an_action_mode_interaction_is_found_and_used(mode):
     """Cells ``μ_a + α_p + v_a c_p`` (rank-1 action-mode interaction, small noise): the held-out
     cell is predicted far better than by the additive model, with rank 1."""
@@ -167,15 +167,17 @@ def test_a_person_beyond_the_donors_range_keeps_the_additive_prediction():
             assert error < 10 < 30 < np.sqrt(np.mean(data[0, 1] ** 2))
 
 
-def test_a_people_mode_interaction_is_found_by_the_signature_mode():
-    """Cells ``μ_a + α_p + B_aᵀ s_p`` (rank-2 signatures): the people mode recovers them."""
+@pytest.mark.parametrize("mode", ["people", "nmode"])
+def test_a_people_mode_interaction_is_found_by_the_signature_mode(mode):
+    """Cells ``μ_a + α_p + B_aᵀ s_p`` (rank-2 signatures): the people mode recovers them, alone
+    or chosen beside the action mode (``"nmode"``, the signature method's)."""
     data, rng = main_effects(people=9)
     bases = rng.normal(0, 3, (5, 2, 60))
     signatures = rng.normal(0, 1, (9, 2))
     data = data + np.einsum("pi,aif->paf", signatures, bases)
     masked = data.copy()
     masked[4, 2] = np.nan
-    model = InteractionModel("people").fit(masked)
+    model = InteractionModel(mode).fit(masked)
     prediction, chosen = model.predict(4, 2)
     assert chosen.mode == "people" and chosen.rank >= 2
     assert np.sqrt(np.mean((prediction - data[4, 2]) ** 2)) < 1e-6 * np.abs(data).max()
