@@ -28,7 +28,7 @@ from typing import ClassVar
 import numpy as np
 
 from mocap.errors import MocapError
-from synthesis.interaction import MAJORITY, MARGIN, MIN_DONORS, InteractionModel
+from synthesis.interaction import MAJORITY, MARGIN, MIN_DONORS, MODE_NAMES, InteractionModel
 from synthesis.regression import SignatureModel
 from synthesis.transfer import TransferModel
 
@@ -376,8 +376,8 @@ class InteractionMethod(CellMethod):
         if not chosen.rank:
             return "the additive model"
         if chosen.mode == "regression":
-            return "the ridge map across actions"
-        return f"{chosen.mode} mode, rank {chosen.rank}"
+            return MODE_NAMES["regression"]
+        return f"{MODE_NAMES[chosen.mode]}, rank {chosen.rank}"
 
     def _signatures_beat_the_additive_model(self, action: int) -> bool:
         """Whether the signature model passes, on its own held-out cells of ``action``, the

@@ -27,6 +27,7 @@ from mocap.io.motion import read_motion
 from mocap.progress import progress
 from synthesis.corpus import load_corpus
 from synthesis.evaluate import leave_one_out
+from synthesis.interaction import MODE_NAMES
 from synthesis.methods import METHODS
 from synthesis.model import MotionModel
 from synthesis.model_file import load_model, read_trial_cycle, save_model
@@ -244,9 +245,9 @@ def decompose(args: argparse.Namespace) -> int:
         print("  missing cells are synthesised by action transfer (the person's other actions "
               "through a map learned across people); blends and new people by signatures")
     for action, chosen in summary.get("interaction", {}).items():
-        kind = f"{chosen['mode']} mode, rank {chosen['rank']}"
+        kind = f"{MODE_NAMES.get(chosen['mode'], chosen['mode'])}, rank {chosen['rank']}"
         if chosen["mode"] == "regression":
-            kind = "the ridge map across actions (" + ", ".join(
+            kind = MODE_NAMES["regression"] + " (" + ", ".join(
                 f"{name} {round(weight, 2) + 0.0:.2f}"
                 for name, weight in chosen["map_weights"].items()) + ")"
         gain = "the additive model (no interaction earned its place)" if not chosen["rank"] \

@@ -497,7 +497,7 @@ def test_the_signature_fills_a_cell_by_the_person_basis_where_the_interaction_is
     masked = data.copy()
     masked[3, 2] = np.nan
     signature = make_method("signature").fit(masked)
-    assert signature.filled_by(3, 2).startswith("actions mode, rank")
+    assert signature.filled_by(3, 2).startswith("action mode (the person basis), rank")
     error = np.sqrt(np.mean((signature.cell(3, 2) - data[3, 2]) ** 2))
     assert error < 1e-6 * np.abs(data).max()
     people_only = InteractionModel("people", shrink=True).fit(masked)

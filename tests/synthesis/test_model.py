@@ -222,4 +222,4 @@ def test_the_summary_says_what_fills_each_missing_cell(corpus):
     one = MotionModel().fit(corpus.without_cell("p3", "run")).summary()
     assert list(one["missing_cells_filled_by"]) == ["p3_run"]
     how = one["missing_cells_filled_by"]["p3_run"]
-    assert how == "the additive model" or " mode, rank " in how
+    assert how == "the additive model" or " mode (the " in how and "), rank " in how
