@@ -91,10 +91,6 @@ NESTED = True
 #: Modes of the interaction tensor a model may use: one of them, both (``"nmode"``: the whole
 #: N-mode SVD), or both and the ridge map across actions (``"both"``).
 MODES = ("actions", "people", "nmode", "both")
-#: What each mode of a chosen configuration is, as ``decompose`` and ``filled_by`` name it.
-MODE_NAMES = {"people": "people mode (the signature)",
-              "actions": "action mode (the person basis)",
-              "regression": "the ridge map across actions"}
 #: With one observed action, keep the additive prediction for a person who lies outside the
 #: donors' range (:meth:`InteractionModel.outside_donors`): a correction learnt on the donors
 #: is an extrapolation there. The limit is the donors' own: no constant is fitted.

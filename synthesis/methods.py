@@ -28,7 +28,7 @@ from typing import ClassVar
 import numpy as np
 
 from mocap.errors import MocapError
-from synthesis.interaction import MAJORITY, MARGIN, MIN_DONORS, MODE_NAMES, InteractionModel
+from synthesis.interaction import MAJORITY, MARGIN, MIN_DONORS, InteractionModel
 from synthesis.regression import SignatureModel
 from synthesis.transfer import TransferModel
 
@@ -38,6 +38,24 @@ from synthesis.transfer import TransferModel
 #: means more than one cell (a definition, not a fitted constant; docs/synthesis.md,
 #: "Missing cells").
 VOUCHING_CELLS = 2
+#: What each mode of a chosen configuration is (:func:`configuration_name`).
+MODE_NAMES = {"people": "people mode (the signature)",
+              "actions": "action mode (the person basis)",
+              "regression": "the ridge map across actions"}
+
+
+def configuration_name(mode: str, rank: int) -> str:
+    """How ``decompose`` and ``filled_by`` name a chosen configuration other than the additive
+    model: its mode (:data:`MODE_NAMES`) and, but for the ridge map, its rank.
+
+    Examples
+    --------
+    >>> configuration_name("people", 4)
+    'people mode (the signature), rank 4'
+    >>> configuration_name("regression", 2)
+    'the ridge map across actions'
+    """
+    return MODE_NAMES[mode] if mode == "regression" else f"{MODE_NAMES[mode]}, rank {rank}"
 
 
 class CellMethod:
@@ -375,9 +393,7 @@ class InteractionMethod(CellMethod):
             return "the additive model (too few donors)"
         if not chosen.rank:
             return "the additive model"
-        if chosen.mode == "regression":
-            return MODE_NAMES["regression"]
-        return f"{MODE_NAMES[chosen.mode]}, rank {chosen.rank}"
+        return configuration_name(chosen.mode, chosen.rank)
 
     def _signatures_beat_the_additive_model(self, action: int) -> bool:
         """Whether the signature model passes, on its own held-out cells of ``action``, the

@@ -27,8 +27,7 @@ from mocap.io.motion import read_motion
 from mocap.progress import progress
 from synthesis.corpus import load_corpus
 from synthesis.evaluate import leave_one_out
-from synthesis.interaction import MODE_NAMES
-from synthesis.methods import METHODS
+from synthesis.methods import METHODS, configuration_name
 from synthesis.model import MotionModel
 from synthesis.model_file import load_model, read_trial_cycle, save_model
 from synthesis.plot import plot_evaluation
@@ -245,14 +244,15 @@ def decompose(args: argparse.Namespace) -> int:
         print("  missing cells are synthesised by action transfer (the person's other actions "
               "through a map learned across people); blends and new people by signatures")
     for action, chosen in summary.get("interaction", {}).items():
-        kind = f"{MODE_NAMES.get(chosen['mode'], chosen['mode'])}, rank {chosen['rank']}"
-        if chosen["mode"] == "regression":
-            kind = MODE_NAMES["regression"] + " (" + ", ".join(
-                f"{name} {round(weight, 2) + 0.0:.2f}"
-                for name, weight in chosen["map_weights"].items()) + ")"
-        gain = "the additive model (no interaction earned its place)" if not chosen["rank"] \
-            else (f"{kind}: leave-one-out {chosen['loo_rms']:.2f} against the additive "
-                  f"model's {chosen['additive_loo_rms']:.2f}")
+        if not chosen["rank"]:
+            gain = "the additive model (no interaction earned its place)"
+        else:
+            kind = configuration_name(chosen["mode"], chosen["rank"])
+            if chosen["mode"] == "regression":
+                kind += " (" + ", ".join(f"{name} {round(weight, 2) + 0.0:.2f}"
+                                         for name, weight in chosen["map_weights"].items()) + ")"
+            gain = (f"{kind}: leave-one-out {chosen['loo_rms']:.2f} against the additive "
+                    f"model's {chosen['additive_loo_rms']:.2f}")
         print(f"  {action} from the other actions: {gain}")
     loo = summary["loo_rms_deg"]
     caveat = " (optimistic: imputed cells saw everyone; use 'mocap evaluate')" \
