@@ -351,11 +351,12 @@ class InteractionModel:
         """Leave-one-donor-out of every configuration: labels, mean squared errors over the
         ``features`` (Q, C) and residuals (Q of (C, r), in :attr:`basis_` coordinates)."""
         donors = cells.shape[0]
+        offsets = pool_offsets(cells, sums, counts)                             # as the person's
         counts = counts[:, None]
         labels, residuals, folds = None, [], []
         for k in range(donors):
             others = np.arange(donors) != k
-            offset = cells[k] - (sums - cells[k]) / (counts - 1)                # as the person's
+            offset = offsets[k]
             training = cells[others] - (sums - cells[k] - cells[others]) / (counts - 2)
             fold_labels, predictions = self._candidates(training, offset[:m], donors - 2)
             labels = labels or fold_labels
@@ -472,6 +473,7 @@ class InteractionModel:
         donors, m = cells.shape[0], len(observed)
         if donors < 3:
             return False
+        offsets = pool_offsets(cells, sums, counts)[:, :m]
         counts = counts[:, None]
 
         def outside(offset: np.ndarray, others: np.ndarray) -> float:
@@ -481,12 +483,11 @@ class InteractionModel:
         sizes = []
         for k in range(donors):
             rest = np.arange(donors) != k
-            own = (cells[k] - (sums - cells[k]) / (counts - 1))[:m].mean(axis=0)
+            own = offsets[k].mean(axis=0)
             others = (cells[rest] - (sums - cells[k] - cells[rest]) / (counts - 2))[:, :m]
             sizes.append(outside(own, others.mean(axis=1)))
         sizes = np.asarray(sizes)
-        offsets = (cells - (sums - cells) / (counts - 1))[:, :m].mean(axis=1)
-        mine = outside(x.mean(axis=0), offsets)
+        mine = outside(x.mean(axis=0), offsets.mean(axis=1))
         largest = np.array([np.delete(sizes, k).max() for k in range(donors)])
         limit = float(np.max(sizes / np.maximum(largest, 1e-300)))
         return mine > limit * sizes.max() and mine > 1e-9 * float(np.linalg.norm(x.mean(axis=0)))
@@ -502,8 +503,7 @@ class InteractionModel:
     def _donor_offsets(self, target: int, observed: tuple, exclude: int | None) -> np.ndarray:
         """Every donor's offsets (Q, m + 1, r; observed actions, then the target), each
         formed from means without that donor and ``exclude``, as a predicted person's are."""
-        cells, sums, counts = self._donors(target, observed, exclude)
-        return cells - (sums - cells) / (counts[:, None] - 1)
+        return pool_offsets(*self._donors(target, observed, exclude))
 
     def _correction(self, chosen: Interaction, target: int, observed: tuple, person: int,
                     x: np.ndarray) -> np.ndarray:
@@ -518,6 +518,13 @@ class InteractionModel:
                    if mode == chosen.mode and alpha == chosen.alpha and rank <= chosen.rank]
         return predictions[max(reached, key=lambda i: labels[i][1])] if reached \
             else x.mean(axis=0)             # the rank is not reached with every donor: additive
+
+
+def pool_offsets(cells: np.ndarray, sums: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """Each donor's offsets from means of the pool without it, as a predicted person's are
+    formed (:meth:`InteractionModel._donors`' cells (Q, m + 1, r), the pool's sums
+    (m + 1, r) and counts (m + 1,)); shape (Q, m + 1, r)."""
+    return cells - (sums - cells) / (counts[:, None] - 1)
 
 
 def shrinkage(additive: np.ndarray, correction: np.ndarray) -> tuple[float, np.ndarray]:
